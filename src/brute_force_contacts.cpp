@@ -1,0 +1,62 @@
+#include "brute_force_contacts.hpp"
+
+#include "contact_law.hpp"
+
+namespace granudrag {
+
+bool BruteForceContacts::update_lists(Particles&, const Box&) { return false; }
+
+void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactParams& c,
+                                    double dt, bool update_history) {
+  const int n = static_cast<int>(p.size());
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      if (p.kind[i] == Kind::Frozen && p.kind[j] == Kind::Frozen) continue;
+      const Vec3 del = box.min_image(p.x[i] - p.x[j]);
+      const double radsum = p.radius[i] + p.radius[j];
+      const double r = del.norm();
+      if (r >= radsum) {
+        history_.erase({i, j});
+        continue;
+      }
+      ContactGeometry g;
+      g.del = del;
+      g.r = r;
+      g.contact_distance = radsum;
+      g.reff = p.radius[i] * p.radius[j] / radsum;
+      g.meff = effective_mass(p.mass[i], p.kind[i], p.mass[j], p.kind[j]);
+      g.rel_velocity = p.v[i] - p.v[j];
+      g.spin_sum = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
+      Vec3& shear = history_.try_emplace({i, j}, Vec3::Zero()).first->second;
+      const ContactForce cf = hertz_history(c, g, dt, shear, update_history);
+      p.f[i] += cf.force;
+      p.f[j] -= cf.force;
+      p.torque[i] -= p.radius[i] * cf.torque;
+      p.torque[j] -= p.radius[j] * cf.torque;
+    }
+  }
+}
+
+double BruteForceContacts::elastic_energy(const Particles& p, const Box& box,
+                                          const ContactParams& c) const {
+  double energy = 0.0;
+  const int n = static_cast<int>(p.size());
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      if (p.kind[i] == Kind::Frozen && p.kind[j] == Kind::Frozen) continue;
+      const double radsum = p.radius[i] + p.radius[j];
+      const double r = box.min_image(p.x[i] - p.x[j]).norm();
+      if (r < radsum)
+        energy += hertz_normal_energy(c.kn, p.radius[i] * p.radius[j] / radsum, radsum - r);
+    }
+  return energy;
+}
+
+int BruteForceContacts::contacts_of(int body) const {
+  int n = 0;
+  for (const auto& entry : history_)
+    if (entry.first.first == body || entry.first.second == body) ++n;
+  return n;
+}
+
+}  // namespace granudrag

@@ -1,0 +1,25 @@
+#pragma once
+#include <map>
+#include <utility>
+
+#include "contact_forces.hpp"
+#include "vec3.hpp"
+
+namespace granudrag {
+
+// The oracle: every pair i < j is tested for contact at every step, serially, with the
+// histories in an ordered map keyed by the pair. O(N^2) and slow on purpose; no lists, no
+// cells, no skin, no buffers: nothing the fast path could get wrong in the same way.
+class BruteForceContacts : public ContactForces {
+ public:
+  bool update_lists(Particles& p, const Box& box) override;
+  void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
+                  bool update_history) override;
+  double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const override;
+  int contacts_of(int body) const override;
+
+ private:
+  std::map<std::pair<int, int>, Vec3> history_;
+};
+
+}  // namespace granudrag

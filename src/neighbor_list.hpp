@@ -1,0 +1,62 @@
+#pragma once
+// Verlet lists with a skin, built from a cell grid and rebuilt when any body has moved more
+// than half the skin since the last build.
+//
+// Two lists, so that a large intruder does not inflate the cost for everyone:
+//  - grain pairs: a half list (row i holds partners j > i) from a grid whose cells fit the
+//    largest grain, not the intruder; frozen-frozen pairs are left out.
+//  - large-body pairs: one row per intruder, holding every grain within reach of it, found by
+//    scanning only the cells its sphere covers.
+// A transposed index of the grain list lets forces on partners be gathered without atomics,
+// which keeps results independent of the thread count.
+#include <vector>
+
+#include "box.hpp"
+#include "pair_list.hpp"
+#include "particles.hpp"
+
+namespace granudrag {
+
+class NeighborList {
+ public:
+  explicit NeighborList(double skin) : skin_(skin) {}
+
+  double skin() const { return skin_; }
+  bool needs_rebuild(const Particles& p) const;
+  // Wraps positions into the box, then rebuilds both lists. The previous lists are kept
+  // so that contact histories can follow their pairs (ContactHistory::carry_over).
+  void build(Particles& p, const Box& box);
+
+  const PairList& grain_pairs() const { return grain_; }
+  const PairList& previous_grain_pairs() const { return grain_prev_; }
+  const PairList& large_pairs() const { return large_; }
+  const PairList& previous_large_pairs() const { return large_prev_; }
+  const std::vector<int>& large_bodies() const { return large_bodies_; }
+  // For particle j, the grain-list entries where j is the partner: transpose_entry[
+  // transpose_offset[j] .. transpose_offset[j+1]).
+  const std::vector<int>& transpose_offset() const { return t_offset_; }
+  const std::vector<int>& transpose_entry() const { return t_entry_; }
+  long builds() const { return builds_; }
+
+ private:
+  struct Grid {
+    int nx = 0, ny = 0, nz = 0;
+    double cx = 0, cy = 0, cz = 0, z0 = 0;
+    std::vector<int> start, items;  // counting-sorted grains per cell
+    int cell_z(double z) const;
+  };
+  void bin(const Particles& p, const Box& box, double cell_size);
+  void build_grain_pairs(const Particles& p, const Box& box, double max_grain_radius);
+  void build_large_pairs(const Particles& p, const Box& box, double max_grain_radius);
+  void build_transpose(std::size_t n);
+
+  double skin_;
+  Grid grid_;
+  PairList grain_, grain_prev_, large_, large_prev_;
+  std::vector<int> large_bodies_;
+  std::vector<int> t_offset_, t_entry_;
+  std::vector<Vec3> x_at_build_;
+  long builds_ = 0;
+};
+
+}  // namespace granudrag

@@ -1,0 +1,33 @@
+#pragma once
+// Wall-clock time per phase of the step loop (the miniMD / LAMMPS "loop time" breakdown).
+#include <omp.h>
+
+#include <array>
+
+namespace granudrag {
+
+enum class Phase { Integrate = 0, Neighbor, Force, Other, Count };
+
+class Timers {
+ public:
+  void start() { last_ = omp_get_wtime(); }
+  // Charges the time since the previous stamp to `phase`.
+  void stamp(Phase phase) {
+    const double now = omp_get_wtime();
+    seconds_[static_cast<int>(phase)] += now - last_;
+    last_ = now;
+  }
+  double seconds(Phase phase) const { return seconds_[static_cast<int>(phase)]; }
+  double total() const {
+    double t = 0;
+    for (double s : seconds_) t += s;
+    return t;
+  }
+  void reset() { seconds_.fill(0.0); }
+
+ private:
+  std::array<double, static_cast<int>(Phase::Count)> seconds_{};
+  double last_ = 0;
+};
+
+}  // namespace granudrag

@@ -1,0 +1,39 @@
+#pragma once
+// Small systems for the tests.
+#include <omp.h>
+
+#include <cmath>
+
+#include "error.hpp"
+#include "packing.hpp"
+#include "simulation.hpp"
+
+namespace granudrag::support {
+
+// The paper's contact set softened to K_n = 2e5 (same restitution curve), for fast tests.
+inline ContactParams soft_params(double mu = 0.5) {
+  ContactParams c = ContactParams{}.with_stiffness(2.0e5);
+  c.mu = mu;
+  return c;
+}
+
+inline ContactParams conservative_params() {
+  ContactParams c = soft_params(0.0);
+  c.gamman = c.gammat = 0.0;
+  return c;
+}
+
+// Relative difference of two vectors on the scale `scale`.
+inline double rel_diff(const Vec3& a, const Vec3& b, double scale) { return (a - b).norm() / scale; }
+
+// Restores the thread count a test changed.
+class ThreadCount {
+ public:
+  explicit ThreadCount(int n) : saved_(omp_get_max_threads()) { omp_set_num_threads(n); }
+  ~ThreadCount() { omp_set_num_threads(saved_); }
+
+ private:
+  int saved_;
+};
+
+}  // namespace granudrag::support

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs the Debian packages granudrag needs that are missing (sudo when not root).
+# Usage: tools/install-deps.sh [build|test|all]   (default: all)
+set -euo pipefail
+build_pkgs=(g++ cmake make git libeigen3-dev libgtest-dev)
+python_pkgs=(python3 python3-numpy python3-scipy python3-pandas python3-matplotlib python3-h5py
+             python3-yaml python3-pytest)
+case "${1:-all}" in
+  build) wanted=("${build_pkgs[@]}") ;;
+  test|all) wanted=("${build_pkgs[@]}" "${python_pkgs[@]}") ;;
+  *) echo "usage: $0 [build|test|all]" >&2; exit 2 ;;
+esac
+missing=()
+for p in "${wanted[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+echo "install-deps: installing ${missing[*]}" >&2
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
