@@ -19,6 +19,12 @@ void run_bench(const BenchOptions& o) {
   Settings settings;
   settings.dt = o.dt;
   settings.skin = o.skin;
+  if (o.settle_steps > 0) {
+    std::fprintf(stderr, "bench: collapsing the lattice for %ld untimed steps\n", o.settle_steps);
+    Simulation settle(bed.particles, bed.box, o.contact, settings);
+    settle.run(o.settle_steps, true);
+    bed.particles = settle.particles();
+  }
 
   std::ostringstream table;
   char line[256];
@@ -35,7 +41,9 @@ void run_bench(const BenchOptions& o) {
       for (const auto& x : bed.particles.x) ztop = std::max(ztop, x.z() + 1.0);
       write_lammps_data(o.lammps_prefix + ".data", bed.particles, bed.box, ztop);
       LammpsRun run;
-      run.data_file = o.lammps_prefix + ".data";
+      // Relative to the input script: run lmp from the directory that holds both.
+      const std::string data = o.lammps_prefix + ".data";
+      run.data_file = data.substr(data.find_last_of('/') + 1);
       run.contact = o.contact;
       run.dt = sim.dt();
       run.skin = o.skin;
@@ -56,8 +64,13 @@ void run_bench(const BenchOptions& o) {
     const auto& fast = dynamic_cast<const FastContacts&>(sim.contacts());
     const auto& pairs = fast.list().grain_pairs();
     if (threads == o.threads.front()) {
-      std::snprintf(line, sizeof line, "# dt = %.6g, skin = %.3g, final pairs in list = %zu, rebuilds = %ld\n",
-                    sim.dt(), o.skin, pairs.size(), fast.list().builds());
+      const Energy e = sim.energy();
+      std::snprintf(line, sizeof line,
+                    "# dt = %.6g, skin = %.3g, list entries = %zu, contacts = %ld (%.2f per grain), "
+                    "rebuilds = %ld\n# final energy per grain: translational %.6g, rotational %.6g\n",
+                    sim.dt(), o.skin, pairs.size(), fast.contact_count(),
+                    2.0 * fast.contact_count() / o.grains, fast.list().builds(),
+                    e.kinetic / o.grains, e.rotational / o.grains);
       table << line
             << "threads  particle-steps/s  wall[s]  force[s]  neigh[s]  integ[s]  force%  neigh%  integ%\n";
     }

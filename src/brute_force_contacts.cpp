@@ -59,4 +59,6 @@ int BruteForceContacts::contacts_of(int body) const {
   return n;
 }
 
+long BruteForceContacts::contact_count() const { return static_cast<long>(history_.size()); }
+
 }  // namespace granudrag

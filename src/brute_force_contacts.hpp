@@ -17,6 +17,7 @@ class BruteForceContacts : public ContactForces {
                   bool update_history) override;
   double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const override;
   int contacts_of(int body) const override;
+  long contact_count() const override;
 
  private:
   std::map<std::pair<int, int>, Vec3> history_;

@@ -22,6 +22,8 @@ class ContactForces {
                                 const ContactParams& c) const = 0;
   // Number of bodies touching particle `body` (an intruder) at the last force evaluation.
   virtual int contacts_of(int body) const = 0;
+  // Number of touching body-body pairs at the last force evaluation.
+  virtual long contact_count() const = 0;
 };
 
 }  // namespace granudrag

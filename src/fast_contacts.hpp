@@ -7,10 +7,13 @@
 
 namespace granudrag {
 
-// The production path. Each grain pair is evaluated once, by the thread that owns its row;
-// the partner's share is parked in a per-entry buffer and gathered through the transposed
-// list afterwards. No atomics and a fixed summation order: forces are bitwise identical for
-// any thread count.
+// The production path. Each grain pair is evaluated once (Newton's third law), by the thread
+// that owns its row; rows are split into one contiguous block per thread of about equal cost
+// (list entries, touching pairs weighted as the contact law costs), re-balanced at each rebuild. Thread 0 adds into the particles' forces
+// directly, as a serial code would; the other threads add into private copies that are summed
+// in thread order afterwards. No atomics, and a fixed summation order for a given thread count:
+// runs are bitwise reproducible for that count. (A per-pair buffer gathered in fixed order would
+// make them independent of the thread count too, but doubled the memory traffic and the cost.)
 class FastContacts : public ContactForces {
  public:
   explicit FastContacts(double skin) : list_(skin) {}
@@ -19,12 +22,16 @@ class FastContacts : public ContactForces {
                   bool update_history) override;
   double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const override;
   int contacts_of(int body) const override;
+  long contact_count() const override;
   const NeighborList& list() const { return list_; }
 
  private:
   NeighborList list_;
   ContactHistory grain_history_, large_history_;
-  std::vector<Vec3> partner_force_, partner_torque_;  // per grain-list entry
+  void balance_rows(int threads);
+
+  std::vector<std::vector<Vec3>> thread_force_, thread_torque_;  // threads 1.., per particle
+  std::vector<long> row_split_;  // thread t owns rows row_split_[t] .. row_split_[t+1]
   std::vector<Vec3> large_force_, large_torque_;      // per large-list entry
 };
 

@@ -60,7 +60,9 @@ void write_lammps_settle_input(const std::string& path, const LammpsRun& run) {
     << "fix freeze frozen freeze\n"
     << "fix wall all wall/gran hertz/history " << c.kn << ' ' << c.kt << ' ' << c.gamman << ' '
     << c.gammat << ' ' << c.mu << " 1 zplane 0.0 NULL\n"
-    << "compute ke all ke\nthermo_style custom step atoms c_ke\n"
+    // lj units normalise extensive thermo output by the atom count: energies per grain.
+    << "compute ke all ke\ncompute rke all erotate/sphere\n"
+    << "thermo_style custom step atoms c_ke c_rke\n"
     << "thermo " << run.thermo_every << "\n"
     << "run " << run.steps << "\n";
   write_file_atomically(path, s.str());

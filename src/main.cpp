@@ -32,7 +32,8 @@ const char* kBenchUsage = R"(granudrag bench — settle an fcc-packed bed and ti
 
 Options (defaults in brackets):
   --grains N        number of grains, diameters uniform in [0.9, 1.1] d        [20000]
-  --steps S         time steps per thread count                                [2000]
+  --steps S         timed steps per thread count                               [2000]
+  --settle S        untimed steps first, collapsing the lattice into contact    [4000]
   --threads LIST    comma-separated OpenMP thread counts                       [1,2]
   --skin S          Verlet skin in d                                           [0.2]
   --kn K            normal stiffness in rho d g; K_t, gamma_n, gamma_t follow it with
@@ -47,12 +48,13 @@ Options (defaults in brackets):
 
 int bench(const std::vector<std::string>& args) {
   using namespace granudrag;
-  const Options opt(args, {"grains", "steps", "threads", "skin", "kn", "mu", "dt", "speed",
+  const Options opt(args, {"grains", "steps", "settle", "threads", "skin", "kn", "mu", "dt", "speed",
                            "seed", "lammps"},
                     "bench");
   BenchOptions o;
   o.grains = opt.integer("grains", o.grains, 1);
   o.steps = opt.integer("steps", o.steps, 1);
+  o.settle_steps = opt.integer("settle", o.settle_steps, 0);
   o.threads = opt.integer_list("threads", o.threads);
   o.skin = opt.number("skin", o.skin);
   const double kn = opt.number("kn", 2.0e5);

@@ -77,7 +77,6 @@ void NeighborList::build(Particles& p, const Box& box) {
   bin(p, box, cell);
   build_grain_pairs(p, box, rmax);
   build_large_pairs(p, box, rmax);
-  build_transpose(p.size());
   ++builds_;
 }
 
@@ -201,15 +200,6 @@ void NeighborList::build_large_pairs(const Particles& p, const Box& box, double 
     std::sort(large_.partner.begin() + row_start, large_.partner.end());
     large_.offset.push_back(static_cast<int>(large_.partner.size()));
   }
-}
-
-void NeighborList::build_transpose(std::size_t n) {
-  t_offset_.assign(n + 1, 0);
-  for (int j : grain_.partner) ++t_offset_[j + 1];
-  for (std::size_t j = 0; j < n; ++j) t_offset_[j + 1] += t_offset_[j];
-  t_entry_.resize(grain_.size());
-  std::vector<int> fill(t_offset_.begin(), t_offset_.end() - 1);
-  for (std::size_t e = 0; e < grain_.size(); ++e) t_entry_[fill[grain_.partner[e]]++] = static_cast<int>(e);
 }
 
 }  // namespace granudrag

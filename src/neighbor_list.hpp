@@ -7,8 +7,6 @@
 //    largest grain, not the intruder; frozen-frozen pairs are left out.
 //  - large-body pairs: one row per intruder, holding every grain within reach of it, found by
 //    scanning only the cells its sphere covers.
-// A transposed index of the grain list lets forces on partners be gathered without atomics,
-// which keeps results independent of the thread count.
 #include <vector>
 
 #include "box.hpp"
@@ -32,10 +30,6 @@ class NeighborList {
   const PairList& large_pairs() const { return large_; }
   const PairList& previous_large_pairs() const { return large_prev_; }
   const std::vector<int>& large_bodies() const { return large_bodies_; }
-  // For particle j, the grain-list entries where j is the partner: transpose_entry[
-  // transpose_offset[j] .. transpose_offset[j+1]).
-  const std::vector<int>& transpose_offset() const { return t_offset_; }
-  const std::vector<int>& transpose_entry() const { return t_entry_; }
   long builds() const { return builds_; }
 
  private:
@@ -48,13 +42,11 @@ class NeighborList {
   void bin(const Particles& p, const Box& box, double cell_size);
   void build_grain_pairs(const Particles& p, const Box& box, double max_grain_radius);
   void build_large_pairs(const Particles& p, const Box& box, double max_grain_radius);
-  void build_transpose(std::size_t n);
 
   double skin_;
   Grid grid_;
   PairList grain_, grain_prev_, large_, large_prev_;
   std::vector<int> large_bodies_;
-  std::vector<int> t_offset_, t_entry_;
   std::vector<Vec3> x_at_build_;
   long builds_ = 0;
 };
