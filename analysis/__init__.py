@@ -1,0 +1,18 @@
+"""Analysis of granudrag pulls: tidy table, fits, figures, report, predictor.
+
+Everything works on one tidy pandas table with a row per pull (see
+`analysis.table.COLUMNS`), in the project's dimensionless units: lengths in
+d, speeds in sqrt(g d), forces in rho d^3 g.
+
+Modules:
+    table    schema, Froude number, validation, CSV loading
+    paper    the published numbers the report compares against
+    result   Param (value, err) and Fit, the fit-result types
+    regimes  three-regime drag(Fr) fit with fitted crossovers
+    fits     the other fits, the Eq. 12 scaling law, fit-file save/load
+    figures  one function per paper figure (PNG + PDF)
+    report   Markdown/HTML report with fitted-vs-published table
+    predict  command-line drag prediction from a saved fit file
+
+Importing the package does not import matplotlib; only `figures` does.
+"""

@@ -1,0 +1,355 @@
+"""Fits of the paper's laws, each returning values with standard errors.
+
+Where the errors come from:
+  fit_regimes             wild bootstrap refits, crossovers included (regimes.py)
+  fit_theta, fit_linear,  least-squares covariance, scaled by the reduced chi^2
+  fit_power_law,          (so per-point errors act as relative weights); NaN when
+  fit_saturation          there are no degrees of freedom left
+  fit_scaling_law         lambda and predictions: bootstrap of the regime fit on
+                          the collapsed data, alpha and phi redrawn from their
+                          errors in each refit
+
+Save/load: `save_fits` writes the JSON fit file read by `load_fits` and by
+`python -m analysis.predict` (format described in save_fits).
+"""
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import curve_fit
+
+from .regimes import RegimeFitter, fit_regimes, regime_curve
+from .result import Fit, Param
+from .table import froude, reference_params, select, yield_rows, YIELD_SPEED
+
+__all__ = ["Fit", "Param", "fit_regimes", "regime_curve", "fit_theta", "fit_kappa",
+           "fit_linear", "fit_power_law", "fit_saturation", "fit_phi", "fit_alpha",
+           "sum_rule", "fit_scaling_law", "ScalingLaw", "evaluate", "save_fits",
+           "load_fits", "FitFileError"]
+
+FORMAT, VERSION = "granudrag-fits", 1
+
+
+# --- model functions -----------------------------------------------------
+
+def theta_curve(Fr, U1, U2, U3):
+    """Paper Eq. 7: theta = U1 Fr^U2 + pi/U3."""
+    return U1 * np.power(np.asarray(Fr, float), U2) + np.pi / U3
+
+
+def linear_curve(x, k0, k1):
+    return k0 + k1 * np.asarray(x, float)
+
+
+def power_curve(x, A, p):
+    return A * np.power(np.asarray(x, float), p)
+
+
+def saturation_curve(mu, F0, dF, mu_c):
+    """F_Y(mu) rising from F0 by dF with friction scale mu_c, then flat."""
+    return F0 + dF * (1.0 - np.exp(-np.asarray(mu, float) / mu_c))
+
+
+MODELS = {"regimes": regime_curve, "theta": theta_curve, "linear": linear_curve,
+          "power_law": power_curve, "saturation": saturation_curve}
+
+
+def evaluate(fit, x):
+    """The fitted curve of any Fit at x."""
+    return MODELS[fit.model](x, **fit.values())
+
+
+def evaluate_replicates(fit, x):
+    """The curve of every bootstrap refit, shape (n_refits, len(x))."""
+    names = list(fit.params)
+    return np.array([MODELS[fit.model](x, **dict(zip(names, row))) for row in fit.replicates])
+
+
+# --- least squares with covariance errors -------------------------------
+
+def _weights(sigma, n):
+    if sigma is None:
+        return None
+    s = np.asarray(sigma, float)
+    return s if (len(s) == n and np.all(np.isfinite(s) & (s > 0))) else None
+
+
+def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf)):
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    ok = np.isfinite(x) & np.isfinite(y)
+    s = _weights(None if sigma is None else np.asarray(sigma, float)[ok], ok.sum())
+    x, y = x[ok], y[ok]
+    if len(x) < len(names):
+        raise ValueError(f"{name} fit needs at least {len(names)} points, got {len(x)}")
+    popt, pcov = curve_fit(model, x, y, p0=p0, sigma=s, absolute_sigma=False,
+                           bounds=bounds, maxfev=20000)
+    err = np.sqrt(np.diag(pcov)) if len(x) > len(names) else np.full(len(names), np.nan)
+    return Fit(model=name, params={k: Param(float(v), float(e)) for k, v, e in zip(names, popt, err)},
+               method="least-squares covariance scaled by reduced chi^2",
+               n_points=len(x), x_range=(float(x.min()), float(x.max())))
+
+
+def fit_theta(Fr, theta, sigma=None):
+    """theta(Fr) = U1 Fr^U2 + pi/U3 (paper Eq. 7; paper: -0.15, 0.38, 2.45)."""
+    Fr, theta = np.asarray(Fr, float), np.asarray(theta, float)
+    ok = np.isfinite(Fr) & np.isfinite(theta)
+    start_static = theta[ok][np.argmin(Fr[ok])] if ok.any() else np.pi / 2.45
+    p0 = [-0.15, 0.4, np.pi / max(start_static, 1e-3)]
+    return _covariance_fit(theta_curve, "theta", Fr, theta, sigma, p0, ["U1", "U2", "U3"],
+                           bounds=([-np.inf, 1e-3, 0.1], [np.inf, 5.0, 100.0]))
+
+
+def fit_linear(x, y, sigma=None):
+    """y = k0 + k1 x."""
+    return _covariance_fit(linear_curve, "linear", x, y, sigma, [0.0, 1.0], ["k0", "k1"])
+
+
+def fit_kappa(df):
+    """kappa(Fr) = k0 + k1 Fr over all rows with kappa (paper: 0.887 + 0.185 Fr)."""
+    return fit_linear(df.Fr, df.kappa)
+
+
+def fit_power_law(x, y, sigma=None):
+    """y = A x^p, fitted as a straight line in log-log (relative errors)."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    if np.any(x <= 0) or np.any(y <= 0):
+        raise ValueError("power-law fit needs positive x and y")
+    rel = None if sigma is None else np.asarray(sigma, float) / y
+    line = fit_linear(np.log(x), np.log(y), rel)
+    lnA, p = line["k0"], line["k1"]
+    A = math.exp(lnA.value)
+    return Fit(model="power_law", params={"A": Param(A, A * lnA.err), "p": p},
+               method=line.method + " (straight line in log-log)",
+               n_points=line.n_points, x_range=(float(x.min()), float(x.max())))
+
+
+def fit_saturation(mu, FY, sigma=None):
+    """F_Y(mu) = F0 + dF (1 - exp(-mu/mu_c)): mu_c small against the sampled
+    range of mu means the yield force saturates there (paper Sec. III E)."""
+    mu, FY = np.asarray(mu, float), np.asarray(FY, float)
+    p0 = [FY[np.argmin(mu)], max(np.ptp(FY), 1e-9), 0.2]
+    return _covariance_fit(saturation_curve, "saturation", mu, FY, sigma, p0,
+                           ["F0", "dF", "mu_c"], bounds=([-np.inf, 0.0, 1e-3], [np.inf, np.inf, 10.0]))
+
+
+# --- exponents of the yield force ---------------------------------------
+
+def _exponent_table(df, variable, system, names, speed):
+    rows = yield_rows(df, speed)
+    rows = rows[rows.system == system]
+    out = []
+    for (mu, kn, gn), g in rows.groupby(["mu", "kn", "gamman"]):
+        x = (g.D + 1.0) if variable == "D" else g.h
+        if x.nunique() < 2:
+            continue
+        f = fit_power_law(x, g.drag, g.drag_err)
+        out.append({"mu": mu, "kn": kn, "gamman": gn,
+                    names[0]: f["p"].value, names[0] + "_err": f["p"].err,
+                    names[1]: f["A"].value, names[1] + "_err": f["A"].err,
+                    "n": f.n_points, variable + "_min": g[variable].min(),
+                    variable + "_max": g[variable].max()})
+    cols = ["mu", "kn", "gamman", names[0], names[0] + "_err", names[1], names[1] + "_err",
+            "n", variable + "_min", variable + "_max"]
+    return pd.DataFrame(out, columns=cols)
+
+
+def fit_phi(df, speed=YIELD_SPEED, system="I"):
+    """phi_mu and f(mu) from F_Y = f(mu) (D*+1)^phi_mu, one fit per (mu, kn, gamman).
+
+    f(mu) is the fitted prefactor: the paper draws it (Fig. 13c) but gives
+    no closed form, so none is imposed here.
+    """
+    return _exponent_table(df, "D", system, ("phi", "f"), speed)
+
+
+def fit_alpha(df, speed=YIELD_SPEED, system="II"):
+    """alpha_mu and g(mu) from F_Y = g(mu) h^alpha_mu, one fit per (mu, kn, gamman)."""
+    return _exponent_table(df, "h", system, ("alpha", "g"), speed)
+
+
+def sum_rule(phi, alpha):
+    """alpha_mu + phi_mu where both were fitted (errors added in quadrature)."""
+    m = pd.merge(phi, alpha, on=["mu", "kn", "gamman"])
+    m["sum"] = m.alpha + m.phi
+    m["sum_err"] = np.hypot(m.alpha_err, m.phi_err)
+    return m[["mu", "kn", "gamman", "phi", "phi_err", "alpha", "alpha_err", "sum", "sum_err"]]
+
+
+def _lookup(table, mu, kn, gamman):
+    hit = table[np.isclose(table.mu, mu) & np.isclose(table.kn, kn) & np.isclose(table.gamman, gamman)]
+    return None if hit.empty else hit.iloc[0]
+
+
+# --- the scaling law, Eq. 12 --------------------------------------------
+
+LAMBDA_NAMES = {"a0": "lambda^I", "b1": "lambda_1^II", "a1": "lambda_2^II",
+                "b2": "lambda_1^III", "a2": "lambda_2^III"}
+
+
+@dataclass
+class ScalingLaw:
+    """F_drag* = h^alpha (D*+1)^phi G(Fr), with G the three-regime fit (Eq. 12).
+
+    regimes.replicates and exponent_replicates (columns alpha, phi) are the
+    same bootstrap refits row by row, so predictions keep their correlations.
+    """
+    mu: float
+    kn: float
+    gamman: float
+    alpha: Param
+    phi: Param
+    regimes: Fit
+    ranges: dict = field(default_factory=dict)   # name -> [min, max] of the data
+    exponent_replicates: np.ndarray = None
+
+    def lambdas(self):
+        """The lambda coefficients of Eq. 12 (plus b0, c0 when mu = 0)."""
+        p = self.regimes.params
+        out = {LAMBDA_NAMES[k]: p[k] for k in LAMBDA_NAMES}
+        for k in ("b0", "c0"):
+            if k in p:
+                out["lambda^I_" + k] = p[k]
+        return out
+
+    def predict(self, D, h, V):
+        """(drag, standard error) at one point, the error being the spread of
+        the law's bootstrap refits evaluated there."""
+        Fr = float(froude(V, D))
+        F = h ** self.alpha.value * (D + 1.0) ** self.phi.value * float(evaluate(self.regimes, [Fr])[0])
+        reps = self.regimes.replicates
+        if reps is None or self.exponent_replicates is None or len(reps) < 2:
+            return F, math.nan
+        G = evaluate_replicates(self.regimes, [Fr])[:, 0]
+        a, p = self.exponent_replicates[:, 0], self.exponent_replicates[:, 1]
+        return F, float(np.std(h ** a * (D + 1.0) ** p * G, ddof=1))
+
+    def to_dict(self):
+        d = {"mu": self.mu, "kn": self.kn, "gamman": self.gamman,
+             "alpha": self.alpha.to_dict(), "phi": self.phi.to_dict(),
+             "regimes": self.regimes.to_dict(), "ranges": self.ranges}
+        if self.exponent_replicates is not None:
+            d["exponent_replicates"] = self.exponent_replicates.tolist()
+        return d
+
+    @classmethod
+    def from_dict(cls, d):
+        ex = d.get("exponent_replicates")
+        return cls(mu=float(d["mu"]), kn=float(d["kn"]), gamman=float(d["gamman"]),
+                   alpha=Param.from_dict(d["alpha"]), phi=Param.from_dict(d["phi"]),
+                   regimes=Fit.from_dict(d["regimes"]),
+                   ranges={k: [float(v) for v in r] for k, r in d.get("ranges", {}).items()},
+                   exponent_replicates=None if ex is None else np.array(ex, dtype=float))
+
+
+def fit_scaling_law(df, phi, alpha, *, mu, kn=None, gamman=None, h_min=None,
+                    n_boot=200, seed=0):
+    """Collapse every pull at (mu, kn, gamman) by h^alpha (D*+1)^phi and fit
+    the three regimes to the collapsed drag: the lambdas of Eq. 12.
+
+    Regime I is a0 + b0 Fr^c0 for mu = 0 (Eq. 10), a constant otherwise.
+    h_min drops shallow pulls, which the paper finds do not collapse (Fig. 19).
+
+    Errors: each bootstrap refit draws alpha and phi from normal distributions
+    with their fitted errors, collapses wild-bootstrap drag with them and
+    refits, so the lambdas' errors include the exponents' uncertainty.
+    """
+    if kn is None or gamman is None:
+        kn, gamman = reference_params(df)
+    p, a = _lookup(phi, mu, kn, gamman), _lookup(alpha, mu, kn, gamman)
+    if p is None or a is None:
+        raise ValueError(f"no phi and alpha fitted for mu={mu}, kn={kn:g}, gamman={gamman:g}")
+    rows = select(df, mu=mu, kn=kn, gamman=gamman)
+    if h_min is not None:
+        rows = rows[rows.h >= h_min]
+    # The regimes must be fixed by pulls at speed: the yield pulls' Fr values
+    # differ only through D and would otherwise pass for a whole regime.
+    moving = rows[~np.isclose(rows.V, YIELD_SPEED)]
+    if moving.Fr.round(6).nunique() < 8:
+        raise ValueError(f"needs pulls at 8 or more Froude numbers above the yield speed "
+                         f"at mu={mu:g}, has {moving.Fr.round(6).nunique()}")
+    rows = rows.sort_values("Fr", kind="stable")
+    lnh, lnD = np.log(rows.h.to_numpy()), np.log(rows.D.to_numpy() + 1.0)
+    drag, err = rows.drag.to_numpy(), rows.drag_err.to_numpy()
+
+    fitter = RegimeFitter("power" if mu == 0 else "constant")
+    scale = np.exp(a.alpha * lnh + p.phi * lnD)
+    x, y, w = fitter.prepare(rows.Fr, drag / scale, err / scale)
+    best = fitter.best(x, y, w)
+    fitted = scale * regime_curve(x, **best)
+    resid = fitter.scaled_residuals(drag, fitted)
+    rng = np.random.default_rng(seed)
+    sd = [e if np.isfinite(e) else 0.0 for e in (a.alpha_err, p.phi_err)]
+    reps, expo = [], []
+    for _ in range(n_boot):
+        ab, pb = a.alpha + sd[0] * rng.standard_normal(), p.phi + sd[1] * rng.standard_normal()
+        sb = np.exp(ab * lnh + pb * lnD)
+        dragb = fitted + resid * rng.choice([-1.0, 1.0], size=len(x))
+        reps.append(fitter.fit(x, dragb / sb, w * (sb / scale) ** 2))
+        expo.append((ab, pb))
+    reg = fitter.result(x, best, reps, f"{n_boot} wild-bootstrap refits with alpha, phi "
+                                       f"drawn from their errors (seed {seed})")
+    reg.meta.update(collapsed=True, mu=mu)
+    keep = [r is not None for r in reps]
+    ranges = {"D": [float(p.D_min), float(p.D_max)], "h": [float(a.h_min), float(a.h_max)],
+              "Fr": [float(rows.Fr.min()), float(rows.Fr.max())]}
+    return ScalingLaw(mu=float(mu), kn=float(kn), gamman=float(gamman),
+                      alpha=Param(float(a.alpha), float(a.alpha_err)),
+                      phi=Param(float(p.phi), float(p.phi_err)), regimes=reg, ranges=ranges,
+                      exponent_replicates=np.array(expo)[keep] if reg.replicates is not None else None)
+
+
+# --- the fit file ---------------------------------------------------------
+
+class FitFileError(ValueError):
+    """A file that is not a readable granudrag fit file."""
+
+
+@dataclass
+class FitFile:
+    laws: list
+    fits: dict
+    tables: dict
+
+
+def save_fits(path, laws=(), fits=None, tables=None):
+    """Write a JSON fit file:
+
+        {"format": "granudrag-fits", "version": 1,
+         "laws":   [ScalingLaw: mu, kn, gamman, alpha, phi, regimes, ranges],
+         "fits":   {name: Fit: model, params {name: {value, err}}, method,
+                    n_points, x_range, meta, [replicates]},
+         "tables": {name: [row objects]}}
+
+    Errors are one standard error; null stands for "not estimable".
+    """
+    doc = {"format": FORMAT, "version": VERSION,
+           "units": "lengths in d, speeds in sqrt(g d), forces in rho d^3 g",
+           "laws": [law.to_dict() for law in laws],
+           "fits": {k: f.to_dict() for k, f in (fits or {}).items()},
+           "tables": {k: json.loads(t.to_json(orient="records")) for k, t in (tables or {}).items()}}
+    Path(path).write_text(json.dumps(doc, indent=1, allow_nan=False))
+
+
+def load_fits(path):
+    """Read a fit file written by save_fits; FitFileError says what is wrong."""
+    path = Path(path)
+    if not path.is_file():
+        raise FitFileError(f"{path}: no such fit file")
+    try:
+        doc = json.loads(path.read_text())
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise FitFileError(f"{path}: not a JSON fit file ({exc})") from None
+    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+        raise FitFileError(f"{path}: not a granudrag fit file (no \"format\": \"{FORMAT}\")")
+    if doc.get("version") != VERSION:
+        raise FitFileError(f"{path}: fit-file version {doc.get('version')!r}, "
+                           f"this code reads version {VERSION}")
+    try:
+        return FitFile(laws=[ScalingLaw.from_dict(d) for d in doc.get("laws", [])],
+                       fits={k: Fit.from_dict(d) for k, d in doc.get("fits", {}).items()},
+                       tables={k: pd.DataFrame(v) for k, v in doc.get("tables", {}).items()})
+    except (KeyError, TypeError, ValueError) as exc:
+        raise FitFileError(f"{path}: damaged fit file ({type(exc).__name__}: {exc})") from None

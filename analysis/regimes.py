@@ -1,0 +1,248 @@
+"""Three-regime fit of drag(Fr) with fitted crossovers (paper Figs. 5, 10, 16).
+
+    regime I    Fr < Fr1        a0            (or a0 + b0 Fr^c0 for mu = 0, Table I)
+    regime II   Fr1 <= Fr < Fr2 a1 + b1 Fr
+    regime III  Fr >= Fr2       a2 + b2 Fr^2
+
+For given crossovers (and c0) the model is linear in its coefficients, so
+the fit profiles the least-squares error over (Fr1, Fr2[, c0]): a grid
+search, then (when the model is continuous) a grid zoomed in around the
+best point. Without continuity the error only changes when a point changes
+regime, so the crossovers are only known to lie in a gap between data
+points; each is reported at the middle of its gap.
+
+Uncertainties come from a wild bootstrap: each refit adds the residuals,
+multiplied by random signs, to the fitted curve and repeats the whole fit,
+crossover search included. The Fr grid is a designed, fixed grid and the
+noise grows with the drag, which is what the wild bootstrap assumes
+(resampling points instead could leave a regime without data).
+"""
+import numpy as np
+from .result import Fit, Param
+
+MIN_POINTS = {"I": 2, "I_power": 4, "II": 3, "III": 3}
+# Regime I of the frictionless law is sublinear (Table I: c'' = 0.22-0.77);
+# allowing c0 > 1 would let it mimic the linear regime II and swallow Fr1.
+C0_MAX = 1.0
+C0_GRID = np.linspace(0.1, C0_MAX, 7)
+
+
+def regime_curve(Fr, a0, a1, b1, a2, b2, Fr1, Fr2, b0=0.0, c0=1.0):
+    """The piecewise drag law at Fr (explicit form; a1, a2 are intercepts)."""
+    Fr = np.asarray(Fr, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        low = a0 + b0 * np.where(Fr > 0, np.abs(Fr) ** c0, 0.0)
+    return np.where(Fr < Fr1, low, np.where(Fr < Fr2, a1 + b1 * Fr, a2 + b2 * Fr ** 2))
+
+
+def fit_regimes(Fr, drag, sigma=None, *, regime1="constant", continuous=True,
+                n_boot=200, seed=0, grid=40):
+    """Fit the three-regime law; return a Fit with params (a0, [b0, c0,] a1, b1,
+    a2, b2, Fr1, Fr2), each with a bootstrap standard error (NaN if n_boot=0).
+
+    sigma: per-point standard errors of the drag, used as weights 1/sigma^2
+    when all are finite and positive; otherwise the points weigh equally.
+    """
+    fitter = RegimeFitter(regime1, continuous, grid)
+    x, y, w = fitter.prepare(Fr, drag, sigma)
+    best = fitter.best(x, y, w)
+    reps = []
+    if n_boot > 0:
+        rng = np.random.default_rng(seed)
+        fitted = regime_curve(x, **best)
+        resid = fitter.scaled_residuals(y, fitted)
+        reps = [fitter.fit(x, fitted + resid * rng.choice([-1.0, 1.0], size=len(x)), w)
+                for _ in range(n_boot)]
+    return fitter.result(x, best, reps, f"{n_boot} wild-bootstrap refits (seed {seed})")
+
+
+class RegimeFitter:
+    """One variant of the model (power-law regime I or not, continuous or not)
+    and its profile least-squares search."""
+
+    def __init__(self, regime1="constant", continuous=True, grid=40):
+        if regime1 not in ("constant", "power"):
+            raise ValueError(f"regime1 must be 'constant' or 'power', not {regime1!r}")
+        self.regime1 = regime1
+        self.power, self.continuous, self.grid = regime1 == "power", continuous, grid
+
+    def prepare(self, Fr, drag, sigma=None):
+        """Finite points sorted by Fr, with weights; raise if too few."""
+        x, y = np.asarray(Fr, float), np.asarray(drag, float)
+        ok = np.isfinite(x) & np.isfinite(y)
+        w = np.ones_like(x)
+        if sigma is not None:
+            s = np.asarray(sigma, float)
+            if np.all(np.isfinite(s[ok]) & (s[ok] > 0)):
+                w = 1.0 / s ** 2
+        order = np.argsort(x[ok], kind="stable")
+        x, y, w = x[ok][order], y[ok][order], w[ok][order]
+        need = self.min_total()
+        if len(x) < need:
+            raise ValueError(f"three-regime fit needs at least {need} points, got {len(x)}")
+        return x, y, w
+
+    def best(self, x, y, w):
+        best = self.fit(x, y, w)
+        if best is None:
+            raise ValueError("no crossover pair leaves enough points in every regime")
+        return best
+
+    def scaled_residuals(self, y, fitted):
+        # Residuals underestimate the noise by the fitted degrees of freedom.
+        return (y - fitted) * np.sqrt(len(y) / max(len(y) - self.n_free(), 1))
+
+    def result(self, x, best, reps, how):
+        """A Fit from the point estimate and the refits (dicts; None = failed)."""
+        names = list(best)
+        rows = [[r[k] for k in names] for r in reps if r is not None]
+        arr = np.array(rows) if rows else None
+        if arr is None or len(arr) < max(10, len(reps) // 2):
+            errs = {k: np.nan for k in names}
+        else:
+            errs = {k: float(np.std(arr[:, i], ddof=1)) for i, k in enumerate(names)}
+            if not self.continuous:
+                # Add the spread of a crossover inside its gap (uniform: width/sqrt(12)).
+                for k in ("Fr1", "Fr2"):
+                    errs[k] = float(np.hypot(errs[k], self.gap_width(x, best[k]) / np.sqrt(12)))
+        return Fit(model="regimes",
+                   params={k: Param(float(best[k]), float(errs[k])) for k in names},
+                   method="profile least squares over the crossovers; errors = standard "
+                          f"deviation of {how}",
+                   n_points=len(x), x_range=(float(x[0]), float(x[-1])),
+                   meta={"regime1": self.regime1, "continuous": self.continuous},
+                   replicates=arr)
+
+    def n_free(self):
+        linear = (2 if self.power else 1) + (2 if self.continuous else 4)
+        return linear + 2 + (1 if self.power else 0)
+
+    def min_total(self):
+        return MIN_POINTS["I_power" if self.power else "I"] + MIN_POINTS["II"] + MIN_POINTS["III"]
+
+    def gap_width(self, x, fr):
+        ux = np.unique(x)
+        i = np.searchsorted(ux, fr)
+        return float(ux[min(i, len(ux) - 1)] - ux[max(i - 1, 0)])
+
+    # -- profile search -------------------------------------------------
+    def fit(self, x, y, w):
+        cands = self._candidates(x)
+        if len(cands) == 0:
+            return None
+        sse, beta = self._solve(x, y, w, cands)
+        k = int(np.argmin(sse))
+        best = cands[k]
+        if self.continuous:
+            best = self._refine(x, y, w, best, sse[k])
+        elif self.power:
+            best = self._refine_c0(x, y, w, best)
+        sse, beta = self._solve(x, y, w, best[None, :])
+        return self._explicit(best, beta[0])
+
+    def _candidates(self, x):
+        """Rows (Fr1, Fr2, c0) that leave enough points in every regime."""
+        if self.continuous:
+            lo = max(x[x > 0].min() if np.any(x > 0) else 1e-3, 1e-6)
+            g = np.geomspace(lo, x.max(), self.grid)
+        else:
+            ux = np.unique(x)
+            g = 0.5 * (ux[1:] + ux[:-1])
+        f1, f2 = np.meshgrid(g, g, indexing="ij")
+        f1, f2 = f1.ravel(), f2.ravel()
+        keep = (f1 < f2) & self._counts_ok(x, f1, f2)
+        f1, f2 = f1[keep], f2[keep]
+        c0 = C0_GRID if self.power else np.array([1.0])
+        return np.column_stack([np.repeat(f1, len(c0)), np.repeat(f2, len(c0)),
+                                np.tile(c0, len(f1))])
+
+    def _counts_ok(self, x, f1, f2):
+        n1 = np.searchsorted(x, f1, side="left")
+        n2 = np.searchsorted(x, f2, side="left")
+        m1 = MIN_POINTS["I_power" if self.power else "I"]
+        return (n1 >= m1) & (n2 - n1 >= MIN_POINTS["II"]) & (len(x) - n2 >= MIN_POINTS["III"])
+
+    def _design(self, x, c):
+        """Design matrices, shape (len(c), len(x), p), for candidate rows c."""
+        f1, f2, c0 = (c[:, i:i + 1] for i in range(3))
+        X = x[None, :]
+        low = X < f1
+        mid = (X >= f1) & (X < f2)
+        high = X >= f2
+        one = np.ones_like(X * f1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            powx = np.where(X > 0, np.abs(X) ** c0, 0.0)
+        if self.continuous:
+            cols = [one]
+            if self.power:
+                cols.append(np.where(low, powx, f1 ** c0))
+            cols.append(np.clip(X, f1, f2) - f1)
+            cols.append(np.maximum(X, f2) ** 2 - f2 ** 2)
+        else:
+            cols = [low * one]
+            if self.power:
+                cols.append(low * powx)
+            cols += [mid * one, mid * X, high * one, high * X ** 2]
+        return np.stack(cols, axis=-1)
+
+    def _solve(self, x, y, w, c):
+        X = self._design(x, c) * np.sqrt(w)[None, :, None]
+        yw = y * np.sqrt(w)
+        if len(c) == 1:
+            beta = np.linalg.lstsq(X[0], yw, rcond=None)[0][None, :]
+        else:
+            A = X.transpose(0, 2, 1) @ X
+            b = X.transpose(0, 2, 1) @ yw
+            # Column scaling keeps the normal equations well conditioned when
+            # the Fr^2 column is orders of magnitude larger than the constant.
+            s = np.sqrt(np.diagonal(A, axis1=1, axis2=2)).copy()
+            s[s == 0] = 1.0
+            A = A / (s[:, :, None] * s[:, None, :]) + 1e-12 * np.eye(A.shape[1])
+            beta = np.linalg.solve(A, (b / s)[..., None])[..., 0] / s
+        r = yw[None, :] - (X @ beta[..., None])[..., 0]
+        return np.sum(r * r, axis=1), beta
+
+    def _refine(self, x, y, w, start, sse0):
+        """Zoom in on the best grid point: a small grid around it, shrunk each
+        round. Batched solves make this cheaper than a simplex search."""
+        best = np.array([np.log(start[0]), np.log(start[1]), start[2]])
+        lx = np.log(x[x > 0]) if np.any(x > 0) else np.array([-6.0, 0.0])
+        step = np.array([(lx.max() - lx.min()) / (self.grid - 1)] * 2
+                        + [C0_GRID[1] - C0_GRID[0]])
+        offs = np.linspace(-1.0, 1.0, 7)
+        for _ in range(4):
+            axes = [best[0] + offs * step[0], best[1] + offs * step[1],
+                    np.clip(best[2] + offs * step[2], 0.02, C0_MAX) if self.power else [best[2]]]
+            g = np.array(np.meshgrid(*axes, indexing="ij")).reshape(3, -1).T
+            c = np.column_stack([np.exp(g[:, 0]), np.exp(g[:, 1]), g[:, 2]])
+            ok = (c[:, 0] < c[:, 1]) & self._counts_ok(x, c[:, 0], c[:, 1])
+            if ok.any():
+                sse = self._solve(x, y, w, c[ok])[0]
+                k = int(np.argmin(sse))
+                if sse[k] <= sse0:
+                    best, sse0 = g[ok][k], sse[k]
+            step = step / 3.0
+        return np.array([np.exp(best[0]), np.exp(best[1]), best[2]])
+
+    def _refine_c0(self, x, y, w, start):
+        cs = np.linspace(max(start[2] - 0.2, 0.02), min(start[2] + 0.2, C0_MAX), 41)
+        c = np.column_stack([np.full_like(cs, start[0]), np.full_like(cs, start[1]), cs])
+        return c[int(np.argmin(self._solve(x, y, w, c)[0]))]
+
+    def _explicit(self, c, beta):
+        f1, f2, c0 = (float(v) for v in c)
+        beta = list(map(float, beta))
+        a0 = beta.pop(0)
+        b0 = beta.pop(0) if self.power else 0.0
+        if self.continuous:
+            b1, b2 = beta
+            y1 = a0 + b0 * f1 ** c0
+            a1 = y1 - b1 * f1
+            a2 = a1 + b1 * f2 - b2 * f2 ** 2
+        else:
+            a1, b1, a2, b2 = beta
+        out = {"a0": a0}
+        if self.power:
+            out.update(b0=b0, c0=c0)
+        out.update(a1=a1, b1=b1, a2=a2, b2=b2, Fr1=f1, Fr2=f2)
+        return out

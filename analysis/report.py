@@ -1,0 +1,312 @@
+"""The report: every figure and each fitted number beside the paper's value.
+
+Verdict for a number with a published value p (the paper gives no error
+bars, so only ours count):
+  within error bars  |fit - p| <= 2 standard errors
+  qualitatively      otherwise, but |fit - p| <= 25 % of |p|
+  not reproduced     otherwise (or no fit)
+"""
+import html
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import figures as F
+from . import paper
+from .fits import (fit_alpha, fit_kappa, fit_phi, fit_regimes, fit_saturation,
+                   fit_scaling_law, fit_theta, save_fits, sum_rule)
+from .result import Param, format_pm
+from .table import YIELD_SPEED, reference_params, select, validate_table, yield_rows
+
+SIGMAS, REL_TOL = 2.0, 0.25
+
+
+@dataclass
+class Results:
+    regimes: dict = field(default_factory=dict)     # (label, mu, key) -> Fit
+    theta: object = None
+    kappa: object = None
+    phi: object = None
+    alpha: object = None
+    sums: object = None
+    saturation: dict = field(default_factory=dict)  # D -> Fit
+    laws: list = field(default_factory=list)
+    notes: list = field(default_factory=list)       # fits that could not be made
+
+    def by(self, label, mu):
+        return {k[2]: f for k, f in self.regimes.items() if k[:2] == (label, mu)}
+
+
+def _try(results, what, fn, *args, **kw):
+    try:
+        return fn(*args, **kw)
+    except (ValueError, RuntimeError) as exc:
+        results.notes.append(f"{what}: not fitted ({exc})")
+        return None
+
+
+def run_fits(df, n_boot=200, seed=0):
+    """Every fit of the report, on the reference contact law where it applies."""
+    validate_table(df)
+    r = Results()
+    kn, gn = reference_params(df)
+    ref = select(df, kn=kn, gamman=gn)
+    for label, system, by, mus in (("D", "I", "D", (0.5, 0.0)), ("h", "II", "h", (0.5,))):
+        for mu in mus:
+            for key, g in select(ref, mu=mu, system=system).groupby(by):
+                if (~np.isclose(g.V, YIELD_SPEED)).sum() == 0:
+                    continue        # yield pulls only: no drag-vs-Fr series here
+                fit = _try(r, f"regimes at mu={mu:g}, {by}={key:g}", fit_regimes, g.Fr, g.drag,
+                           g.drag_err, regime1="power" if mu == 0 else "constant",
+                           n_boot=n_boot, seed=seed)
+                if fit is not None:
+                    r.regimes[(label, mu, key)] = fit
+    obs = select(ref, mu=0.5, system="I")
+    th = obs.dropna(subset=["theta"])
+    r.theta = _try(r, "theta(Fr)", fit_theta, th.Fr, th.theta) if len(th) else None
+    ka = obs.dropna(subset=["kappa"])
+    r.kappa = _try(r, "kappa(Fr)", fit_kappa, ka) if len(ka) else None
+    r.phi, r.alpha = fit_phi(df), fit_alpha(df)
+    r.sums = sum_rule(r.phi, r.alpha)
+    for D, g in yield_rows(ref).query("system == 'I'").groupby("D"):
+        if g.mu.nunique() >= 4:
+            fit = _try(r, f"F_Y(mu) saturation at D={D:g}", fit_saturation, g.mu, g.drag)
+            if fit is not None:
+                r.saturation[D] = fit
+    for mu in sorted(set(r.sums.mu[np.isclose(r.sums.kn, kn) & np.isclose(r.sums.gamman, gn)])):
+        law = _try(r, f"scaling law at mu={mu:g}", fit_scaling_law, df, r.phi, r.alpha,
+                   mu=mu, kn=kn, gamman=gn, n_boot=n_boot, seed=seed)
+        if law is not None:
+            r.laws.append(law)
+    return r
+
+
+# --- comparisons ---------------------------------------------------------
+
+@dataclass
+class Row:
+    quantity: str
+    fitted: str
+    published: str
+    verdict: str
+    sentence: str
+
+
+def verdict(p, published):
+    """Verdict and its reason for Param p against a published number."""
+    if p is None or not math.isfinite(p.value):
+        return "not reproduced", "no fit"
+    d = abs(p.value - published)
+    if math.isfinite(p.err) and p.err > 0 and d <= SIGMAS * p.err:
+        return "reproduced within error bars", f"{d / p.err:.1f} standard errors away"
+    if d <= REL_TOL * abs(published):
+        why = f"{d / p.err:.1f} standard errors" if math.isfinite(p.err) and p.err > 0 else "no error bar"
+        return "reproduced qualitatively", f"within {REL_TOL:.0%} but {why}"
+    return "not reproduced", f"off by {d / abs(published):.0%}" if published else "off"
+
+
+def _row(quantity, p, published, shown=None):
+    v, why = verdict(p, published)
+    shown = shown or f"{published:g}"
+    return Row(quantity, str(p) if p else "n/a", shown, v,
+               f"{quantity}: {p if p else 'n/a'} against {shown} — {v} ({why}).")
+
+
+def comparisons(r):
+    rows = []
+    for (label, mu, key), fit in sorted(r.regimes.items(), key=lambda kv: (kv[0][0], -kv[0][1], kv[0][2])):
+        where = f"μ = {mu:g}, {label} = {key:g}"
+        rows.append(_row(f"Fr_1 ({where})", fit["Fr1"], paper.CROSSOVER_FR1, "≈ 1"))
+        rows.append(_row(f"Fr_2 ({where})", fit["Fr2"], paper.CROSSOVER_FR2, "≈ 5"))
+    for law in r.laws:
+        rows.append(_row(f"Fr_1 (Eq. 12 collapse, μ = {law.mu:g})", law.regimes["Fr1"], 1.0, "≈ 1"))
+        rows.append(_row(f"Fr_2 (Eq. 12 collapse, μ = {law.mu:g})", law.regimes["Fr2"], 5.0, "≈ 5"))
+    if r.theta is not None:
+        for k, name in (("U1", "Υ1"), ("U2", "Υ2"), ("U3", "Υ3")):
+            rows.append(_row(f"θ(Fr) {name} (Eq. 7)", r.theta[k], paper.THETA[k]))
+    if r.kappa is not None:
+        for k in ("k0", "k1"):
+            rows.append(_row(f"κ(Fr) {'intercept' if k == 'k0' else 'slope'} (Fig. 8)",
+                             r.kappa[k], paper.KAPPA[k]))
+    for D, fit in sorted(r.by("D", 0.0).items()):
+        pub = paper.TABLE1.get(int(round(D))) if float(D).is_integer() else None
+        if pub and "b0" in fit.params:
+            for k, name, v in zip(("a0", "b0", "c0"), ("a''", "b''", "c''"), pub):
+                rows.append(_row(f"Table I {name} (D = {D:g}d)", fit[k], v))
+    for tab, col, pub, name in ((r.phi, "phi", paper.PHI_0, "φ_0"), (r.alpha, "alpha", paper.ALPHA_0, "α_0")):
+        for _, t in tab[np.isclose(tab.mu, 0.0)].iterrows():
+            rows.append(_row(f"{name} (K_n = {t.kn:.3g})", Param(t[col], t[col + "_err"]), pub, f"≈ {pub:g}"))
+    for _, t in r.sums.iterrows():
+        rows.append(_row(f"α_μ + φ_μ (μ = {t.mu:g}, K_n = {t.kn:.3g})",
+                         Param(t["sum"], t["sum_err"]), paper.SUM_RULE, "≈ 3"))
+    for D, fit in sorted(r.saturation.items()):
+        rows.append(_saturation_row(D, fit))
+    return rows
+
+
+def _saturation_row(D, fit):
+    """F_Y saturates if 95 % of its rise (3 mu_c) happens inside the sampled mu."""
+    mu_c, mu_max = fit["mu_c"], fit.x_range[1]
+    err = mu_c.err if math.isfinite(mu_c.err) else math.inf
+    if 3 * (mu_c.value + SIGMAS * err) < mu_max:
+        v = "reproduced within error bars"
+    elif 3 * mu_c.value < mu_max:
+        v = "reproduced qualitatively"
+    else:
+        v = "not reproduced"
+    q = f"F_Y saturating in μ (D = {D:g}d)"
+    shown = "saturates (Fig. 12)"
+    return Row(q, f"μ_c = {mu_c}", shown, v,
+               f"{q}: rise scale μ_c = {mu_c} against sampled μ ≤ {mu_max:g} — {v} "
+               f"(saturated means 3 μ_c < μ_max).")
+
+
+# --- document ------------------------------------------------------------
+
+def _figures(df, r, outdir, restitution, trace):
+    """Draw every figure; returns [(caption, png path or None, note)]."""
+    jobs = [
+        ("Fig. 5: drag vs Fr, μ = 0.5", F.fig05_drag_vs_Fr, dict(fits=r.by("D", 0.5))),
+        ("Fig. 6: contact angle θ vs Fr", F.fig06_theta, dict(fit=r.theta)),
+        ("Fig. 8: κ vs Fr", F.fig08_kappa, dict(fit=r.kappa)),
+        ("Fig. 10: drag vs Fr, μ = 0", F.fig10_drag_vs_Fr_mu0, dict(fits=r.by("D", 0.0))),
+        ("Table I: μ = 0 regime-I coefficients", F.table1, dict(fits=r.by("D", 0.0))),
+        ("Fig. 11: quasistatic drag for small μ, D = 2d", F.fig11_quasistatic_mu,
+         dict(fit_mu0=r.by("D", 0.0).get(2.0))),
+        ("Fig. 12: yield force vs μ", F.fig12_yield_vs_mu, dict(saturation=r.saturation)),
+        ("Fig. 13: yield force vs D*+1, collapse, f(μ)", F.fig13_yield_vs_D, dict(phi=r.phi)),
+        ("Fig. 14: φ_μ vs μ", F.fig14_phi_vs_mu, dict(phi=r.phi)),
+        ("Fig. 15: drag scaled by (D*+1)^φ_μ", F.fig15_scaled_drag_D, dict(phi=r.phi)),
+        ("Fig. 16: drag vs Fr at several depths", F.fig16_drag_vs_Fr_depth, dict(fits=r.by("h", 0.5))),
+        ("Fig. 17: yield force vs h, collapse, g(μ)", F.fig17_yield_vs_h, dict(alpha=r.alpha)),
+        ("Fig. 18: α_μ and the sum rule", F.fig18_alpha, dict(phi=r.phi, alpha=r.alpha)),
+        ("Fig. 19: drag scaled by h^α_μ", F.fig19_scaled_drag_h, dict(alpha=r.alpha)),
+        ("Fig. 20: K_n and γ_n variations", F.fig20_kn_gamman, {}),
+    ]
+    out = []
+    if restitution is not None:
+        out.append(("Fig. 2: restitution coefficient", F.fig02_restitution(*restitution, outdir)[0], ""))
+    else:
+        out.append(("Fig. 2: restitution coefficient", None, "no restitution data given"))
+    if trace is not None:
+        t, force, *transient = trace
+        out.append(("Fig. 4: force trace", F.fig04_force_trace(t, force, outdir, *transient)[0], ""))
+    else:
+        out.append(("Fig. 4: force trace", None, "no force trace given"))
+    for caption, fn, kw in jobs:
+        try:
+            out.append((caption, fn(df, outdir, **kw)[0], ""))
+        except F.NoData as exc:
+            out.append((caption, None, str(exc)))
+    return out
+
+
+def _blocks(df, r, figs, n_boot, seed):
+    kn, gn = reference_params(df)
+    b = [("h1", "granudrag: drag scaling in dense granular media"),
+         ("p", f"{len(df)} pulls; systems {', '.join(sorted(df.system.unique()))}; "
+               f"μ = {', '.join(f'{m:g}' for m in sorted(df.mu.unique()))}; reference contact law "
+               f"K_n = {kn:.3g}, γ_n = {gn:.3g}. Regime fits: crossovers fitted by profile least "
+               f"squares, errors from {n_boot} wild-bootstrap refits (seed {seed}); other fits: "
+               "least-squares covariance. Errors are one standard error."),
+         ("p", f"Verdicts: within error bars = within {SIGMAS:g} standard errors of the published "
+               f"value; qualitatively = within {REL_TOL:.0%} of it; else not reproduced. "
+               "The paper publishes no error bars.")]
+    rows = comparisons(r)
+    b += [("h2", "Fitted numbers beside the paper's"),
+          ("table", ["quantity", "fitted", "paper", "verdict"],
+           [[x.quantity, x.fitted, x.published, x.verdict] for x in rows])]
+    b += [("h2", "In words"), ("ul", [x.sentence for x in rows] or ["No fit could be made."])]
+    if len(r.sums) or len(r.phi) or len(r.alpha):
+        b += [("h2", "Exponents of the yield force")]
+        b += [("table", ["μ", "K_n", "φ_μ", "f(μ)", "α_μ", "g(μ)"], _exponent_rows(r))]
+    if r.laws:
+        b += [("h2", "Scaling law (Eq. 12): λ coefficients"),
+              ("p", "F*_drag / (h*^α_μ (D*+1)^φ_μ) = λ^I (Fr < Fr_1); λ_1^II Fr + λ_2^II "
+                    "(Fr_1 < Fr < Fr_2); λ_1^III Fr² + λ_2^III (Fr > Fr_2). For μ = 0 regime I is "
+                    "λ^I + b0 Fr^c0 (Eq. 10). The paper prints no values for these.")]
+        names = list(dict.fromkeys(n for law in r.laws for n in law.lambdas()))
+        b += [("table", ["μ", "α_μ", "φ_μ"] + [n.replace("lambda", "λ") for n in names] + ["Fr_1", "Fr_2"],
+               [[f"{law.mu:g}", str(law.alpha), str(law.phi)]
+                + [str(law.lambdas().get(n, "")) for n in names]
+                + [str(law.regimes["Fr1"]), str(law.regimes["Fr2"])] for law in r.laws])]
+    b += [("h2", "Figures")]
+    for caption, path, note in figs:
+        b += [("img", caption, path.name)] if path else [("p", f"{caption}: not drawn — {note}.")]
+    if r.notes:
+        b += [("h2", "Fits not made"), ("ul", r.notes)]
+    return b
+
+
+def _exponent_rows(r):
+    m = r.phi.merge(r.alpha, on=["mu", "kn", "gamman"], how="outer").sort_values(["kn", "mu"])
+    fmt = lambda row, c: format_pm(row[c], row[c + "_err"]) if c in row and np.isfinite(row[c]) else "-"
+    return [[f"{row.mu:g}", f"{row.kn:.3g}", fmt(row, "phi"), fmt(row, "f"), fmt(row, "alpha"), fmt(row, "g")]
+            for _, row in m.iterrows()]
+
+
+def _markdown(blocks):
+    out = []
+    for kind, *a in blocks:
+        if kind in ("h1", "h2"):
+            out.append(("#" if kind == "h1" else "##") + f" {a[0]}\n")
+        elif kind == "p":
+            out.append(a[0] + "\n")
+        elif kind == "ul":
+            out.append("".join(f"- {x}\n" for x in a[0]))
+        elif kind == "table":
+            head, body = a
+            cell = lambda s: str(s).replace("|", "\\|")
+            out.append("| " + " | ".join(map(cell, head)) + " |\n|" + "---|" * len(head) + "\n"
+                       + "".join("| " + " | ".join(map(cell, r)) + " |\n" for r in body))
+        elif kind == "img":
+            out.append(f"![{a[0]}]({a[1]})\n\n*{a[0]}*\n")
+    return "\n".join(out)
+
+
+def _html(blocks):
+    e = html.escape
+    out = ["<!DOCTYPE html><html><head><meta charset='utf-8'><title>granudrag report</title>"
+           "<style>body{font-family:sans-serif;max-width:60em;margin:auto}table{border-collapse:"
+           "collapse}td,th{border:1px solid #999;padding:2px 6px}img{max-width:100%}</style>"
+           "</head><body>"]
+    for kind, *a in blocks:
+        if kind in ("h1", "h2"):
+            out.append(f"<{kind}>{e(a[0])}</{kind}>")
+        elif kind == "p":
+            out.append(f"<p>{e(a[0])}</p>")
+        elif kind == "ul":
+            out.append("<ul>" + "".join(f"<li>{e(x)}</li>" for x in a[0]) + "</ul>")
+        elif kind == "table":
+            head, body = a
+            out.append("<table><tr>" + "".join(f"<th>{e(str(h))}</th>" for h in head) + "</tr>"
+                       + "".join("<tr>" + "".join(f"<td>{e(str(c))}</td>" for c in r) + "</tr>"
+                                 for r in body) + "</table>")
+        elif kind == "img":
+            out.append(f"<figure><img src='{e(a[1])}' alt='{e(a[0])}'>"
+                       f"<figcaption>{e(a[0])}</figcaption></figure>")
+    return "\n".join(out + ["</body></html>"])
+
+
+def build_report(df, outdir, n_boot=200, seed=0, restitution=None, trace=None):
+    """Fit, draw and write report.md, report.html and fits.json into outdir.
+
+    restitution: optional (v_n, e, theory_v, theory_e) arrays for Fig. 2;
+    trace: optional (t, force[, transient]) for Fig. 4.
+    Returns the path of report.md.
+    """
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    r = run_fits(df, n_boot=n_boot, seed=seed)
+    figs = _figures(df, r, outdir, restitution, trace)
+    fits = {f"regimes_mu{mu:g}_{lab}{key:g}": f for (lab, mu, key), f in r.regimes.items()}
+    fits.update({k: v for k, v in (("theta", r.theta), ("kappa", r.kappa)) if v is not None})
+    fits.update({f"saturation_D{D:g}": f for D, f in r.saturation.items()})
+    save_fits(outdir / "fits.json", laws=r.laws, fits=fits,
+              tables={"phi": r.phi, "alpha": r.alpha, "sum_rule": r.sums})
+    blocks = _blocks(df, r, figs, n_boot, seed)
+    (outdir / "report.md").write_text(_markdown(blocks))
+    (outdir / "report.html").write_text(_html(blocks))
+    return outdir / "report.md"

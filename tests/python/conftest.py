@@ -1,0 +1,32 @@
+import sys
+from pathlib import Path
+
+import pytest
+
+# Import `analysis` from the repository root and `synth` from here, without
+# installing anything.
+ROOT = Path(__file__).resolve().parents[2]
+for p in (ROOT, Path(__file__).resolve().parent):
+    if str(p) not in sys.path:
+        sys.path.insert(0, str(p))
+
+import synth  # noqa: E402
+
+
+@pytest.fixture(scope="session")
+def table():
+    return synth.make_table(seed=1)
+
+
+@pytest.fixture(scope="session")
+def report_dir(table, tmp_path_factory):
+    """One report build shared by the report and predictor tests (it is slow)."""
+    import numpy as np
+    from analysis.report import build_report
+    out = tmp_path_factory.mktemp("report")
+    v = np.geomspace(1e-3, 1.0, 10)
+    t = np.linspace(0.0, 20.0, 500)
+    build_report(table, out, n_boot=30, seed=0,
+                 restitution=(v, 1 - 0.3 * v ** 0.2, v, 1 - 0.3 * v ** 0.2),
+                 trace=(t, 40 + np.sin(t), 2.0))
+    return out

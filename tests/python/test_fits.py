@@ -1,0 +1,123 @@
+"""Fits of theta, kappa, the yield-force exponents and the scaling law."""
+import json
+
+import numpy as np
+import pytest
+
+import synth
+from analysis import paper
+from analysis.fits import (FitFileError, ScalingLaw, evaluate, fit_alpha, fit_kappa,
+                           fit_phi, fit_power_law, fit_saturation, fit_scaling_law,
+                           fit_theta, load_fits, save_fits, sum_rule)
+from analysis.table import select, yield_rows
+
+
+def within(p, truth, n_err=3.0):
+    return abs(p.value - truth) < n_err * p.err
+
+
+def test_theta_fit_recovers_eq7():
+    rng = np.random.default_rng(7)
+    Fr = np.linspace(0.05, 10, 40)
+    theta = -0.15 * Fr ** 0.38 + np.pi / 2.45 + 0.004 * rng.standard_normal(40)
+    fit = fit_theta(Fr, theta)
+    for k in ("U1", "U2", "U3"):
+        assert within(fit[k], paper.THETA[k]), (k, fit[k])
+        assert 0 < fit[k].err < 0.1 * abs(paper.THETA[k])
+    assert np.allclose(evaluate(fit, Fr), -0.15 * Fr ** 0.38 + np.pi / 2.45, atol=0.01)
+
+
+def test_kappa_fit_recovers_fig8_line(table):
+    fit = fit_kappa(table)
+    assert within(fit["k0"], 0.887) and within(fit["k1"], 0.185)
+    assert fit["k1"].err < 0.005
+    # A wrong line is excluded by the error bars.
+    assert not within(fit["k1"], 0.2)
+
+
+def test_power_law_exponent_and_errors():
+    rng = np.random.default_rng(3)
+    x = np.arange(2.0, 12.0)
+    y = 0.7 * x ** 1.6 * (1 + 0.03 * rng.standard_normal(len(x)))
+    fit = fit_power_law(x, y, 0.03 * y)
+    assert within(fit["p"], 1.6) and within(fit["A"], 0.7)
+    assert fit["p"].err < 0.05
+    with pytest.raises(ValueError, match="positive"):
+        fit_power_law([1, 2, -3], [1, 2, 3])
+
+
+def test_phi_alpha_and_sum_rule(table):
+    phi, alpha = fit_phi(table), fit_alpha(table)
+    assert sorted(phi.mu) == [0.0, 0.1, 0.3, 0.5, 0.9]
+    # Stated tolerance: 3 standard errors and 0.05 absolute on every exponent.
+    for _, r in phi.iterrows():
+        assert abs(r.phi - synth.phi_true(r.mu)) < min(3 * r.phi_err, 0.05), r
+        if r.mu > 0:    # G = 1 at the yield speed only with friction
+            assert abs(r.f / synth.prefactor(r.mu) / synth.H_SYSTEM_I ** synth.alpha_true(r.mu) - 1) < 0.1
+    for _, r in alpha.iterrows():
+        assert abs(r.alpha - synth.alpha_true(r.mu)) < min(3 * r.alpha_err, 0.1), r
+    s = sum_rule(phi, alpha)
+    assert len(s) == 5
+    assert np.all(np.abs(s["sum"] - 3.0) < 3 * s.sum_err)
+    assert np.allclose(s.sum_err, np.hypot(s.phi_err, s.alpha_err))
+
+
+def test_yield_force_saturation_fit(table):
+    g = select(yield_rows(table), D=4.0, system="I")
+    fit = fit_saturation(g.mu, g.drag)
+    # Synthetic F_Y reaches 95 % of its rise by mu ~ 0.4 < 0.9 sampled.
+    assert 3 * (fit["mu_c"].value + 2 * fit["mu_c"].err) < g.mu.max()
+    # A force rising linearly over the whole range does not look saturated.
+    lin = fit_saturation(g.mu, 10 + 20 * g.mu)
+    assert 3 * lin["mu_c"].value > g.mu.max()
+
+
+def test_scaling_law_lambdas_and_prediction(table):
+    phi, alpha = fit_phi(table), fit_alpha(table)
+    law = fit_scaling_law(table, phi, alpha, mu=0.5, n_boot=40, seed=0)
+    G = synth.G_params(0.5)
+    lam = law.lambdas()
+    # lambda^I is the prefactor C(mu) times G's plateau, etc. (3 standard errors)
+    C = synth.prefactor(0.5)
+    assert within(lam["lambda^I"], C * G["a0"])
+    assert within(lam["lambda_1^II"], C * G["b1"])
+    assert within(lam["lambda_1^III"], C * G["b2"])
+    assert within(law.regimes["Fr1"], 1.0) and within(law.regimes["Fr2"], 5.0)
+    F, err = law.predict(D=4.0, h=45.0, V=2.0)
+    truth = synth.drag_true(4.0, 45.0, 0.5, float(synth.froude(2.0, 4.0)))
+    assert abs(F - truth) < 3 * err and err < 0.2 * truth
+    with pytest.raises(ValueError, match="8 or more Froude numbers"):
+        fit_scaling_law(table, phi, alpha, mu=0.9)
+
+
+def test_fit_file_round_trip(table, tmp_path):
+    phi, alpha = fit_phi(table), fit_alpha(table)
+    law = fit_scaling_law(table, phi, alpha, mu=0.5, n_boot=20)
+    theta = fit_theta(table.Fr, table.theta)
+    path = tmp_path / "fits.json"
+    save_fits(path, laws=[law], fits={"theta": theta}, tables={"phi": phi})
+    back = load_fits(path)
+    assert isinstance(back.laws[0], ScalingLaw)
+    assert back.laws[0].predict(4.0, 45.0, 2.0) == pytest.approx(law.predict(4.0, 45.0, 2.0))
+    assert back.fits["theta"]["U2"] == theta["U2"]
+    assert np.allclose(back.tables["phi"].phi, phi.phi)
+    doc = json.loads(path.read_text())
+    assert doc["format"] == "granudrag-fits" and doc["version"] == 1
+
+
+def test_fit_file_errors(tmp_path):
+    with pytest.raises(FitFileError, match="no such fit file"):
+        load_fits(tmp_path / "none.json")
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    with pytest.raises(FitFileError, match="not a JSON fit file"):
+        load_fits(bad)
+    bad.write_text(json.dumps({"format": "something-else"}))
+    with pytest.raises(FitFileError, match="not a granudrag fit file"):
+        load_fits(bad)
+    bad.write_text(json.dumps({"format": "granudrag-fits", "version": 99}))
+    with pytest.raises(FitFileError, match="version 99"):
+        load_fits(bad)
+    bad.write_text(json.dumps({"format": "granudrag-fits", "version": 1, "laws": [{"mu": 0.5}]}))
+    with pytest.raises(FitFileError, match="damaged fit file"):
+        load_fits(bad)

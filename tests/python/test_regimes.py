@@ -1,0 +1,87 @@
+"""Three-regime fits recover known crossovers from noisy synthetic drag."""
+import numpy as np
+import pytest
+
+import synth
+from analysis.regimes import fit_regimes, regime_curve
+
+FR = np.concatenate([np.geomspace(0.02, 0.8, 8), np.linspace(1.0, 10.0, 19)])
+
+
+def noisy(mu, noise, seed, **G_kw):
+    truth = regime_curve(FR, **synth.G_params(mu, **G_kw))
+    rng = np.random.default_rng(seed)
+    return truth * (1.0 + noise * rng.standard_normal(len(FR))), noise * truth
+
+
+def z_scores(mu, noise, seeds, **kw):
+    """(fit - truth) / err for Fr1 and Fr2 over several noise draws."""
+    z, errs = [], []
+    for seed in seeds:
+        y, s = noisy(mu, noise, seed)
+        fit = fit_regimes(FR, y, s, n_boot=60, seed=seed,
+                          regime1="power" if mu == 0 else "constant", **kw)
+        z.append([(fit[k].value - t) / fit[k].err for k, t in (("Fr1", 1.0), ("Fr2", 5.0))])
+        errs.append([fit["Fr1"].err, fit["Fr2"].err])
+    return np.array(z), np.array(errs)
+
+
+def test_model_is_continuous_with_crossovers_at_1_and_5():
+    p = synth.G_params(0.5)
+    for x in (1.0, 5.0):
+        assert regime_curve(x - 1e-9, **p) == pytest.approx(regime_curve(x, **p), abs=1e-6)
+
+
+def test_crossovers_found_within_error_bars_frictional():
+    # Eight noise draws at 3 % noise: each crossover must lie within 2 standard
+    # errors in at least 6 of 8 (95 % coverage would give ~7.6), none beyond 4,
+    # and the error bars must be tight enough to say something (< 0.2).
+    z, errs = z_scores(0.5, 0.03, range(8))
+    assert (np.abs(z) < 2).sum(axis=0).min() >= 6, z
+    assert np.abs(z).max() < 4, z
+    assert np.median(errs, axis=0).max() < 0.2, errs
+
+
+def test_crossovers_found_within_error_bars_frictionless():
+    # mu = 0: regime I is a0 + b0 Fr^c0 (Table I form), 1 % noise.
+    z, errs = z_scores(0.0, 0.01, range(4))
+    assert (np.abs(z) < 2).sum(axis=0).min() >= 3, z
+    assert np.median(errs, axis=0).max() < 0.2, errs
+
+
+def test_coefficients_and_exponent_recovered():
+    y, s = noisy(0.0, 0.005, seed=3)
+    fit = fit_regimes(FR, y, s, regime1="power", n_boot=60, seed=1)
+    true = synth.G_params(0.0)
+    # Stated tolerances: 3 standard errors, and c0 within 0.15 absolute.
+    for k in ("a0", "b0", "c0", "b1", "b2", "Fr1", "Fr2"):
+        assert abs(fit[k].value - true[k]) < 3 * fit[k].err, (k, fit[k], true[k])
+    assert abs(fit["c0"].value - 0.6) < 0.15
+    assert fit.replicates.shape == (60, len(fit.params))
+
+
+def test_discontinuous_fit_brackets_crossovers():
+    y, s = noisy(0.5, 0.02, seed=5)
+    fit = fit_regimes(FR, y, s, continuous=False, n_boot=60, seed=0)
+    assert abs(fit["Fr1"].value - 1.0) < 2 * fit["Fr1"].err
+    assert abs(fit["Fr2"].value - 5.0) < 2 * fit["Fr2"].err
+    assert fit["Fr1"].err < 0.5 and fit["Fr2"].err < 0.5
+
+
+def test_misplaced_crossovers_are_detected():
+    # Data with crossovers at 2 and 7: the fit must not report 1 and 5.
+    y, s = noisy(0.5, 0.02, seed=2, Fr1=2.0, Fr2=7.0)
+    fit = fit_regimes(FR, y, s, n_boot=60)
+    assert abs(fit["Fr1"].value - 2.0) < 3 * fit["Fr1"].err
+    assert abs(fit["Fr1"].value - 1.0) > 3 * fit["Fr1"].err
+    assert abs(fit["Fr2"].value - 5.0) > 3 * fit["Fr2"].err
+
+
+def test_errors_are_nan_without_bootstrap_and_too_few_points_raise():
+    y, _ = noisy(0.5, 0.02, seed=0)
+    fit = fit_regimes(FR, y, n_boot=0)
+    assert np.isnan(fit["Fr1"].err) and np.isfinite(fit["Fr1"].value)
+    with pytest.raises(ValueError, match="at least 8 points"):
+        fit_regimes(FR[:7], y[:7])
+    with pytest.raises(ValueError, match="regime1"):
+        fit_regimes(FR, y, regime1="cubic")
