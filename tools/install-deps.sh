@@ -2,7 +2,7 @@
 # Installs the Debian packages granudrag needs that are missing (sudo when not root).
 # Usage: tools/install-deps.sh [build|test|all]   (default: all)
 set -euo pipefail
-build_pkgs=(g++ cmake make git libeigen3-dev libgtest-dev)
+build_pkgs=(g++ cmake make git libeigen3-dev libgtest-dev libhdf5-dev libyaml-cpp-dev hdf5-tools)
 python_pkgs=(python3 python3-numpy python3-scipy python3-pandas python3-matplotlib python3-h5py
              python3-yaml python3-pytest)
 case "${1:-all}" in
