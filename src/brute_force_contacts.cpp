@@ -9,6 +9,7 @@ bool BruteForceContacts::update_lists(Particles&, const Box&) { return false; }
 void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactParams& c,
                                     double dt, bool update_history) {
   const int n = static_cast<int>(p.size());
+  formed_.clear();
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
       if (p.kind[i] == Kind::Frozen && p.kind[j] == Kind::Frozen) continue;
@@ -27,7 +28,9 @@ void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactP
       g.meff = effective_mass(p.mass[i], p.kind[i], p.mass[j], p.kind[j]);
       g.rel_velocity = p.v[i] - p.v[j];
       g.spin_sum = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
-      Vec3& shear = history_.try_emplace({i, j}, Vec3::Zero()).first->second;
+      const auto [slot, formed] = history_.try_emplace({i, j}, Vec3::Zero());
+      if (formed) formed_.push_back({i, j});
+      Vec3& shear = slot->second;
       const ContactForce cf = hertz_history(c, g, dt, shear, update_history);
       p.f[i] += cf.force;
       p.f[j] -= cf.force;
@@ -57,6 +60,39 @@ int BruteForceContacts::contacts_of(int body) const {
   for (const auto& entry : history_)
     if (entry.first.first == body || entry.first.second == body) ++n;
   return n;
+}
+
+void BruteForceContacts::new_contacts_of(int body, std::vector<int>& grains) const {
+  grains.clear();
+  for (const auto& [i, j] : formed_)
+    if (i == body || j == body) grains.push_back(i == body ? j : i);
+}
+
+void BruteForceContacts::count_contacts(std::vector<int>& contacts) const {
+  for (const auto& entry : history_) {
+    ++contacts[entry.first.first];
+    ++contacts[entry.first.second];
+  }
+}
+
+std::vector<PairHistory> BruteForceContacts::export_history() const {
+  std::vector<PairHistory> out;
+  for (const auto& [key, shear] : history_) out.push_back({key.first, key.second, shear});
+  return out;
+}
+
+void BruteForceContacts::import_history(const std::vector<PairHistory>& history) {
+  history_.clear();
+  for (const PairHistory& h : history) history_[{h.i, h.j}] = h.shear;
+}
+
+double BruteForceContacts::max_overlap(const Particles& p, const Box& box) const {
+  double worst = 0;
+  for (const auto& entry : history_) {
+    const int i = entry.first.first, j = entry.first.second;
+    worst = std::max(worst, p.radius[i] + p.radius[j] - box.min_image(p.x[i] - p.x[j]).norm());
+  }
+  return worst;
 }
 
 long BruteForceContacts::contact_count() const { return static_cast<long>(history_.size()); }

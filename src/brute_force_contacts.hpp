@@ -1,6 +1,7 @@
 #pragma once
 #include <map>
 #include <utility>
+#include <vector>
 
 #include "contact_forces.hpp"
 #include "vec3.hpp"
@@ -18,9 +19,16 @@ class BruteForceContacts : public ContactForces {
   double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const override;
   int contacts_of(int body) const override;
   long contact_count() const override;
+  double max_overlap(const Particles& p, const Box& box) const override;
+  void new_contacts_of(int body, std::vector<int>& grains) const override;
+  void count_contacts(std::vector<int>& contacts) const override;
+  void rebuild(Particles&, const Box&) override {}
+  std::vector<PairHistory> export_history() const override;
+  void import_history(const std::vector<PairHistory>& history) override;
 
  private:
   std::map<std::pair<int, int>, Vec3> history_;
+  std::vector<std::pair<int, int>> formed_;  // pairs that began touching in the last step
 };
 
 }  // namespace granudrag

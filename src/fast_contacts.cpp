@@ -29,13 +29,22 @@ inline bool pair_geometry(const Particles& p, const Box& box, int i, int j, Cont
 
 bool FastContacts::update_lists(Particles& p, const Box& box) {
   if (!list_.needs_rebuild(p)) return false;
+  rebuild(p, box);
+  return true;
+}
+
+void FastContacts::rebuild(Particles& p, const Box& box) {
   list_.build(p, box);
+  after_build();
+}
+
+void FastContacts::after_build() {
   grain_history_.carry_over(list_.previous_grain_pairs(), list_.grain_pairs());
   large_history_.carry_over(list_.previous_large_pairs(), list_.large_pairs());
   large_force_.assign(list_.large_pairs().size(), Vec3::Zero());
   large_torque_.assign(list_.large_pairs().size(), Vec3::Zero());
+  large_new_.assign(list_.large_pairs().size(), 0);
   balance_rows(omp_get_max_threads());
-  return true;
 }
 
 void FastContacts::balance_rows(int threads) {
@@ -133,10 +142,12 @@ void FastContacts::accumulate(Particles& p, const Box& box, const ContactParams&
         if (!pair_geometry(p, box, i, large.partner[e], g)) {
           large_history_.shear[e].setZero();
           large_history_.touching[e] = 0;
+          large_new_[e] = 0;
           large_force_[e].setZero();
           large_torque_[e].setZero();
           continue;
         }
+        large_new_[e] = !large_history_.touching[e];
         large_history_.touching[e] = 1;
         const ContactForce cf = hertz_history(c, g, dt, large_history_.shear[e], update_history);
         large_force_[e] = cf.force;
@@ -187,6 +198,106 @@ int FastContacts::contacts_of(int body) const {
     return n;
   }
   return 0;
+}
+
+void FastContacts::new_contacts_of(int body, std::vector<int>& grains) const {
+  grains.clear();
+  const PairList& large = list_.large_pairs();
+  const std::vector<int>& bodies = list_.large_bodies();
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    if (bodies[b] != body) continue;
+    for (int e = large.begin(b); e < large.end(b); ++e)
+      if (large_new_[e]) grains.push_back(large.partner[e]);
+  }
+}
+
+void FastContacts::count_contacts(std::vector<int>& contacts) const {
+  const PairList& pairs = list_.grain_pairs();
+  for (std::size_t i = 0; i < pairs.rows(); ++i)
+    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
+      if (grain_history_.touching[e]) {
+        ++contacts[i];
+        ++contacts[pairs.partner[e]];
+      }
+  const PairList& large = list_.large_pairs();
+  for (std::size_t b = 0; b < large.rows(); ++b)
+    for (int e = large.begin(b); e < large.end(b); ++e)
+      if (large_history_.touching[e]) {
+        ++contacts[list_.large_bodies()[b]];
+        ++contacts[large.partner[e]];
+      }
+}
+
+std::vector<PairHistory> FastContacts::export_history() const {
+  std::vector<PairHistory> out;
+  const PairList& pairs = list_.grain_pairs();
+  for (std::size_t i = 0; i < pairs.rows(); ++i)
+    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
+      if (grain_history_.touching[e])
+        out.push_back({static_cast<int>(i), pairs.partner[e], grain_history_.shear[e]});
+  const PairList& large = list_.large_pairs();
+  for (std::size_t b = 0; b < large.rows(); ++b)
+    for (int e = large.begin(b); e < large.end(b); ++e)
+      if (large_history_.touching[e]) {
+        // Stored (body, grain); exported in the canonical orientation i < j, seen from i.
+        const int body = list_.large_bodies()[b], grain = large.partner[e];
+        const Vec3& s = large_history_.shear[e];
+        out.push_back({std::min(body, grain), std::max(body, grain), body < grain ? s : Vec3(-s)});
+      }
+  return out;
+}
+
+void FastContacts::import_history(const std::vector<PairHistory>& history) {
+  // Requires built lists (update_lists or rebuild first). History comes in the canonical
+  // orientation (i < j, seen from i); large-body pairs are stored as (body, grain).
+  auto find = [](const PairList& list, std::size_t row, int partner) {
+    const auto first = list.partner.begin() + list.begin(row);
+    const auto last = list.partner.begin() + list.end(row);
+    const auto it = std::lower_bound(first, last, partner);
+    return (it != last && *it == partner) ? static_cast<int>(it - list.partner.begin()) : -1;
+  };
+  const PairList& pairs = list_.grain_pairs();
+  const PairList& large = list_.large_pairs();
+  const std::vector<int>& bodies = list_.large_bodies();
+  grain_history_.resize(pairs.size());  // the imported set replaces whatever was carried over
+  large_history_.resize(large.size());
+  for (const PairHistory& h : history) {
+    int e = -1;
+    for (std::size_t b = 0; b < bodies.size() && e < 0; ++b) {
+      if (bodies[b] == h.i || bodies[b] == h.j) {
+        e = find(large, b, bodies[b] == h.i ? h.j : h.i);
+        if (e >= 0) {
+          large_history_.shear[e] = bodies[b] == h.i ? h.shear : Vec3(-h.shear);
+          large_history_.touching[e] = 1;
+        }
+        break;
+      }
+    }
+    if (e >= 0) continue;
+    e = find(pairs, h.i, h.j);
+    if (e >= 0) {
+      grain_history_.shear[e] = h.shear;
+      grain_history_.touching[e] = 1;
+    }
+  }
+  balance_rows(omp_get_max_threads());
+}
+
+double FastContacts::max_overlap(const Particles& p, const Box& box) const {
+  double worst = 0;
+  auto check = [&](int i, int j) {
+    const double r = box.min_image(p.x[i] - p.x[j]).norm();
+    worst = std::max(worst, p.radius[i] + p.radius[j] - r);
+  };
+  const PairList& pairs = list_.grain_pairs();
+  for (std::size_t i = 0; i < pairs.rows(); ++i)
+    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
+      if (grain_history_.touching[e]) check(static_cast<int>(i), pairs.partner[e]);
+  const PairList& large = list_.large_pairs();
+  for (std::size_t b = 0; b < large.rows(); ++b)
+    for (int e = large.begin(b); e < large.end(b); ++e)
+      if (large_history_.touching[e]) check(list_.large_bodies()[b], large.partner[e]);
+  return worst;
 }
 
 long FastContacts::contact_count() const {

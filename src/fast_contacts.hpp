@@ -23,16 +23,24 @@ class FastContacts : public ContactForces {
   double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const override;
   int contacts_of(int body) const override;
   long contact_count() const override;
+  double max_overlap(const Particles& p, const Box& box) const override;
+  void new_contacts_of(int body, std::vector<int>& grains) const override;
+  void count_contacts(std::vector<int>& contacts) const override;
+  void rebuild(Particles& p, const Box& box) override;
+  std::vector<PairHistory> export_history() const override;
+  void import_history(const std::vector<PairHistory>& history) override;
   const NeighborList& list() const { return list_; }
 
  private:
   NeighborList list_;
   ContactHistory grain_history_, large_history_;
   void balance_rows(int threads);
+  void after_build();
 
   std::vector<std::vector<Vec3>> thread_force_, thread_torque_;  // threads 1.., per particle
   std::vector<long> row_split_;  // thread t owns rows row_split_[t] .. row_split_[t+1]
   std::vector<Vec3> large_force_, large_torque_;      // per large-list entry
+  std::vector<std::uint8_t> large_new_;              // per large-list entry: touched first now
 };
 
 }  // namespace granudrag

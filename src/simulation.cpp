@@ -120,6 +120,27 @@ void Simulation::final_integrate() {
   }
 }
 
+void Simulation::rebuild_lists() {
+  if (!ready_) setup();
+  contacts_->rebuild(p_, box_);
+}
+
+Simulation::State Simulation::state() const {
+  return {p_, contacts_->export_history(), wall_.shear(), steps_};
+}
+
+void Simulation::restore(const State& s) {
+  if (s.particles.size() != p_.size())
+    throw Error("state to restore has " + std::to_string(s.particles.size()) +
+                " particles, the simulation " + std::to_string(p_.size()));
+  p_ = s.particles;
+  contacts_->rebuild(p_, box_);
+  contacts_->import_history(s.pair_history);
+  wall_.restore_shear(s.wall_history);
+  steps_ = s.steps;
+  ready_ = true;  // the forces in s.particles are those of the last step: no setup()
+}
+
 Energy Simulation::energy() const {
   Energy e;
   for (std::size_t i = 0; i < p_.size(); ++i) {

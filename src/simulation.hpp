@@ -50,6 +50,20 @@ class Simulation {
   // springs of all contacts). Conserved without damping and friction.
   Energy energy() const;
 
+  // Checkpointing. A checkpoint is taken right after a forced rebuild, so that a resumed run
+  // rebuilds from the very same (wrapped) positions and continues bitwise identically; the
+  // forces of the last step are part of the state (the next half-kick uses them).
+  void rebuild_lists();
+  struct State {
+    Particles particles;
+    std::vector<PairHistory> pair_history;
+    std::vector<Vec3> wall_history;
+    long steps = 0;
+  };
+  State state() const;
+  void restore(const State& s);  // replaces particles, histories and the step count
+  WallContacts& wall() { return wall_; }
+
  private:
   void initial_integrate();
   void compute_forces(bool update_history);

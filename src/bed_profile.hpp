@@ -1,0 +1,30 @@
+#pragma once
+// What a settled bed looks like along z: the packing-fraction profile and the free surface.
+//
+// Surface height (the definition granudrag uses everywhere, stored with each bed): the height
+// at which the packing fraction of the grains, in slabs of 0.1 d, falls to half its bulk value,
+// the bulk value being the median over the slabs between the base (2 d up) and 4 d below the top
+// grain. Depth h = surface height - intruder centre height. Half-bulk is the usual Gibbs-like
+// choice for a rough surface: it is insensitive to the odd grain rolling on top.
+#include <vector>
+
+#include "box.hpp"
+#include "particles.hpp"
+
+namespace granudrag {
+
+struct BedProfile {
+  double slab = 0.1;
+  std::vector<double> z;                // slab centres
+  std::vector<double> packing_fraction; // grains only (the intruder excluded)
+  double bulk_packing_fraction = 0;
+  double surface_height = 0;
+};
+
+// Exact volumes of the spheres' slices in each slab.
+BedProfile measure_bed(const Particles& p, const Box& box, double slab = 0.1);
+
+// Volume of the part of a sphere of radius r centred at height zc that lies in [z0, z1].
+double sphere_slice_volume(double r, double zc, double z0, double z1);
+
+}  // namespace granudrag

@@ -1,0 +1,110 @@
+// Pouring: placement without overlaps, the slab-volume geometry behind the surface definition,
+// and a real pour that must settle to a random close packing at the requested depth.
+#include <gtest/gtest.h>
+
+#include "bed_profile.hpp"
+#include "error.hpp"
+#include "helpers.hpp"
+#include "pour.hpp"
+
+using namespace granudrag;
+
+TEST(BedProfile, SliceVolumesAddUpToTheSphere) {
+  const double r = 0.47, zc = 3.123;
+  double total = 0;
+  for (int k = 0; k < 80; ++k) total += sphere_slice_volume(r, zc, 0.1 * k, 0.1 * (k + 1));
+  EXPECT_NEAR(total, 4.0 / 3.0 * M_PI * r * r * r, 1e-12);
+  EXPECT_NEAR(sphere_slice_volume(r, zc, zc, 10), 2.0 / 3.0 * M_PI * r * r * r, 1e-12);
+  EXPECT_EQ(sphere_slice_volume(r, zc, 0, 1), 0.0);
+}
+
+TEST(BedProfile, SurfaceOfAnIdealSlabIsItsTop) {
+  // A simple cubic crystal of touching unit spheres, 12 layers: packing pi/6, top at z = 12.
+  Particles p;
+  for (int iz = 0; iz < 12; ++iz)
+    for (int ix = 0; ix < 8; ++ix)
+      for (int iy = 0; iy < 8; ++iy) p.add(Vec3(ix + 0.5, iy + 0.5, iz + 0.5), 0.5, Kind::Mobile);
+  const BedProfile prof = measure_bed(p, Box{8, 8, true});
+  EXPECT_NEAR(prof.bulk_packing_fraction, M_PI / 6, 0.08);  // the slab average oscillates
+  EXPECT_NEAR(prof.surface_height, 11.5, 0.5);  // half-density point inside the top layer
+}
+
+TEST(Pour, PlacementHasNoOverlapsAndSparesTheIntruder) {
+  PourSpec s;
+  s.lx = s.ly = 8;
+  s.grains = 600;
+  s.intruder_diameter = 3;
+  s.intruder_x = 0.5;  // straddles the periodic boundary
+  s.intruder_y = 4;
+  double top = 0;
+  const Particles p = place_grains(s, 5.0, &top);
+  ASSERT_EQ(p.size(), 600u);
+  const Box box{8, 8, true};
+  const Vec3 intruder(0.5, 4, 5.0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    EXPECT_GE(p.radius[i], 0.45);
+    EXPECT_LE(p.radius[i], 0.55);
+    EXPECT_GE(p.x[i].z(), p.radius[i]);
+    EXPECT_LE(p.x[i].z(), top);
+    EXPECT_GE(box.min_image(p.x[i] - intruder).norm(), 1.5 + p.radius[i]);
+    for (std::size_t j = i + 1; j < p.size(); ++j)
+      ASSERT_GE(box.min_image(p.x[i] - p.x[j]).norm(), p.radius[i] + p.radius[j]) << i << " " << j;
+  }
+}
+
+TEST(Pour, RejectsBadInputWithTheKeyName) {
+  auto message = [](PourSpec s) {
+    try {
+      pour(s, false);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  PourSpec s;
+  s.depth = 5;
+  PourSpec bad = s;
+  bad.lx = -1;
+  EXPECT_NE(message(bad).find("'lx'"), std::string::npos);
+  bad = s;
+  bad.intruder_x = 25;  // box is 20
+  EXPECT_NE(message(bad).find("'intruder_x'"), std::string::npos);
+  bad = s;
+  bad.depth = 500;
+  EXPECT_NE(message(bad).find("deeper than the bed"), std::string::npos);
+  bad = s;
+  bad.intruder_z = 3;  // both depth and intruder_z
+  EXPECT_NE(message(bad).find("exactly one"), std::string::npos);
+  bad = s;
+  bad.contact.mu = -1;
+  EXPECT_NE(message(bad).find("'mu'"), std::string::npos);
+  bad = s;
+  bad.dt = 1.0;
+  EXPECT_NE(message(bad).find("dt <="), std::string::npos);
+}
+
+TEST(Pour, FrictionalBedSettlesDenseAtTheRequestedDepth) {
+  PourSpec s;
+  s.lx = s.ly = 10;
+  s.grains = 1500;
+  s.intruder_diameter = 2;
+  s.intruder_x = s.intruder_y = 5;
+  s.depth = 6;
+  s.contact = ContactParams{}.with_stiffness(2e4);
+  s.contact.mu = 0.5;
+  s.ke_threshold = 1e-4;
+  s.max_settle_time = 40;
+  const Bed bed = pour(s, false);
+  EXPECT_EQ(bed.stop_reason, "threshold");
+  EXPECT_GT(bed.profile.bulk_packing_fraction, 0.58);
+  EXPECT_LT(bed.profile.bulk_packing_fraction, 0.66);
+  EXPECT_NEAR(bed.depth, 6.0, 1.0);
+  const Particles& p = bed.state.particles;
+  EXPECT_GT(p.count(Kind::Frozen), 50u);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    EXPECT_GT(p.x[i].z(), 0.0);
+    if (p.kind[i] == Kind::Frozen) EXPECT_LT(p.x[i].z(), 0.6);
+  }
+  EXPECT_EQ(p.kind[bed.intruder], Kind::Intruder);
+  EXPECT_DOUBLE_EQ(p.x[bed.intruder].z() + bed.depth, bed.surface_height);
+}

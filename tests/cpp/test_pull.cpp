@@ -1,0 +1,125 @@
+// Pulls on a small bed: the statistics, the observables' definitions, and checkpoint/resume
+// bitwise identical to an uninterrupted run.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "error.hpp"
+#include "helpers.hpp"
+#include "observables.hpp"
+#include "pull.hpp"
+
+using namespace granudrag;
+
+namespace {
+
+// One shared small bed: 1200 soft frictional grains, D = 2 at depth 4.
+const Bed& small_bed() {
+  static const Bed bed = [] {
+    PourSpec s;
+    s.lx = s.ly = 10;
+    s.grains = 1200;
+    s.intruder_diameter = 2;
+    s.intruder_x = s.intruder_y = 5;
+    s.depth = 4;
+    s.contact = ContactParams{}.with_stiffness(2e4);
+    s.ke_threshold = 1e-4;
+    s.max_settle_time = 40;
+    return pour(s, false);
+  }();
+  return bed;
+}
+
+}  // namespace
+
+TEST(Observables, BlockAveragingRecoversTheErrorOfCorrelatedData) {
+  // AR(1) series x_k = a x_{k-1} + noise: the variance of the mean of M samples is
+  // sigma_x^2/M (1 + a)/(1 - a) for M >> 1/(1 - a).
+  const double a = 0.9, sigma = 1.0;
+  const long M = 1 << 16;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g(0.0, sigma);
+  std::vector<double> x(M);
+  double prev = 0;
+  for (long k = 0; k < M; ++k) x[k] = prev = a * prev + g(rng);
+  const double var_x = sigma * sigma / (1 - a * a);
+  const double expected = std::sqrt(var_x / M * (1 + a) / (1 - a));
+  const double naive = std::sqrt(var_x / M);
+  EXPECT_NEAR(block_average_error(x), expected, 0.25 * expected);
+  EXPECT_GT(block_average_error(x), 3 * naive);  // correlations must not be ignored
+  EXPECT_TRUE(std::isnan(block_average_error({1, 2, 3})));
+}
+
+TEST(Observables, CumulativeAverage) {
+  const std::vector<double> c = cumulative_average({2, 4, 6});
+  EXPECT_DOUBLE_EQ(c[0], 2);
+  EXPECT_DOUBLE_EQ(c[1], 3);
+  EXPECT_DOUBLE_EQ(c[2], 4);
+}
+
+TEST(Pull, FroudeNumberIsPaperEq4) {
+  EXPECT_DOUBLE_EQ(froude_number(1.0, 4.0), 2.0 * std::sqrt(8.0) / 5.0);
+}
+
+TEST(Pull, MeasuresDragAndContactsOfAMovingIntruder) {
+  PullSpec spec;
+  spec.speed = 1.0;
+  spec.distance = 3.0;
+  Pull pull(small_bed(), spec);
+  pull.run(false);
+  const PullResult r = pull.result();
+  EXPECT_GT(r.drag, 0.0);  // resists the motion along +x
+  EXPECT_NEAR(r.drag, -mean({pull.record().fx.begin() + r.transient_samples, pull.record().fx.end()}),
+              1e-12 * r.drag);
+  EXPECT_GT(r.drag_error, 0.0);
+  EXPECT_LT(r.drag_error, r.drag);
+  EXPECT_GT(r.coordination, 3.0);
+  EXPECT_GT(r.theta, 0.0);
+  EXPECT_LT(r.theta, M_PI / 2);  // contacts form in front of the intruder
+  EXPECT_GT(r.bulk_coordination, 2.0);
+  EXPECT_LT(r.bulk_coordination, 8.0);
+  double total = 0;
+  for (double pz : r.z_distribution) total += pz;
+  EXPECT_NEAR(total, 1.0, 1e-12);
+  EXPECT_NEAR(r.kappa, r.bulk_coordination / r.coordination * 9.0 / (2 * std::sqrt(3.0)), 1e-12);
+  EXPECT_EQ(pull.record().snapshots.size(), 3u);
+  // The intruder moved exactly the requested distance (rounded up to whole samples).
+  const Particles& p = pull.simulation().particles();
+  const double travelled = pull.simulation().time() * spec.speed;
+  EXPECT_GE(travelled, 3.0 - 1e-9);
+  EXPECT_DOUBLE_EQ(p.x[small_bed().intruder].z(), small_bed().state.particles.x[small_bed().intruder].z());
+  // Work done on the grains is the drag times the distance, up to the transient.
+  EXPECT_NEAR(pull.record().work / travelled, -mean(pull.record().fx), 1e-9 * pull.record().work);
+}
+
+TEST(Pull, ResumedFromCheckpointIsBitwiseIdentical) {
+  PullSpec spec;
+  spec.speed = 0.5;
+  spec.distance = 1.0;
+  spec.checkpoint_every = 500;
+  Pull whole(small_bed(), spec);
+  std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
+  whole.run(false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); });
+  ASSERT_GE(checkpoints.size(), 2u);
+  // "Kill" after the first checkpoint and resume from it.
+  Pull resumed(small_bed(), spec, checkpoints[0].first, checkpoints[0].second);
+  resumed.run(false, [](const Pull&) {});
+  const Particles& a = whole.simulation().particles();
+  const Particles& b = resumed.simulation().particles();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a.x[i], b.x[i]) << i;
+    ASSERT_EQ(a.v[i], b.v[i]) << i;
+    ASSERT_EQ(a.omega[i], b.omega[i]) << i;
+  }
+  EXPECT_EQ(whole.result().drag, resumed.result().drag);
+  EXPECT_EQ(whole.record().fx, resumed.record().fx);
+}
+
+TEST(Pull, RejectsBadInput) {
+  PullSpec spec;
+  spec.speed = -1;
+  EXPECT_THROW(Pull(small_bed(), spec), Error);
+  Bed no_intruder = small_bed();
+  no_intruder.intruder = -1;
+  EXPECT_THROW(Pull(no_intruder, PullSpec{}), Error);
+}
