@@ -7,6 +7,7 @@
 
 #include "bench.hpp"
 #include "cli.hpp"
+#include "commands.hpp"
 #include "error.hpp"
 
 namespace {
@@ -18,6 +19,11 @@ Usage:
   granudrag <command> --help
 
 Commands:
+  pour       Pour grains around a fixed intruder and let them settle: writes a bed file
+             (HDF5 + XDMF sidecar for ParaView).
+  pull       Pull the intruder of a bed at constant speed: writes a run file with the force
+             series, the drag and its error, n, theta, Z, P(Z), kappa, velocity snapshots.
+             Checkpoints as it goes; --resume continues after a crash or kill.
   bench      Settle a dense bed of N grains and print particle-steps per second and the
              time split (force, neighbour, integration) for each thread count.
   version    Print the version and the commit it was built from.
@@ -90,6 +96,8 @@ int main(int argc, char** argv) {
       std::cout << "granudrag " << GRANUDRAG_VERSION << " (commit " << GRANUDRAG_COMMIT << ")\n";
       return 0;
     }
+    if (command == "pour") return granudrag::pour_command(args);
+    if (command == "pull") return granudrag::pull_command(args);
     if (command == "bench") {
       if (wants_help(args)) {
         std::cout << kBenchUsage;

@@ -1,0 +1,12 @@
+#pragma once
+// The subcommands of the granudrag executable. Each returns the process exit code and throws
+// granudrag::Error for anything the user can fix.
+#include <string>
+#include <vector>
+
+namespace granudrag {
+
+int pour_command(const std::vector<std::string>& args);
+int pull_command(const std::vector<std::string>& args);
+
+}  // namespace granudrag

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Bad input gets a clear error naming the problem (and exit code 1), never a crash or a hang.
+#   bad_input.sh path/to/granudrag
+set -uo pipefail
+gd=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+fails=0
+expect() {  # expect "what it should say" command...
+  local want=$1; shift
+  local out code
+  out=$(timeout 60 "$@" 2>&1); code=$?
+  if [ "$code" -ne 1 ] || ! grep -qF -- "$want" <<<"$out"; then
+    echo "FAIL: '$*' -> exit $code, expected 1 and a message containing '$want'; got:"; echo "$out"
+    fails=$((fails + 1))
+  else
+    echo "ok: $want"
+  fi
+}
+small=(--ly 8 --grains 300 --kn 2e4 --max_settle_time 1 --quiet)
+expect "unknown option '--frition'" "$gd" pour --output b.h5 "${small[@]}" --lx 8 --depth 2 --frition 0.5
+expect "did you mean '--grains'" "$gd" pour --output b.h5 --lx 8 --depth 2 --ly 8 --grain 300
+expect "'mu'" "$gd" pour --output b.h5 "${small[@]}" --lx 8 --depth 2 --mu -0.1
+expect "'lx'" "$gd" pour --output b.h5 "${small[@]}" --lx 0 --depth 2
+expect "'intruder_x'" "$gd" pour --output b.h5 "${small[@]}" --lx 8 --depth 2 --intruder_x 9
+expect "deeper than the bed" "$gd" pour --output b.h5 "${small[@]}" --lx 8 --depth 40
+expect "dt <=" "$gd" pour --output b.h5 "${small[@]}" --lx 8 --depth 2 --dt 0.1
+expect "'output'" "$gd" pour "${small[@]}" --lx 8 --depth 2
+expect "does not exist" "$gd" pour --output nodir/b.h5 "${small[@]}" --lx 8 --depth 2
+printf 'lx: 8\nfriction: 0.3\n' > bad.yaml
+expect "bad.yaml" "$gd" pour --output b.h5 --config bad.yaml
+expect "missing.h5" "$gd" pull --bed missing.h5 --output r.h5
+echo "not hdf5" > text.h5
+expect "text.h5" "$gd" pull --bed text.h5 --output r.h5
+"$gd" pour --output good.h5 "${small[@]}" --lx 8 --depth 2 >/dev/null 2>&1 || { echo "FAIL: a good pour failed"; fails=$((fails + 1)); }
+head -c 20000 good.h5 > truncated.h5
+expect "truncated.h5" "$gd" pull --bed truncated.h5 --output r.h5
+expect "'speed'" "$gd" pull --bed good.h5 --output r.h5 --speed -1
+[ "$fails" -eq 0 ] && echo "PASS: every bad input was refused with its message"
+exit "$fails"
