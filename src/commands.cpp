@@ -10,6 +10,7 @@
 
 #include "error.hpp"
 #include "parameters.hpp"
+#include "lammps_io.hpp"
 #include "run_files.hpp"
 
 namespace granudrag {
@@ -166,6 +167,8 @@ int pull_command(const std::vector<std::string>& args) {
        "simulated time between checkpoints (<output>.checkpoint.h5); 0: every tenth of the pull"},
       {"resume", Type::Flag, "", "false", -inf, inf, false, "continue from <output>.checkpoint.h5 if it exists"},
       {"skin", Type::Number, "d", "0.2", 0, inf, true, "Verlet-list skin"},
+      {"fresh_start", Type::Flag, "", "false", -inf, inf, false,
+       "drop the bed's contact histories and recompute forces first, as LAMMPS does after read_data"},
       {"threads", Type::Integer, "", "0", 0, 4096, false, "OpenMP threads (0: OMP_NUM_THREADS or all cores)"},
       {"quiet", Type::Flag, "", "false", -inf, inf, false, "no progress lines on stderr"},
   };
@@ -195,6 +198,7 @@ int pull_command(const std::vector<std::string>& args) {
   spec.snapshots = static_cast<int>(par.integer("snapshots"));
   spec.slab_half_width = par.number("slab_half_width");
   spec.skin = par.number("skin");
+  spec.fresh_start = par.flag("fresh_start");
   {
     const double distance = spec.distance > 0 ? spec.distance : bed.box.lx;
     const double total_time = distance / spec.speed;
@@ -227,6 +231,103 @@ int pull_command(const std::vector<std::string>& args) {
   std::printf("  n = %.3f, theta = %.4f +- %.2g rad, Z = %.3f, kappa = %.4f\n", r.coordination, r.theta,
               r.theta_error, r.bulk_coordination, r.kappa);
   std::printf("%s", sanity.c_str());
+  return 0;
+}
+
+int export_lammps_command(const std::vector<std::string>& args) {
+  std::vector<ParameterSpec> specs = {
+      {"bed", Type::Text, "", "", -inf, inf, false, "bed file from granudrag pour", true},
+      {"output", Type::Text, "", "", -inf, inf, false, "prefix: writes PREFIX.data and PREFIX.in", true},
+      {"speed", Type::Number, "sqrt(g d)", "1", 0, inf, true, "pulling speed V along +x"},
+      {"distance", Type::Number, "d", "0", 0, inf, false, "travel; 0: one box length"},
+      {"steps", Type::Integer, "", "0", 0, 1e15, false, "or: number of steps (overrides distance)"},
+      {"every", Type::Integer, "", "1", 1, 1e15, false, "steps per line of the force file (averaged)"},
+      {"skin", Type::Number, "d", "0.2", 0, inf, true, "Verlet-list skin"},
+  };
+  Parameters par("export-lammps", specs);
+  if (wants_help(args)) {
+    std::cout << "granudrag export-lammps — write a bed as a LAMMPS data file plus an input script that runs\n"
+                 "the same pull with gran/hertz/history (run it as: cd DIR && lmp -in PREFIX.in)\n\n"
+              << par.help_text();
+    return 0;
+  }
+  par.apply_cli(args);
+  par.validate();
+  const Bed bed = load_bed(par.text("bed"));
+  if (bed.intruder < 0) throw Error("bed '" + par.text("bed") + "' has no intruder to pull");
+  const std::string prefix = par.text("output");
+  check_output_dir(prefix, "output");
+  Particles p = bed.state.particles;
+  const double speed = par.number("speed");
+  p.v[bed.intruder] = Vec3(speed, 0, 0);
+  double ztop = 0;
+  for (const Vec3& x : p.x) ztop = std::max(ztop, x.z());
+  write_lammps_data(prefix + ".data", p, bed.box, ztop + 2.0 * p.max_radius(Kind::Intruder) + 2.0);
+  LammpsPull run;
+  const std::string base = prefix.substr(prefix.find_last_of('/') + 1);
+  run.data_file = base + ".data";
+  run.force_file = base + ".force.txt";
+  run.contact = bed.contact;
+  run.dt = bed.dt;
+  run.skin = par.number("skin");
+  run.speed = speed;
+  const double distance = par.number("distance") > 0 ? par.number("distance") : bed.box.lx;
+  run.steps = par.integer("steps") > 0 ? par.integer("steps") : std::lround(std::ceil(distance / (speed * bed.dt)));
+  run.every = par.integer("every");
+  run.intruder_id = bed.intruder + 1;
+  write_lammps_pull_input(prefix + ".in", run);
+  std::printf("wrote %s.data and %s.in (%ld steps; force on the intruder to %s)\n", prefix.c_str(), prefix.c_str(),
+              run.steps, run.force_file.c_str());
+  return 0;
+}
+
+int import_lammps_command(const std::vector<std::string>& args) {
+  std::vector<ParameterSpec> specs = {
+      {"data", Type::Text, "", "", -inf, inf, false, "LAMMPS data file (atom_style sphere, density 1)", true},
+      {"output", Type::Text, "", "", -inf, inf, false, "bed file to write (HDF5)", true},
+      {"frozen_type", Type::Integer, "", "2", 0, 1e9, false, "atom type of the frozen base grains (0: none)"},
+      {"intruder_type", Type::Integer, "", "3", 0, 1e9, false, "atom type of the intruder (0: none)"},
+  };
+  const auto contact = contact_specs();
+  specs.insert(specs.end(), contact.begin(), contact.end());
+  Parameters par("import-lammps", specs);
+  if (wants_help(args)) {
+    std::cout << "granudrag import-lammps — turn a LAMMPS data file into a granudrag bed (contact histories\n"
+                 "start at zero: data files do not carry them)\n\n"
+              << par.help_text();
+    return 0;
+  }
+  par.apply_cli(args);
+  par.validate();
+  const std::string out = par.text("output");
+  check_output_dir(out, "output");
+  const LammpsData data = read_lammps_data(par.text("data"), static_cast<int>(par.integer("frozen_type")),
+                                           static_cast<int>(par.integer("intruder_type")));
+  Bed bed;
+  bed.box = data.box;
+  bed.contact = contact_from(par);
+  const double rmin = std::min(data.particles.min_radius(Kind::Mobile), data.particles.min_radius(Kind::Frozen));
+  bed.dt = par.is_set("dt") ? par.number("dt") : default_time_step(bed.contact, std::isfinite(rmin) ? rmin : 0.5);
+  check_time_step(bed.dt, bed.contact, std::isfinite(rmin) ? rmin : 0.5);
+  if (data.particles.count(Kind::Intruder) > 1) throw Error("more than one intruder in the data file");
+  bed.intruder = data.particles.count(Kind::Intruder) == 1 ? static_cast<int>(data.particles.size()) - 1 : -1;
+  // Forces of the imported state, with no history, as the first step of a pull needs them.
+  Settings settings;
+  settings.dt = bed.dt;
+  settings.skin = par.number("skin");
+  Simulation sim(data.particles, bed.box, bed.contact, settings);
+  sim.setup();
+  bed.state = sim.state();
+  bed.profile = measure_bed(bed.state.particles, bed.box);
+  bed.surface_height = bed.profile.surface_height;
+  if (bed.intruder >= 0) bed.depth = bed.surface_height - bed.state.particles.x[bed.intruder].z();
+  bed.stop_reason = "imported";
+  save_bed(out, bed, par.to_yaml());
+  write_bed_xdmf(out, bed.state.particles.size());
+  std::printf("bed: %s from %s\n  %zu particles (%zu frozen, %zu intruder), surface %.3f d, depth %.3f d\n",
+              out.c_str(), par.text("data").c_str(), bed.state.particles.size(),
+              bed.state.particles.count(Kind::Frozen), bed.state.particles.count(Kind::Intruder),
+              bed.surface_height, bed.depth);
   return 0;
 }
 

@@ -24,6 +24,9 @@ Commands:
   pull       Pull the intruder of a bed at constant speed: writes a run file with the force
              series, the drag and its error, n, theta, Z, P(Z), kappa, velocity snapshots.
              Checkpoints as it goes; --resume continues after a crash or kill.
+  export-lammps  Write a bed as a LAMMPS data file plus an input script running the same pull
+             with gran/hertz/history (the paper's own code), for cross-checks.
+  import-lammps  Turn a LAMMPS data file (atom_style sphere) into a granudrag bed.
   bench      Settle a dense bed of N grains and print particle-steps per second and the
              time split (force, neighbour, integration) for each thread count.
   version    Print the version and the commit it was built from.
@@ -98,6 +101,8 @@ int main(int argc, char** argv) {
     }
     if (command == "pour") return granudrag::pour_command(args);
     if (command == "pull") return granudrag::pull_command(args);
+    if (command == "export-lammps") return granudrag::export_lammps_command(args);
+    if (command == "import-lammps") return granudrag::import_lammps_command(args);
     if (command == "bench") {
       if (wants_help(args)) {
         std::cout << kBenchUsage;

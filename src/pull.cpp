@@ -49,8 +49,13 @@ Pull::Pull(const Bed& bed, const PullSpec& spec)
     : bed_(bed), spec_(spec), sim_(bed.state.particles, bed.box, bed.contact, pull_settings(bed, spec)) {
   spec_.validate();
   if (bed_.intruder < 0) throw Error("the bed has no intruder to pull: pour it with intruder_diameter > 0");
-  sim_.restore(bed_.state);
-  sim_.particles().v[bed_.intruder] = Vec3(spec_.speed, 0, 0);
+  if (spec_.fresh_start) {
+    sim_.particles().v[bed_.intruder] = Vec3(spec_.speed, 0, 0);
+    sim_.setup();
+  } else {
+    sim_.restore(bed_.state);
+    sim_.particles().v[bed_.intruder] = Vec3(spec_.speed, 0, 0);
+  }
   const double distance = spec_.distance > 0 ? spec_.distance : bed_.box.lx;
   record_.samples_per_interval = std::max(1L, std::lround(spec_.sample_interval / sim_.dt()));
   const long steps = std::lround(std::ceil(distance / (spec_.speed * sim_.dt())));

@@ -22,6 +22,9 @@ struct PullSpec {
   double slab_half_width = 0.5;   // |y - Y| < this for the snapshots, d
   long checkpoint_every = 0;      // steps between checkpoints (rounded to whole samples); 0: none
   double skin = 0.2;
+  // Drop the bed's contact histories and recompute the forces before the first step, as a
+  // LAMMPS run starting from a data file does: for like-for-like comparisons.
+  bool fresh_start = false;
 
   void validate() const;
 };

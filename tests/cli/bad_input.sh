@@ -2,7 +2,7 @@
 # Bad input gets a clear error naming the problem (and exit code 1), never a crash or a hang.
 #   bad_input.sh path/to/granudrag
 set -uo pipefail
-gd=$1
+gd=$(realpath "$1")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"

@@ -3,7 +3,7 @@
 # as an uninterrupted pull with the same thread count.
 #   kill_resume.sh path/to/granudrag
 set -euo pipefail
-gd=$1
+gd=$(realpath "$1")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
