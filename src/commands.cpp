@@ -89,7 +89,7 @@ int pour_command(const std::vector<std::string>& args) {
       {"intruder_y", Type::Number, "d", "", 0, inf, false, "intruder centre y (default ly/2)"},
       {"depth", Type::Number, "d", "", 0, inf, true, "requested depth h of the intruder centre below the free surface"},
       {"intruder_z", Type::Number, "d", "", 0, inf, true, "or: height of the intruder centre above the wall"},
-      {"packing_estimate", Type::Number, "", "0.6", 0.3, 0.75, false, "packing fraction assumed to place the intruder at 'depth'"},
+      {"packing_estimate", Type::Number, "", "0.59", 0.3, 0.75, false, "packing fraction assumed to place the intruder at 'depth'"},
       {"fill_fraction", Type::Number, "", "0.3", 0, 0.35, true, "packing fraction of the loose column the grains start in"},
       {"ke_threshold", Type::Number, "rho g d^4", "1e-7", 0, inf, true, "settled when the mean kinetic energy per grain is below"},
       {"max_settle_time", Type::Number, "sqrt(d/g)", "100", 0, inf, true, "stop settling after this time anyway (recorded)"},
