@@ -31,8 +31,13 @@ void check_header(const h5::File& f, const std::string& path, const std::string&
                 std::to_string(kFileVersion) + ": re-create it with this version");
 }
 
-void write_state(h5::File& f, const Simulation::State& s) {
+void write_state(h5::File& f, const Simulation::State& s, double dt) {
   const Particles& p = s.particles;
+  // One frame: each element gets the H5MD step and time beside its value.
+  for (const char* element : {"position", "velocity", "angular_velocity", "force", "torque", "radius", "species"}) {
+    f.write(std::string(kParticles) + "/" + element + "/step", std::vector<std::int64_t>{s.steps});
+    f.write(std::string(kParticles) + "/" + element + "/time", std::vector<double>{s.steps * dt});
+  }
   f.write_rows(std::string(kParticles) + "/position/value", p.x);
   f.write_rows(std::string(kParticles) + "/velocity/value", p.v);
   f.write_rows(std::string(kParticles) + "/angular_velocity/value", p.omega);
@@ -92,7 +97,7 @@ Simulation::State read_state(const h5::File& f) {
 }
 
 void write_bed_body(h5::File& f, const Bed& bed) {
-  write_state(f, bed.state);
+  write_state(f, bed.state, bed.dt);
   f.set_attr("/box", "lx", bed.box.lx);
   f.set_attr("/box", "ly", bed.box.ly);
   f.set_attr("/box", "wall", static_cast<std::int64_t>(bed.box.wall));

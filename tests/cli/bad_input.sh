@@ -37,5 +37,10 @@ expect "text.h5" "$gd" pull --bed text.h5 --output r.h5
 head -c 20000 good.h5 > truncated.h5
 expect "truncated.h5" "$gd" pull --bed truncated.h5 --output r.h5
 expect "'speed'" "$gd" pull --bed good.h5 --output r.h5 --speed -1
+cp good.h5 future.h5
+/usr/bin/python3 -c "import h5py; h5py.File('future.h5', 'r+')['/granudrag'].attrs['version'] = 99"
+expect "format version 99" "$gd" pull --bed future.h5 --output r.h5
+"$gd" pull --bed good.h5 --output run.h5 --distance 0.5 --quiet >/dev/null 2>&1
+expect "not a granudrag-bed file" "$gd" pull --bed run.h5 --output r2.h5
 [ "$fails" -eq 0 ] && echo "PASS: every bad input was refused with its message"
 exit "$fails"

@@ -115,6 +115,23 @@ TEST(Pull, ResumedFromCheckpointIsBitwiseIdentical) {
   EXPECT_EQ(whole.record().fx, resumed.record().fx);
 }
 
+TEST(Pull, ABlowUpStopsTheRunWithAMessage) {
+  Bed broken = small_bed();
+  broken.state.particles.v[0] = Vec3(NAN, 0, 0);  // a NaN that will spread through contacts
+  PullSpec spec;
+  spec.distance = 1.0;
+  int checkpoints = 0;
+  Pull pull(broken, spec);
+  try {
+    pull.run(false, [&](const Pull&) { ++checkpoints; });
+    FAIL() << "a NaN velocity ran to the end";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_TRUE(msg.find("blew up") != std::string::npos || msg.find("non-finite") != std::string::npos) << msg;
+  }
+  EXPECT_EQ(checkpoints, 0);  // nothing bad was checkpointed
+}
+
 TEST(Pull, RejectsBadInput) {
   PullSpec spec;
   spec.speed = -1;
