@@ -148,9 +148,16 @@ Bed read_bed_body(const h5::File& f) {
   return bed;
 }
 
-template <class T>
-void write_vector_or_empty(h5::File& f, const std::string& path, const std::vector<T>& v) {
-  f.write(path, v);
+// Snapshots k = 0, 1, ... as groups <prefix><k> holding dx, dz, vx, vz and the time.
+void write_snapshots(h5::File& f, const std::string& prefix, const std::vector<Snapshot>& snapshots) {
+  for (std::size_t k = 0; k < snapshots.size(); ++k) {
+    const std::string g = prefix + std::to_string(k);
+    f.set_attr(g, "time", snapshots[k].time);
+    f.write(g + "/dx", snapshots[k].dx);
+    f.write(g + "/dz", snapshots[k].dz);
+    f.write(g + "/vx", snapshots[k].vx);
+    f.write(g + "/vz", snapshots[k].vz);
+  }
 }
 
 }  // namespace
@@ -195,14 +202,7 @@ void save_checkpoint(const std::string& path, const Pull& pull, const std::strin
   f.write("/pull/energy", std::vector<double>{r.work, r.max_overlap, r.energy_start, r.contact_sum});
   f.write_rows("/pull/force_sum", std::vector<Vec3>{r.force_sum});
   f.set_attr("/pull", "snapshots", static_cast<std::int64_t>(r.snapshots.size()));
-  for (std::size_t k = 0; k < r.snapshots.size(); ++k) {
-    const std::string g = "/pull/snapshot_" + std::to_string(k);
-    f.set_attr(g, "time", r.snapshots[k].time);
-    f.write(g + "/dx", r.snapshots[k].dx);
-    f.write(g + "/dz", r.snapshots[k].dz);
-    f.write(g + "/vx", r.snapshots[k].vx);
-    f.write(g + "/vz", r.snapshots[k].vz);
-  }
+  write_snapshots(f, "/pull/snapshot_", r.snapshots);
   f.commit();
 }
 
@@ -307,14 +307,7 @@ void save_run(const std::string& path, const Pull& pull, const std::string& yaml
   f.set_attr("/observables/bulk_coordination", "shell", pull.spec().shell);
   f.write("/observables/bulk_coordination/distribution", res.z_distribution);
   scalar("kappa", res.kappa, NAN, "(Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8");
-  for (std::size_t k = 0; k < r.snapshots.size(); ++k) {
-    const std::string g = "/snapshots/" + std::to_string(k);
-    f.set_attr(g, "time", r.snapshots[k].time);
-    f.write(g + "/dx", r.snapshots[k].dx);
-    f.write(g + "/dz", r.snapshots[k].dz);
-    f.write(g + "/vx", r.snapshots[k].vx);
-    f.write(g + "/vz", r.snapshots[k].vz);
-  }
+  write_snapshots(f, "/snapshots/", r.snapshots);
   f.set_attr("/sanity", "report", sanity);
   f.set_attr("/sanity", "max_overlap", r.max_overlap);
   f.set_attr("/sanity", "work", r.work);
