@@ -6,11 +6,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <iomanip>
 #include <memory>
+#include <sstream>
 
 #include "error.hpp"
 #include "parameters.hpp"
 #include "lammps_io.hpp"
+#include "restitution.hpp"
 #include "run_files.hpp"
 
 namespace granudrag {
@@ -328,6 +331,42 @@ int import_lammps_command(const std::vector<std::string>& args) {
               out.c_str(), par.text("data").c_str(), bed.state.particles.size(),
               bed.state.particles.count(Kind::Frozen), bed.state.particles.count(Kind::Intruder),
               bed.surface_height, bed.depth);
+  return 0;
+}
+
+int restitution_command(const std::vector<std::string>& args) {
+  std::vector<ParameterSpec> specs = {
+      {"output", Type::Text, "", "", -inf, inf, false, "CSV file to write: v_n, e_dem, e_theory", true},
+      {"speeds", Type::NumberList, "sqrt(g d)", "0.01,0.02,0.05,0.1,0.2,0.5,1,2,5,10", 0, inf, true,
+       "normal impact speeds"},
+      {"diameter", Type::Number, "d", "1", 0, inf, true, "diameter of the grain dropped on the wall"},
+  };
+  const auto contact = contact_specs();
+  specs.insert(specs.end(), contact.begin(), contact.end());
+  Parameters par("restitution", specs);
+  if (wants_help(args)) {
+    std::cout << "granudrag restitution — coefficient of restitution of a grain hitting the wall (paper Fig. 2):\n"
+                 "the DEM engine's e(v_n) and the direct integration of the viscoelastic Hertz equation\n\n"
+              << par.help_text();
+    return 0;
+  }
+  par.apply_cli(args);
+  par.validate();
+  set_threads(par);
+  const ContactParams c = contact_from(par);
+  const double d = par.number("diameter");
+  if (par.is_set("dt")) check_time_step(par.number("dt"), c, 0.5 * d);
+  const std::string out = par.text("output");
+  check_output_dir(out, "output");
+  std::ostringstream csv;
+  csv << std::setprecision(10) << "v_n,e_dem,e_theory\n";
+  for (double v : par.numbers("speeds")) {
+    const double e_dem = dem_restitution(c, v, d);
+    const double e_theory = hertz_collision(c.kn, c.gamman, sphere_mass(0.5 * d), 0.5 * d, v).restitution;
+    csv << v << ',' << e_dem << ',' << e_theory << '\n';
+    std::printf("v_n = %-6g  e_dem = %.5f  e_theory = %.5f\n", v, e_dem, e_theory);
+  }
+  write_file_atomically(out, csv.str());
   return 0;
 }
 

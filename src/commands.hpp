@@ -10,5 +10,6 @@ int pour_command(const std::vector<std::string>& args);
 int pull_command(const std::vector<std::string>& args);
 int export_lammps_command(const std::vector<std::string>& args);
 int import_lammps_command(const std::vector<std::string>& args);
+int restitution_command(const std::vector<std::string>& args);
 
 }  // namespace granudrag

@@ -27,6 +27,8 @@ Commands:
   export-lammps  Write a bed as a LAMMPS data file plus an input script running the same pull
              with gran/hertz/history (the paper's own code), for cross-checks.
   import-lammps  Turn a LAMMPS data file (atom_style sphere) into a granudrag bed.
+  restitution  e(v_n) of a grain hitting the wall, from the engine and from the direct
+             integration of the viscoelastic Hertz equation (paper Fig. 2), as CSV.
   bench      Settle a dense bed of N grains and print particle-steps per second and the
              time split (force, neighbour, integration) for each thread count.
   version    Print the version and the commit it was built from.
@@ -103,6 +105,7 @@ int main(int argc, char** argv) {
     if (command == "pull") return granudrag::pull_command(args);
     if (command == "export-lammps") return granudrag::export_lammps_command(args);
     if (command == "import-lammps") return granudrag::import_lammps_command(args);
+    if (command == "restitution") return granudrag::restitution_command(args);
     if (command == "bench") {
       if (wants_help(args)) {
         std::cout << kBenchUsage;
