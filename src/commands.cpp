@@ -150,7 +150,7 @@ int pour_command(const std::vector<std::string>& args) {
   if (bed.intruder >= 0)
     std::printf("  intruder D = %g at depth h = %.3f d (requested %s)\n", s.intruder_diameter, bed.depth,
                 std::isnan(bed.requested_depth) ? "by intruder_z" : std::to_string(bed.requested_depth).c_str());
-  std::printf("  wall time %.1f s\n", omp_get_wtime() - t0);
+  std::printf("  wall time %.1f s\n%s", omp_get_wtime() - t0, bed.sanity.c_str());
   return 0;
 }
 

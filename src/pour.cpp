@@ -180,6 +180,21 @@ Bed pour(const PourSpec& s, bool show_progress) {
     if (sim.time() >= s.max_settle_time) break;
   }
   bed.settle_time = sim.time();
+  {
+    const Particles& q = sim.particles();
+    long lost = 0;
+    for (std::size_t i = 0; i < q.size(); ++i)
+      if (q.kind[i] == Kind::Mobile && (!q.x[i].allFinite() || q.x[i].z() < 0)) ++lost;
+    const Energy e = sim.energy();
+    const double elapsed = omp_get_wtime() - t0;
+    std::ostringstream report;
+    report << "sanity: grains lost " << lost << " of " << grains << "; largest overlap "
+           << sim.contacts().max_overlap(q, bed.box) << " d; energy of the grains: kinetic "
+           << e.kinetic + e.rotational << ", gravitational " << e.potential << ", elastic " << e.elastic
+           << " (rho g d^4); " << q.size() * static_cast<double>(sim.steps_done()) / std::max(elapsed, 1e-9)
+           << " particle-steps/s\n";
+    bed.sanity = report.str();
+  }
   sim.particles().freeze_below(s.base_height);
   sim.rebuild_lists();  // frozen pairs leave the lists; the state is saved from a fresh build
   bed.state = sim.state();

@@ -51,6 +51,7 @@ struct Bed {
   std::string stop_reason;  // "threshold" or "max_time"
   double kinetic_energy = 0;  // per grain, when the pour stopped
   double settle_time = 0;
+  std::string sanity;  // the end-of-run report: grains lost, overlaps, energy, throughput
 };
 
 // Placement alone (tested on its own): grains at random non-overlapping positions in the

@@ -117,6 +117,7 @@ void write_bed_body(h5::File& f, const Bed& bed) {
   f.set_attr("/bed", "stop_reason", bed.stop_reason);
   f.set_attr("/bed", "kinetic_energy_per_grain", bed.kinetic_energy);
   f.set_attr("/bed", "settle_time", bed.settle_time);
+  f.set_attr("/bed", "sanity", bed.sanity);
   f.set_attr("/bed", "bulk_packing_fraction", bed.profile.bulk_packing_fraction);
   f.write("/bed/profile/z", bed.profile.z);
   f.write("/bed/profile/packing_fraction", bed.profile.packing_fraction);
@@ -141,6 +142,7 @@ Bed read_bed_body(const h5::File& f) {
   bed.stop_reason = f.get_attr_string("/bed", "stop_reason");
   bed.kinetic_energy = f.get_attr_double("/bed", "kinetic_energy_per_grain");
   bed.settle_time = f.get_attr_double("/bed", "settle_time");
+  bed.sanity = f.get_attr_string("/bed", "sanity");
   bed.profile.bulk_packing_fraction = f.get_attr_double("/bed", "bulk_packing_fraction");
   bed.profile.z = f.read_doubles("/bed/profile/z");
   bed.profile.packing_fraction = f.read_doubles("/bed/profile/packing_fraction");
