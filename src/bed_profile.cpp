@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "error.hpp"
 
@@ -36,23 +37,39 @@ BedProfile measure_bed(const Particles& p, const Box& box, double slab) {
     out.z[k] = (k + 0.5) * slab;
     out.packing_fraction[k] = volume[k] / slab_volume;
   }
+  // The bed's top from the profile, not from the highest grain, so that a grain in flight does
+  // not stretch the bulk window: the highest slab above a tenth of the densest.
+  const double densest = *std::max_element(out.packing_fraction.begin(), out.packing_fraction.end());
+  int top = n - 1;
+  while (top > 0 && out.packing_fraction[top] < 0.1 * densest) --top;
+  const double bed_top = out.z[top];
+  // Slabs cut by an intruder read low (its volume is not counted): they stay out of the bulk.
+  std::vector<std::pair<double, double>> intruders;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == Kind::Intruder) intruders.push_back({p.x[i].z(), p.radius[i]});
   std::vector<double> bulk;
-  for (int k = 0; k < n; ++k)
-    if (out.z[k] > 2.0 && out.z[k] < ztop - 4.0) bulk.push_back(out.packing_fraction[k]);
+  for (int k = 0; k < n; ++k) {
+    if (out.z[k] <= 2.0 || out.z[k] >= bed_top - 4.0) continue;
+    bool cut = false;
+    for (const auto& [zc, r] : intruders) cut |= std::abs(out.z[k] - zc) < r + 0.5 * slab;
+    if (!cut) bulk.push_back(out.packing_fraction[k]);
+  }
   if (bulk.size() < 5)
-    throw Error("bed is too shallow to measure its surface: it needs at least 6.5 d of grains (top at " +
-                std::to_string(ztop) + " d)");
+    throw Error("bed is too shallow to measure its surface: it needs at least 6.5 d of grains clear of the "
+                "intruder (top at " + std::to_string(bed_top) + " d)");
   std::nth_element(bulk.begin(), bulk.begin() + bulk.size() / 2, bulk.end());
   out.bulk_packing_fraction = bulk[bulk.size() / 2];
   const double half = 0.5 * out.bulk_packing_fraction;
-  // Highest crossing of the half-bulk level, interpolated between slab centres.
-  for (int k = n - 1; k > 0; --k) {
+  // Highest crossing of the half-bulk level at or below the top, interpolated between slabs.
+  bool found = false;
+  for (int k = std::min(n - 1, top + 1); k > 0 && !found; --k) {
     if (out.packing_fraction[k - 1] >= half && out.packing_fraction[k] < half) {
       const double f0 = out.packing_fraction[k - 1], f1 = out.packing_fraction[k];
       out.surface_height = out.z[k - 1] + slab * (f0 - half) / (f0 - f1);
-      break;
+      found = true;
     }
   }
+  if (!found) throw Error("no free surface found: the packing fraction never falls to half its bulk value");
   return out;
 }
 

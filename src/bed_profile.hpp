@@ -2,10 +2,11 @@
 // What a settled bed looks like along z: the packing-fraction profile and the free surface.
 //
 // Surface height (the definition granudrag uses everywhere, stored with each bed): the height
-// at which the packing fraction of the grains, in slabs of 0.1 d, falls to half its bulk value,
-// the bulk value being the median over the slabs between the base (2 d up) and 4 d below the top
-// grain. Depth h = surface height - intruder centre height. Half-bulk is the usual Gibbs-like
-// choice for a rough surface: it is insensitive to the odd grain rolling on top.
+// at which the packing fraction of the grains, in slabs of 0.1 d, falls to half its bulk value.
+// The bulk value is the median over the slabs from 2 d above the wall to 4 d below the bed's
+// top (the highest slab denser than a tenth of the densest), leaving out slabs cut by the
+// intruder. Depth h = surface height - intruder centre height. Half-bulk is the usual Gibbs-like
+// choice for a rough surface: it is insensitive to the odd grain rolling on top or in flight.
 #include <vector>
 
 #include "box.hpp"

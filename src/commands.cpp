@@ -26,9 +26,9 @@ constexpr double inf = ParameterSpec::unbounded;
 // The contact law's keys, shared by pour (the bed's law, used by every pull on it).
 std::vector<ParameterSpec> contact_specs() {
   return {
-      {"kn", Type::Number, "rho d g", "2e8", 0, inf, true,
-       "normal stiffness K_n; K_t, gamma_n, gamma_t default to the paper's ratios (K_t/K_n, "
-       "gamma_t/gamma_n and gamma_n/K_n^0.6 fixed)"},
+      {"kn", Type::Number, "rho d g", "", 0, inf, true,
+       "normal stiffness K_n (default 2e8, the paper's); K_t, gamma_n, gamma_t default to the paper's "
+       "ratios (K_t/K_n, gamma_t/gamma_n and gamma_n/K_n^0.6 fixed)"},
       {"kt", Type::Number, "rho d g", "", 0, inf, true, "tangential stiffness K_t (default 1.225 K_n)"},
       {"gamman", Type::Number, "sqrt(g/d^3)", "", 0, inf, false,
        "normal damping gamma_n (default 5e4 (K_n/2e8)^0.6)"},
@@ -47,12 +47,13 @@ std::vector<ParameterSpec> contact_specs() {
 ContactParams contact_from(const Parameters& p) {
   ContactParams c;
   if (p.is_set("youngs_modulus")) {
-    if (p.is_set("kt")) throw Error("give either 'youngs_modulus' (with 'poisson_ratio') or 'kn'/'kt', not both");
+    if (p.is_set("kt") || p.is_set("kn"))
+      throw Error("give either 'youngs_modulus' (with 'poisson_ratio') or 'kn'/'kt', not both");
     c = ContactParams::from_young(p.number("youngs_modulus"), p.number("poisson_ratio"), 0, 0, 0);
     const ContactParams paper;
     c.gamman = paper.gamman * std::pow(c.kn / paper.kn, 0.6);
   } else {
-    c = ContactParams{}.with_stiffness(p.number("kn"));
+    c = ContactParams{}.with_stiffness(p.is_set("kn") ? p.number("kn") : ContactParams{}.kn);
     if (p.is_set("kt")) c.kt = p.number("kt");
   }
   if (p.is_set("gamman")) c.gamman = p.number("gamman");
@@ -158,7 +159,7 @@ int pull_command(const std::vector<std::string>& args) {
   std::vector<ParameterSpec> specs = {
       {"bed", Type::Text, "", "", -inf, inf, false, "bed file from granudrag pour", true},
       {"output", Type::Text, "", "", -inf, inf, false, "run file to write (HDF5)", true},
-      {"speed", Type::Number, "sqrt(g d)", "1", 0, inf, true, "pulling speed V along +x"},
+      {"speed", Type::Number, "sqrt(g d)", "", 0, inf, true, "pulling speed V along +x (default 1)"},
       {"froude", Type::Number, "", "", 0, inf, true, "or: the Froude number 2V sqrt(2D/g)/(D+d), paper Eq. 4"},
       {"distance", Type::Number, "d", "0", 0, inf, false, "travel; 0: one box length (as in the paper)"},
       {"sample_interval", Type::Number, "sqrt(d/g)", "0.02", 0, inf, true, "forces are averaged over each interval"},
@@ -192,7 +193,8 @@ int pull_command(const std::vector<std::string>& args) {
   if (bed.intruder < 0) throw Error("bed '" + bed_path + "' has no intruder to pull");
   PullSpec spec;
   const double D = 2 * bed.state.particles.radius[bed.intruder];
-  spec.speed = par.number("speed");
+  if (par.is_set("speed") && par.is_set("froude")) throw Error("give either 'speed' or 'froude', not both");
+  spec.speed = par.is_set("speed") ? par.number("speed") : 1.0;
   if (par.is_set("froude")) spec.speed = par.number("froude") / froude_number(1.0, D);
   spec.distance = par.number("distance");
   spec.sample_interval = par.number("sample_interval");
@@ -210,12 +212,28 @@ int pull_command(const std::vector<std::string>& args) {
   }
   const std::string yaml = "# pull\n" + par.to_yaml() + "# bed " + bed_path + "\n" + bed_yaml;
   const std::string checkpoint = out + ".checkpoint.h5";
+  // What a resumed pull must match: every option but the run controls, and the bed itself.
+  std::string identity;
+  {
+    std::istringstream lines(par.to_yaml());
+    for (std::string line; std::getline(lines, line);)
+      if (line.rfind("resume:", 0) && line.rfind("quiet:", 0) && line.rfind("threads:", 0)) identity += line + "\n";
+    identity += "bed_fingerprint: " + bed_fingerprint(bed) + "\n";
+  }
 
   const double t0 = omp_get_wtime();
-  auto save = [&](const Pull& p) { save_checkpoint(checkpoint, p, yaml); };
+  auto save = [&](const Pull& p) { save_checkpoint(checkpoint, p, yaml, identity); };
   std::unique_ptr<Pull> pull;
   if (par.flag("resume") && std::filesystem::exists(checkpoint)) {
     Checkpoint c = load_checkpoint(checkpoint, bed);
+    if (c.identity != identity) {
+      std::string differs;
+      std::istringstream a(c.identity), b(identity);
+      for (std::string la, lb; std::getline(a, la) && std::getline(b, lb);)
+        if (la != lb) differs += "\n  checkpoint: " + la + "\n  now:        " + lb;
+      throw Error("checkpoint '" + checkpoint + "' was written by a pull with other options or another bed:" +
+                  differs + "\nrerun with the same options, or delete the checkpoint to start over");
+    }
     pull = std::make_unique<Pull>(bed, spec, c.state, std::move(c.record));
     std::fprintf(stderr, "pull: resuming from %s at step %ld\n", checkpoint.c_str(), pull->simulation().steps_done());
   } else {

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iomanip>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -125,29 +126,30 @@ LammpsData read_lammps_data(const std::string& path, int frozen_type, int intrud
     std::vector<std::string> w;
     for (std::string t; ls >> t;) w.push_back(t);
     if (w.empty()) continue;
-    if (w[0] == "Atoms" || w[0] == "Velocities" || w[0] == "Masses" || w[0] == "Bonds") {
+    // Section headers are capitalised words ("Atoms", "Velocities", "Pair Coeffs", ...); only
+    // Atoms and Velocities are read, other sections are skipped.
+    if (std::isupper(static_cast<unsigned char>(w[0][0]))) {
       section = w[0];
-      if (section == "Atoms" && line.find("sphere") == std::string::npos && line.find('#') != std::string::npos)
+      if (section == "Atoms" && line.find('#') != std::string::npos && line.find("sphere") == std::string::npos)
         fail("the Atoms section is not atom_style sphere ('" + line + "')");
       continue;
     }
-    if (section.empty()) {
-      if (w.size() == 2 && w[1] == "atoms") natoms = std::stol(w[0]);
-      for (int k = 0; k < 3; ++k) {
-        const char* names[3] = {"xlo", "ylo", "zlo"};
-        if (w.size() == 4 && w[2] == names[k]) {
-          lo[k] = std::stod(w[0]);
-          hi[k] = std::stod(w[1]);
-          have[k] = true;
-        }
-      }
-      continue;
-    }
     try {
-      if (section == "Atoms") {
+      if (section.empty()) {
+        if (w.size() == 2 && w[1] == "atoms") natoms = std::stol(w[0]);
+        for (int k = 0; k < 3; ++k) {
+          const char* names[3] = {"xlo", "ylo", "zlo"};
+          if (w.size() == 4 && w[2] == names[k]) {
+            lo[k] = std::stod(w[0]);
+            hi[k] = std::stod(w[1]);
+            have[k] = true;
+          }
+        }
+      } else if (section == "Atoms") {
         if (w.size() != 7 && w.size() != 10) fail("expected 'id type diameter density x y z [ix iy iz]'");
         Atom a{std::stol(w[0]), std::stoi(w[1]), std::stod(w[2]), std::stod(w[3]),
                Vec3(std::stod(w[4]), std::stod(w[5]), std::stod(w[6]))};
+        if (!(a.d > 0)) fail("diameter must be > 0 (a point particle cannot be a grain)");
         if (w.size() == 10) a.x += Vec3(std::stol(w[7]) * (hi[0] - lo[0]), std::stol(w[8]) * (hi[1] - lo[1]), 0);
         atoms.push_back(a);
       } else if (section == "Velocities") {

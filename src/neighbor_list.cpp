@@ -49,8 +49,12 @@ bool NeighborList::needs_rebuild(const Particles& p) const {
   const long n = static_cast<long>(p.size());
   double max_d2 = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : max_d2)
-  for (long i = 0; i < n; ++i) max_d2 = std::max(max_d2, (p.x[i] - x_at_build_[i]).squaredNorm());
-  return !(max_d2 <= limit);  // a NaN displacement also forces a rebuild, which reports it
+  for (long i = 0; i < n; ++i) {
+    const double d2 = (p.x[i] - x_at_build_[i]).squaredNorm();
+    // Written so that a NaN displacement wins: the rebuild it forces reports it.
+    if (!(d2 <= max_d2)) max_d2 = std::isnan(d2) ? HUGE_VAL : d2;
+  }
+  return !(max_d2 <= limit);
 }
 
 void NeighborList::build(Particles& p, const Box& box) {
@@ -98,7 +102,7 @@ void NeighborList::bin(const Particles& p, const Box& box, double cell) {
   g.z0 = zmin;
   g.cz = cell;
   const double layers = (zmax - zmin) / cell;
-  if (layers > 1e6)
+  if (layers * g.nx * g.ny > 2e7 || !std::isfinite(layers))
     throw Error("a grain flew " + std::to_string(zmax - zmin) +
                 " grain diameters away from the bed: the run became unstable (check dt and the "
                 "initial overlaps)");

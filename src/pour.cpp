@@ -27,8 +27,10 @@ double grain_volume_estimate(long n) { return n * M_PI / 6.0 * kMeanCubeDiameter
 }  // namespace
 
 void PourSpec::validate() const {
-  require(lx > 0 && std::isfinite(lx), "lx", lx, "the box length must be > 0 (in d)");
-  require(ly > 0 && std::isfinite(ly), "ly", ly, "the box width must be > 0 (in d)");
+  require(lx >= 4 && std::isfinite(lx), "lx", lx, "the box length must be >= 4 d (periodic cells)");
+  require(ly >= 4 && std::isfinite(ly), "ly", ly, "the box width must be >= 4 d (periodic cells)");
+  require(grains <= 200 * lx * ly * 1000, "grains", static_cast<double>(grains),
+          "more than a 1000 d tall bed in this box; use a wider box or fewer grains");
   require(grains >= 1, "grains", static_cast<double>(grains), "it must be >= 1");
   require(intruder_diameter >= 0 && std::isfinite(intruder_diameter), "intruder_diameter",
           intruder_diameter, "it must be >= 0 (0: no intruder)");
@@ -158,6 +160,9 @@ Bed pour(const PourSpec& s, bool show_progress) {
   Simulation sim(std::move(p), bed.box, s.contact, settings);
   bed.dt = sim.dt();
   const long chunk = std::max(1L, std::lround(s.check_interval / sim.dt()));
+  // Grains start at rest: the kinetic energy is tiny before they have fallen. No threshold
+  // stop before the top of the column could have fallen to the wall (t = sqrt(2 z_top / g)).
+  const double min_settle_time = std::min(s.max_settle_time, std::sqrt(2.0 * column_top));
   const long grains = s.grains;
   const double t0 = omp_get_wtime();
   bed.stop_reason = "max_time";
@@ -173,7 +178,10 @@ Bed pour(const PourSpec& s, bool show_progress) {
                    sim.time(), s.max_settle_time, bed.kinetic_energy, s.ke_threshold,
                    sim.particles().size() * static_cast<double>(sim.steps_done()) / elapsed, elapsed);
     }
-    if (bed.kinetic_energy < s.ke_threshold) {
+    if (!std::isfinite(bed.kinetic_energy))
+      throw Error("the pour blew up at t = " + std::to_string(sim.time()) +
+                  ": non-finite kinetic energy; the time step is too large for the stiffness");
+    if (bed.kinetic_energy < s.ke_threshold && sim.time() >= min_settle_time) {
       bed.stop_reason = "threshold";
       break;
     }
@@ -201,7 +209,15 @@ Bed pour(const PourSpec& s, bool show_progress) {
   bed.state.steps = 0;  // a pull starts its own clock
   bed.profile = measure_bed(bed.state.particles, bed.box);
   bed.surface_height = bed.profile.surface_height;
-  if (has_intruder) bed.depth = bed.surface_height - bed.state.particles.x[bed.intruder].z();
+  if (has_intruder) {
+    bed.depth = bed.surface_height - bed.state.particles.x[bed.intruder].z();
+    if (!std::isnan(s.depth) && std::abs(bed.depth - s.depth) > 1.0)
+      std::fprintf(stderr, "pour: warning: the intruder ended at depth %.3f d, %.2f d from the requested %.3f d "
+                           "(bulk packing fraction %.3f, packing_estimate %.3f)\n",
+                   bed.depth, bed.depth - s.depth, s.depth, bed.profile.bulk_packing_fraction, s.packing_estimate);
+    if (bed.depth < 0.5 * s.intruder_diameter)
+      std::fprintf(stderr, "pour: warning: the intruder is not buried (depth %.3f d < D/2)\n", bed.depth);
+  }
   return bed;
 }
 

@@ -58,11 +58,25 @@ Pull::Pull(const Bed& bed, const PullSpec& spec)
   }
   const double distance = spec_.distance > 0 ? spec_.distance : bed_.box.lx;
   record_.samples_per_interval = std::max(1L, std::lround(spec_.sample_interval / sim_.dt()));
-  const long steps = std::lround(std::ceil(distance / (spec_.speed * sim_.dt())));
+  const double steps_wanted = std::ceil(distance / (spec_.speed * sim_.dt()));
+  if (!(steps_wanted < 1e13)) {
+    std::ostringstream msg;
+    msg << "'speed' = " << spec_.speed << " needs " << steps_wanted << " steps of dt = " << sim_.dt()
+        << " to cover " << distance << " d; use a larger speed or a shorter distance";
+    throw Error(msg.str());
+  }
+  const long steps = static_cast<long>(steps_wanted);
   const long k = record_.samples_per_interval;
   record_.total_steps = (steps + k - 1) / k * k;
   const Energy e = sim_.energy();
   record_.energy_start = e.total();
+  if (spec_.transient >= 0 && spec_.transient >= distance)
+  {
+    std::ostringstream msg;
+    msg << "'transient' = " << spec_.transient << " d leaves nothing of a pull of " << distance
+        << " d to average; it must be shorter than 'distance'";
+    throw Error(msg.str());
+  }
 }
 
 Pull::Pull(const Bed& bed, const PullSpec& spec, const Simulation::State& state, PullRecord record)

@@ -1,5 +1,8 @@
 #include "run_files.hpp"
 
+#include <cmath>
+#include <cstdio>
+
 #include "error.hpp"
 #include "h5_file.hpp"
 #include "xdmf.hpp"
@@ -111,7 +114,8 @@ void write_bed_body(h5::File& f, const Bed& bed) {
   f.set_attr("/bed", "surface_height", bed.surface_height);
   f.set_attr("/bed", "surface_definition",
              std::string("height where the packing fraction of the grains (slabs of 0.1 d) falls to half its bulk "
-                         "value (median between 2 d and 4 d below the top grain)"));
+                         "value; bulk = median over slabs from 2 d above the wall to 4 d below the bed top (highest "
+                         "slab denser than a tenth of the densest), slabs cut by the intruder left out"));
   f.set_attr("/bed", "depth", bed.depth);
   f.set_attr("/bed", "requested_depth", bed.requested_depth);
   f.set_attr("/bed", "stop_reason", bed.stop_reason);
@@ -136,13 +140,22 @@ Bed read_bed_body(const h5::File& f) {
   bed.contact.mu = f.get_attr_double("/contact", "mu");
   bed.dt = f.get_attr_double("/contact", "dt");
   bed.intruder = static_cast<int>(f.get_attr_int64("/bed", "intruder"));
+  const Particles& p = bed.state.particles;
+  if (bed.intruder >= static_cast<int>(p.size()) || bed.intruder < -1 ||
+      (bed.intruder >= 0 && p.kind[bed.intruder] != Kind::Intruder))
+    throw Error("/bed/intruder = " + std::to_string(bed.intruder) + " is not the index of an intruder");
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!(p.radius[i] > 0) || !std::isfinite(p.radius[i]) || !p.x[i].allFinite())
+      throw Error("particle " + std::to_string(i) + " has a bad radius or position");
+  if (!(bed.box.lx > 0) || !(bed.box.ly > 0) || !(bed.dt > 0))
+    throw Error("bad box or time step under /box, /contact");
   bed.surface_height = f.get_attr_double("/bed", "surface_height");
   bed.depth = f.get_attr_double("/bed", "depth");
   bed.requested_depth = f.get_attr_double("/bed", "requested_depth");
   bed.stop_reason = f.get_attr_string("/bed", "stop_reason");
   bed.kinetic_energy = f.get_attr_double("/bed", "kinetic_energy_per_grain");
   bed.settle_time = f.get_attr_double("/bed", "settle_time");
-  bed.sanity = f.get_attr_string("/bed", "sanity");
+  if (f.has_attr("/bed", "sanity")) bed.sanity = f.get_attr_string("/bed", "sanity");  // absent if imported
   bed.profile.bulk_packing_fraction = f.get_attr_double("/bed", "bulk_packing_fraction");
   bed.profile.z = f.read_doubles("/bed/profile/z");
   bed.profile.packing_fraction = f.read_doubles("/bed/profile/packing_fraction");
@@ -183,9 +196,26 @@ Bed load_bed(const std::string& path, std::string* yaml) {
   }
 }
 
-void save_checkpoint(const std::string& path, const Pull& pull, const std::string& yaml) {
+std::string bed_fingerprint(const Bed& bed) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the bytes
+  auto mix = [&h](const void* data, std::size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < bytes; ++k) h = (h ^ b[k]) * 1099511628211ull;
+  };
+  const Particles& p = bed.state.particles;
+  mix(p.x.data(), p.x.size() * sizeof(Vec3));
+  mix(p.radius.data(), p.radius.size() * sizeof(double));
+  mix(p.kind.data(), p.kind.size() * sizeof(Kind));
+  char text[32];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
+void save_checkpoint(const std::string& path, const Pull& pull, const std::string& yaml,
+                     const std::string& identity) {
   h5::File f = h5::File::create(path);
   write_header(f, "granudrag-checkpoint", yaml);
+  f.set_attr("/pull", "identity", identity);
   Bed bed = pull.bed();
   bed.state = pull.state();
   write_bed_body(f, bed);
@@ -219,7 +249,9 @@ Checkpoint load_checkpoint(const std::string& path, const Bed& bed) {
       throw Error("it belongs to another bed (particle count, box, stiffness or time step differ)");
     c.state = saved.state;
     PullRecord& r = c.record;
+    c.identity = f.get_attr_string("/pull", "identity");
     r.samples_per_interval = f.get_attr_int64("/pull", "samples_per_interval");
+    if (r.samples_per_interval < 1) throw Error("samples_per_interval < 1 under /pull");
     r.total_steps = f.get_attr_int64("/pull", "total_steps");
     r.time = f.read_doubles("/pull/time");
     r.fx = f.read_doubles("/pull/fx");

@@ -22,11 +22,16 @@ void save_bed(const std::string& path, const Bed& bed, const std::string& parame
 // version. The bed's parameters_yaml is returned through the pointer when given.
 Bed load_bed(const std::string& path, std::string* parameters_yaml = nullptr);
 
-void save_checkpoint(const std::string& path, const Pull& pull, const std::string& parameters_yaml);
+// `identity`: what a resumed pull must match (its options and the bed, see bed_fingerprint).
+void save_checkpoint(const std::string& path, const Pull& pull, const std::string& parameters_yaml,
+                     const std::string& identity);
 struct Checkpoint {
   Simulation::State state;
   PullRecord record;
+  std::string identity;
 };
+// A hash of a bed's particles (positions, radii, species): tells two beds apart.
+std::string bed_fingerprint(const Bed& bed);
 Checkpoint load_checkpoint(const std::string& path, const Bed& bed);
 
 void save_run(const std::string& path, const Pull& pull, const std::string& parameters_yaml,

@@ -42,5 +42,17 @@ cp good.h5 future.h5
 expect "format version 99" "$gd" pull --bed future.h5 --output r.h5
 "$gd" pull --bed good.h5 --output run.h5 --distance 0.5 --quiet >/dev/null 2>&1
 expect "not a granudrag-bed file" "$gd" pull --bed run.h5 --output r2.h5
+expect "either 'speed' or 'froude'" "$gd" pull --bed good.h5 --output r.h5 --speed 1 --froude 1
+expect "'transient'" "$gd" pull --bed good.h5 --output r.h5 --distance 2 --transient 3
+expect "either 'youngs_modulus'" "$gd" pour --output b.h5 --ly 8 --grains 300 --lx 8 --depth 2 --youngs_modulus 1e6 --kn 2e4
+printf 'title\n\nabc atoms\n' > bad.data
+expect "bad.data', line 3" "$gd" import-lammps --data bad.data --output i.h5
+# A checkpoint of a pull with other options is refused on --resume, naming the difference.
+(timeout -s KILL 1 "$gd" pull --bed good.h5 --output k.h5 --speed 0.5 --checkpoint_interval 0.05 --quiet >/dev/null 2>&1) 2>/dev/null
+if [ -f k.h5.checkpoint.h5 ]; then
+  expect "now:        speed: 0.7" "$gd" pull --bed good.h5 --output k.h5 --speed 0.7 --checkpoint_interval 0.05 --resume
+else
+  echo "FAIL: no checkpoint was written within 1 s"; fails=$((fails + 1))
+fi
 [ "$fails" -eq 0 ] && echo "PASS: every bad input was refused with its message"
 exit "$fails"

@@ -29,6 +29,32 @@ TEST(BedProfile, SurfaceOfAnIdealSlabIsItsTop) {
   EXPECT_NEAR(prof.surface_height, 11.5, 0.5);  // half-density point inside the top layer
 }
 
+TEST(BedProfile, AGrainInFlightDoesNotMoveTheSurface) {
+  Particles p;
+  for (int iz = 0; iz < 12; ++iz)
+    for (int ix = 0; ix < 8; ++ix)
+      for (int iy = 0; iy < 8; ++iy) p.add(Vec3(ix + 0.5, iy + 0.5, iz + 0.5), 0.5, Kind::Mobile);
+  const double before = measure_bed(p, Box{8, 8, true}).surface_height;
+  p.add(Vec3(4, 4, 30), 0.5, Kind::Mobile);  // one grain far above the bed
+  EXPECT_NEAR(measure_bed(p, Box{8, 8, true}).surface_height, before, 1e-9);
+}
+
+TEST(Pour, DoesNotStopBeforeTheGrainsHaveFallen) {
+  // A kinetic-energy threshold met at once (grains start at rest) must not end the pour.
+  PourSpec s;
+  s.lx = s.ly = 8;
+  s.intruder_x = s.intruder_y = 4;
+  s.grains = 600;
+  s.depth = 3;
+  s.contact = ContactParams{}.with_stiffness(2e4);
+  s.ke_threshold = 1.0;
+  s.check_interval = 1e-3;
+  s.max_settle_time = 20;
+  const Bed bed = pour(s, false);
+  EXPECT_GT(bed.settle_time, 3.0);  // the column's free-fall time
+  EXPECT_GT(bed.profile.bulk_packing_fraction, 0.5);
+}
+
 TEST(Pour, PlacementHasNoOverlapsAndSparesTheIntruder) {
   PourSpec s;
   s.lx = s.ly = 8;

@@ -1,0 +1,183 @@
+"""analysis.runs: run files (HDF5, the layout `granudrag pull` writes) into the tidy table."""
+import math
+
+import h5py
+import numpy as np
+import pytest
+
+from analysis.runs import (RunFileError, load_runs, path_parameters, read_force_trace,
+                           read_run)
+from analysis.table import froude, validate_table
+
+BED = "system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.05359/seed~1"
+
+
+def write_run(path, D=2.0, depth=9.87, speed=0.75, mu=0.5, kn=2e4, gamman=199.05359,
+              drag=111.1, fmt="granudrag-run", version=1, skip=None, n_samples=50):
+    """A run file with the attributes and datasets of src/run_files.cpp save_run."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with h5py.File(path, "w") as f:
+        g = f.create_group("granudrag")
+        g.attrs["format"] = fmt
+        g.attrs["version"] = np.int64(version)
+        f.create_group("parameters").attrs["yaml"] = "# pull\nspeed: 1\n"
+        r = f.create_group("run")
+        for k, v in dict(D=D, depth=depth, speed=speed, froude=float(froude(speed, D)), mu=mu,
+                         kn=kn, gamman=gamman, dt=4.2e-4).items():
+            r.attrs[k] = v
+        r.attrs["steps"] = np.int64(6384)
+        o = f.create_group("observables")
+        t = np.arange(1, n_samples + 1) * 0.02
+        fx = -drag + np.sin(t)
+        force = np.column_stack([fx, np.zeros_like(t), np.ones_like(t)])
+        o.create_dataset("intruder_force/time", data=t)
+        o.create_dataset("intruder_force/value", data=force)
+        o.create_dataset("intruder_force/step", data=np.arange(1, n_samples + 1) * 48)
+        o.create_dataset("cumulative_drag/value", data=np.cumsum(-fx) / np.arange(1, n_samples + 1))
+        for name, attrs in {"drag": dict(value=drag, error=2.5, transient_distance=0.5,
+                                         transient_samples=np.int64(10 if skip is None else skip)),
+                            "coordination": dict(value=10.0, error=math.nan),
+                            "theta": dict(value=1.55, error=0.1),
+                            "bulk_coordination": dict(value=3.7, error=math.nan, shell=2.0),
+                            "kappa": dict(value=0.96, error=math.nan)}.items():
+            grp = o.require_group(name)
+            for k, v in attrs.items():
+                grp.attrs[k] = v
+        o.create_dataset("bulk_coordination/distribution", data=np.full(16, 1 / 16))
+        o.create_dataset("theta/histogram", data=np.zeros(36, dtype=np.int64))
+        f.create_group("sanity").attrs["report"] = "sanity: grains lost 0"
+    return path
+
+
+def test_reads_one_run_with_path_parameters(tmp_path):
+    p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5")
+    row = read_run(p, root=tmp_path)
+    assert row["system"] == "I"
+    assert row["h"] == 10.0 and row["h_measured"] == pytest.approx(9.87)
+    assert row["D"] == 2.0 and row["mu"] == 0.5 and row["kn"] == 2e4
+    assert row["V"] == 0.75 and row["Fr"] == pytest.approx(1.0)
+    assert row["drag"] == pytest.approx(111.1) and row["drag_err"] == 2.5
+    assert row["n_contacts"] == 10.0 and row["theta"] == 1.55 and row["Z"] == 3.7
+    assert row["kappa"] == 0.96
+    assert row["run"] == f"pulls/{BED}/Fr~1"
+
+
+def test_load_runs_gives_a_valid_table(tmp_path):
+    paths = [write_run(tmp_path / "pulls" / BED / f"Fr~{fr:g}" / "run.h5",
+                       speed=float(fr) * 0.75, drag=100 + fr) for fr in (0.5, 1, 2)]
+    paths.append(write_run(tmp_path / "pulls" / BED / "V~0.01" / "run.h5", speed=0.01, drag=50))
+    df = load_runs(paths, root=tmp_path)
+    validate_table(df)
+    assert len(df) == 4
+    assert list(df.drag) == [100.5, 101, 102, 50]
+    assert (df.system == "I").all() and df.run.is_unique
+
+
+def test_depth_without_h_component_is_the_measured_one(tmp_path):
+    p = write_run(tmp_path / "somewhere" / "run.h5", depth=24.6)
+    row = read_run(p, system="I")
+    assert row["h"] == pytest.approx(24.6)
+
+
+def test_system_is_required(tmp_path):
+    p = write_run(tmp_path / "run.h5")
+    with pytest.raises(RunFileError, match="no system given"):
+        read_run(p)
+    assert read_run(p, system="II")["system"] == "II"
+
+
+@pytest.mark.parametrize("content, message", [
+    (b"system,D\nI,2\n", "not an HDF5 file"),
+    (b"\x89HDF\r\n\x1a\n" + b"\x00" * 40, "unreadable HDF5 file"),
+])
+def test_foreign_and_corrupt_files_are_refused(tmp_path, content, message):
+    p = tmp_path / "system~I" / "run.h5"
+    p.parent.mkdir()
+    p.write_bytes(content)
+    with pytest.raises(RunFileError, match=message) as exc:
+        read_run(p)
+    assert str(p) in str(exc.value)
+
+
+def test_truncated_run_file_is_refused(tmp_path):
+    p = write_run(tmp_path / "system~I" / "run.h5")
+    data = p.read_bytes()
+    p.write_bytes(data[: len(data) // 3])
+    with pytest.raises(RunFileError, match=str(p)):
+        read_run(p)
+
+
+def test_other_granudrag_files_are_refused(tmp_path):
+    bed = write_run(tmp_path / "system~I" / "bed.h5", fmt="granudrag-bed")
+    with pytest.raises(RunFileError, match="'granudrag-bed' file.*pull it"):
+        read_run(bed)
+    newer = write_run(tmp_path / "system~I" / "new.h5", version=7)
+    with pytest.raises(RunFileError, match="version 7 is not supported"):
+        read_run(newer)
+    plain = tmp_path / "system~I" / "plain.h5"
+    with h5py.File(plain, "w") as f:
+        f.create_dataset("x", data=[1, 2])
+    with pytest.raises(RunFileError, match="not a granudrag file"):
+        read_run(plain)
+
+
+def test_missing_attribute_is_named(tmp_path):
+    p = write_run(tmp_path / "system~I" / "run.h5")
+    with h5py.File(p, "a") as f:
+        del f["run"].attrs["speed"]
+    with pytest.raises(RunFileError, match="no attribute 'speed' on /run"):
+        read_run(p)
+    with h5py.File(p, "a") as f:
+        f["run"].attrs["speed"] = 0.75
+        del f["observables/theta"]
+    with pytest.raises(RunFileError, match="no group theta"):
+        read_run(p)
+
+
+def test_run_in_the_wrong_place_is_refused(tmp_path):
+    p = write_run(tmp_path / "pulls" / BED.replace("mu~0.5", "mu~0.3") / "Fr~1" / "run.h5")
+    with pytest.raises(RunFileError, match="path says mu = 0.3 but the file has mu = 0.5"):
+        read_run(p)
+    q = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5")
+    with pytest.raises(RunFileError, match="path says Fr = 2"):
+        read_run(q)
+
+
+def test_failed_pull_without_drag_is_refused(tmp_path):
+    p = write_run(tmp_path / "system~I" / "run.h5", drag=math.nan)
+    with pytest.raises(RunFileError, match="produced no drag"):
+        read_run(p)
+
+
+def test_missing_and_bad_files_are_listed_by_name(tmp_path):
+    good = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5")
+    missing = tmp_path / "pulls" / BED / "Fr~3" / "run.h5"
+    bad = tmp_path / "pulls" / BED / "Fr~4" / "run.h5"
+    bad.parent.mkdir(parents=True)
+    bad.write_text("not a run")
+    with pytest.raises(RunFileError) as exc:
+        load_runs([good, missing, bad])
+    text = str(exc.value)
+    assert "2 of 3 run files unusable" in text
+    assert f"{missing}: no such file" in text and f"{bad}: not an HDF5 file" in text
+    df, problems = load_runs([good, missing, bad], errors="collect")
+    assert len(df) == 1 and len(problems) == 2
+
+
+def test_empty_list_gives_an_empty_table():
+    df = load_runs([])
+    assert df.empty and "drag" in df.columns
+
+
+def test_force_trace(tmp_path):
+    p = write_run(tmp_path / "system~I" / "run.h5", drag=80.0, skip=10)
+    t, drag, transient = read_force_trace(p)
+    assert len(t) == len(drag) == 50
+    assert transient == pytest.approx(t[9])
+    assert np.mean(drag) == pytest.approx(80.0, abs=1.0)
+
+
+def test_path_parameters():
+    assert path_parameters(f"results/pulls/{BED}/V~0.01/run.h5") == {
+        "system": "I", "D": "2", "h": "10", "mu": "0.5", "kn": "2e4", "gn": "199.05359",
+        "seed": "1", "V": "0.01"}

@@ -1,0 +1,153 @@
+"""The whole workflow end to end on config/smoke.yaml, in a temporary directory.
+
+Checks the report, figures and table, that a finished study has nothing left to
+do, that adding a grid value re-runs only the new pulls (beds reused), and that
+a bad config names the bad key. About a minute on 2 cores.
+
+The engine: $GRANUDRAG if set, else build/granudrag (tools/test.sh builds it).
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+SNAKEMAKE = "/usr/bin/snakemake"   # Debian's, run by Debian's /usr/bin/python3
+BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag")).resolve()
+sys.path.insert(0, str(ROOT / "workflow" / "scripts"))
+import study  # noqa: E402
+
+pytestmark = [
+    pytest.mark.skipif(not Path(SNAKEMAKE).exists(), reason="Debian's snakemake is not installed"),
+    pytest.mark.skipif(not BINARY.exists(), reason=f"no granudrag binary at {BINARY} (build it first)"),
+]
+
+FIGURES = ["fig02_restitution", "fig04_force_trace", "fig05_drag_vs_Fr_mu0.5", "fig06_theta_vs_Fr",
+           "fig08_kappa_vs_Fr", "fig12_yield_vs_mu", "fig16_drag_vs_Fr_depth", "fig17_yield_vs_h",
+           "fig20_kn_gamman"]
+
+
+def snakemake(workdir, configfile, *args, check=True):
+    cmd = [SNAKEMAKE, "--snakefile", str(ROOT / "workflow" / "Snakefile"), "--directory",
+           str(workdir), "--configfile", str(configfile), *args]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+    if check and r.returncode != 0:
+        pytest.fail(f"{' '.join(cmd)} failed ({r.returncode}):\n{r.stderr[-4000:]}")
+    return r
+
+
+def write_config(path, config):
+    path.write_text(yaml.safe_dump(config, sort_keys=False))
+    return path
+
+
+def job_counts(output):
+    """{rule: count} from the 'Job stats' table of a (dry) run."""
+    counts, in_table = {}, False
+    for line in output.splitlines():
+        if line.startswith("job ") and "count" in line:
+            in_table = True
+            continue
+        m = re.match(r"^(\w+)\s+(\d+)\s+\d+\s+\d+\s*$", line)
+        if in_table and m and m.group(1) != "total":
+            counts[m.group(1)] = int(m.group(2))
+    return counts
+
+
+@pytest.fixture(scope="module")
+def smoke(tmp_path_factory):
+    workdir = tmp_path_factory.mktemp("smoke")
+    with open(ROOT / "config" / "smoke.yaml") as fh:
+        config = yaml.safe_load(fh)
+    config["granudrag"] = str(BINARY)
+    configfile = write_config(workdir / "smoke.yaml", config)
+    snakemake(workdir, configfile, "--cores", "2")
+    return workdir, configfile, config
+
+
+def test_report_and_figures(smoke):
+    workdir, _, config = smoke
+    report = workdir / config["results"] / "report"
+    md = (report / "report.md").read_text()
+    assert (report / "report.html").is_file() and (report / "fits.json").is_file()
+    for name in FIGURES:
+        assert (report / f"{name}.png").is_file(), name
+        assert (report / f"{name}.pdf").is_file(), name
+        assert f"]({name}.png)" in md, name
+
+
+def test_table_has_one_row_per_planned_pull(smoke):
+    workdir, _, config = smoke
+    plan = study.plan(config)
+    df = pd.read_csv(workdir / config["results"] / "table.csv", dtype={"system": str, "run": str})
+    assert len(df) == len(plan.pulls) == 12
+    assert set(df.run) == {f"pulls/{key}" for key in plan.pulls}
+    assert df.drag.notna().all() and (df.drag > 0).all()
+    assert set(df.system) == {"I", "II"}
+    assert sorted(df[df.V == 0.01].h.tolist()) == [3, 4, 5]
+    assert not (workdir / config["results"] / "table_problems.txt").read_text()
+
+
+def test_every_simulation_has_log_and_benchmark(smoke):
+    workdir, _, config = smoke
+    plan = study.plan(config)
+    logs, results = workdir / config["logs"], workdir / config["results"]
+    for key in plan.beds:
+        assert "bed:" in (logs / "beds" / f"{key}.log").read_text()
+        assert (results / "benchmarks" / "beds" / f"{key}.tsv").is_file()
+    for key in plan.pulls:
+        assert "drag =" in (logs / "pulls" / f"{key}.log").read_text()
+        assert (results / "benchmarks" / "pulls" / f"{key}.tsv").is_file()
+
+
+def test_finished_study_has_nothing_to_do(smoke):
+    workdir, configfile, _ = smoke
+    r = snakemake(workdir, configfile, "--dry-run")
+    assert "Nothing to be done" in r.stdout + r.stderr
+
+
+def test_bad_config_names_the_key(smoke, tmp_path):
+    _, _, config = smoke
+    bad = dict(config, sweeps=[dict(config["sweeps"][0], D="two")] + config["sweeps"][1:])
+    r = snakemake(tmp_path, write_config(tmp_path / "bad.yaml", bad), "--dry-run", check=False)
+    assert r.returncode != 0
+    assert "sweeps[0].D" in r.stdout + r.stderr
+
+
+def test_extending_a_grid_reruns_only_the_new_pulls(smoke):
+    workdir, _, config = smoke
+    results = workdir / config["results"]
+    beds = {p: p.stat().st_mtime_ns for p in (results / "beds").rglob("bed.h5")}
+    runs = {p: p.stat().st_mtime_ns for p in (results / "pulls").rglob("run.h5")}
+    extended = yaml.safe_load(yaml.safe_dump(config))
+    extended["sweeps"][0]["Fr"] = extended["sweeps"][0]["Fr"] + [3]      # drag: D = 1.5, 2
+    configfile = write_config(workdir / "extended.yaml", extended)
+
+    dry = snakemake(workdir, configfile, "--dry-run", "--quiet")
+    counts = job_counts(dry.stdout + dry.stderr)
+    assert counts.get("pull") == 2, counts
+    assert "bed" not in counts, counts
+    assert set(counts) <= {"pull", "table", "report", "all"}, counts
+
+    snakemake(workdir, configfile, "--cores", "2")
+    assert {p: p.stat().st_mtime_ns for p in (results / "beds").rglob("bed.h5")} == beds
+    assert all(p.stat().st_mtime_ns == t for p, t in runs.items())
+    new = set((results / "pulls").rglob("run.h5")) - set(runs)
+    assert sorted(p.parent.name for p in new) == ["Fr~3", "Fr~3"]
+    df = pd.read_csv(results / "table.csv")
+    assert len(df) == 14
+
+
+@pytest.mark.skipif(shutil.which("sbatch") is None, reason="no SLURM client")
+def test_slurm_profile_parses(smoke):
+    """The SLURM profile is read and the jobs it would submit are listed (no cluster needed)."""
+    workdir, configfile, _ = smoke
+    r = snakemake(workdir, configfile, "--profile", str(ROOT / "workflow" / "profiles" / "slurm"),
+                  "--dry-run", "--forcerun", "pull")
+    assert "pull" in job_counts(r.stdout + r.stderr)

@@ -1,0 +1,138 @@
+"""workflow/scripts/study.py: the plan of beds and pulls, paths, arguments, cost."""
+import copy
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "workflow" / "scripts"))
+import study  # noqa: E402
+
+SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
+
+
+def load(name):
+    with open(ROOT / "config" / name) as fh:
+        return yaml.safe_load(fh)
+
+
+BASE = {
+    "threads": 1, "throughput": 1e7,
+    "defaults": {"kn": 2e4, "mu": 0.5, "seed": 1},
+    "systems": {"I": {"lx": 8, "ly": 8, "grains": 800, "pull": {"distance": 2}}},
+    "sweeps": [
+        {"name": "drag", "system": "I", "D": [1, 2], "depth": 4, "Fr": [0.5, 1]},
+        {"name": "yield", "system": "I", "D": 2, "depth": 4, "mu": [0.5, 0], "V": 0.01,
+         "pull": {"distance": 0.1}},
+    ],
+}
+
+
+def test_fmt_is_short_and_exact_enough():
+    assert [study.fmt(x) for x in (2, 0.5, 1.0, 10, 2e4, 2e8, 2.45e8, 0.01, 1e-4)] == \
+        ["2", "0.5", "1", "10", "2e4", "2e8", "2.45e8", "0.01", "1e-4"]
+    g = study.gamman_for(2e4)
+    assert abs(float(study.fmt(g)) / g - 1) < 1e-7
+
+
+def test_beds_are_shared_and_pulls_are_bed_times_speed():
+    plan = study.plan(copy.deepcopy(BASE))
+    # D = 1, 2 at mu = 0.5 and D = 2 at mu = 0: the yield sweep reuses the D = 2, mu = 0.5 bed.
+    assert len(plan.beds) == 3
+    assert len(plan.pulls) == 2 * 2 + 2
+    gn = study.fmt(study.gamman_for(2e4))
+    key = f"system~I/D~2/h~4/mu~0.5/kn~2e4/gn~{gn}/seed~1"
+    assert key in plan.beds
+    assert {p.speed for p in plan.pulls.values() if p.bed.key == key} == {"Fr~0.5", "Fr~1", "V~0.01"}
+    assert study.Bed.parse(key) == plan.beds[key]
+
+
+def test_adding_a_grid_value_only_adds_jobs():
+    before = study.plan(copy.deepcopy(BASE))
+    config = copy.deepcopy(BASE)
+    config["sweeps"][0]["Fr"].append(2)
+    after = study.plan(config)
+    assert set(before.beds) == set(after.beds)
+    assert set(after.pulls) - set(before.pulls) == {
+        k for k in after.pulls if k.endswith("/Fr~2")}
+    assert set(before.pulls) < set(after.pulls)
+
+
+def test_arguments_use_the_path_numbers():
+    plan = study.plan(copy.deepcopy(BASE))
+    bed = next(b for b in plan.beds.values() if b.D == "2" and b.mu == "0")
+    args = study.pour_args(bed, plan.config)
+    assert args[args.index("--mu") + 1] == "0" and args[args.index("--kn") + 1] == "2e4"
+    assert args[args.index("--gamman") + 1] == bed.gn and args[args.index("--depth") + 1] == "4"
+    pull = study.pull_args(bed, "V~0.01", plan)
+    assert pull[:2] == ["--speed", "0.01"] and pull[pull.index("--distance") + 1] == "0.1"
+    fr = study.pull_args(plan.beds[bed.key.replace("mu~0/", "mu~0.5/")], "Fr~1", plan)
+    assert fr[:2] == ["--froude", "1"] and fr[fr.index("--distance") + 1] == "2"
+
+
+def test_conflicting_pull_settings_are_refused():
+    config = copy.deepcopy(BASE)
+    config["sweeps"].append({"name": "again", "system": "I", "D": 2, "depth": 4, "mu": 0,
+                             "V": 0.01, "pull": {"distance": 0.5}})
+    with pytest.raises(study.ConfigError, match=r"sweeps\[2\] \(again\).*also in sweep 'yield'"):
+        study.plan(config)
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda c: c["sweeps"][0].update(system="III"), "system 'III' is not defined"),
+    (lambda c: c["sweeps"][0].update(z=3), "exactly one of 'depth'"),
+    (lambda c: c["sweeps"][0].pop("Fr"), "no speeds"),
+    (lambda c: c["sweeps"][0].update(gamman=10, gamman_ratio=0.5), "'gamman' or 'gamman_ratio'"),
+])
+def test_semantic_errors_name_the_sweep(change, message):
+    config = copy.deepcopy(BASE)
+    change(config)
+    with pytest.raises(study.ConfigError, match=message):
+        study.plan(config)
+
+
+@pytest.mark.parametrize("change, key", [
+    (lambda c: c["sweeps"][0].update(D="two"), "sweeps[0].D"),
+    (lambda c: c["systems"]["I"].update(grains=-3), "systems.I.grains"),
+    (lambda c: c["systems"]["I"]["pull"].update(speed=3), "systems.I.pull"),
+    (lambda c: c.update(thread=2), "'(top level)'"),
+])
+def test_schema_errors_name_the_key(change, key):
+    config = copy.deepcopy(BASE)
+    change(config)
+    with pytest.raises(study.ConfigError) as exc:
+        study.validate_config(config, SCHEMA)
+    assert key in str(exc.value)
+
+
+@pytest.mark.parametrize("name", ["smoke.yaml", "config.yaml", "paper.yaml"])
+def test_shipped_configs_are_valid(name):
+    config = load(name)
+    study.validate_config(config, SCHEMA)
+    plan = study.plan(config)
+    assert plan.pulls and plan.beds
+    assert all(study.pull_cost(p, config) > 0 for p in plan.pulls.values())
+
+
+def test_default_config_keeps_the_paper_restitution_curve():
+    config = load("config.yaml")
+    plan = study.plan(config)
+    ratios = {round(float(b.gn) / float(b.kn) ** 0.6, 6) for b in plan.beds.values()}
+    assert round(study.PAPER_RATIO, 6) in ratios
+
+
+def test_time_step_and_froude_speed():
+    assert study.hertz_dt(2e4) == pytest.approx(4.196e-4, rel=1e-3)
+    assert study.hertz_dt(2e8) == pytest.approx(1.054e-5, rel=1e-3)
+    assert study.froude_speed(1.0, 2.0) == pytest.approx(0.75)
+    assert math.isclose(study.PAPER_RATIO, 5e4 / 2e8 ** 0.6)
+
+
+def test_estimate_cost_prints_jobs_and_core_hours():
+    out = subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"),
+                          str(ROOT / "config/paper.yaml")], capture_output=True, text=True, check=True)
+    assert "simulation jobs" in out.stdout and "core-hours" in out.stdout
