@@ -6,6 +6,8 @@ d, speeds in sqrt(g d), forces in rho d^3 g.
 
 Modules:
     table    schema, Froude number, validation, CSV loading
+    runs     run files (HDF5, from `granudrag pull`) into the table
+    restitution  Kuwabara-Kono e(v_n) theory curve (Fig. 2)
     paper    the published numbers the report compares against
     result   Param (value, err) and Fit, the fit-result types
     regimes  three-regime drag(Fr) fit with fitted crossovers

@@ -28,6 +28,7 @@ DP1_LABEL = r"$D^*+1 = D/d + 1$"
 H_LABEL = r"$h^* = h/d$"
 MU_LABEL = r"friction coefficient $\mu$"
 MARKERS = "osD^v<>ph*"
+H_MATCH = 1.0   # [d] depths closer than this count as the same depth (Fig. 20)
 
 
 class NoData(ValueError):
@@ -130,10 +131,10 @@ def _drag_panels(rows, by, label, mu, fits, name, outdir, enlarge=True):
     return _save(fig, outdir, name)
 
 
-def fig02_restitution(v_n, e, theory_v, theory_e, outdir):
+def fig02_restitution(v_n, e, theory_v, theory_e, outdir, sim_label="simulation"):
     """Fig. 2: restitution coefficient of a grain hitting the wall vs theory."""
     fig, ax = _subplots(figsize=(5, 3.8))
-    ax.plot(v_n, e, "o", mfc="none", label="simulation")
+    ax.plot(v_n, e, "o", mfc="none", label=sim_label)
     ax.plot(theory_v, theory_e, "k-", label="Kuwabara-Kono / Brilliantov theory")
     ax.set_xscale("log")
     ax.set_xlabel(r"$v_n^* = v_n/\sqrt{gd}$")
@@ -368,7 +369,7 @@ def fig16_drag_vs_Fr_depth(df, outdir, mu=0.5, fits=None):
     """Fig. 16: drag vs Fr per depth (system II), with three-regime fits (h -> Fit)."""
     rows = _need(_moving(select(_reference(df), mu=mu, system="II"), "h"),
                  f"system II pulls above the yield speed at mu = {mu:g}")
-    return _drag_panels(rows, "h", lambda h: f"$h = {h:g}d$", mu, fits,
+    return _drag_panels(rows, "h", lambda h: f"$h = {h:.3g}d$", mu, fits,
                         "fig16_drag_vs_Fr_depth", outdir, enlarge=False)
 
 
@@ -386,7 +387,7 @@ def fig19_scaled_drag_h(df, outdir, alpha=None, mu=0.5, h_min=None):
     a = t.iloc[0].alpha
     fig, ax = _subplots(figsize=(5, 3.8))
     for i, (h, g) in enumerate(rows.groupby("h")):
-        _errorbars(ax, g.Fr, g.drag, g.drag_err, i, f"$h = {h:g}d$", scale=h ** a)
+        _errorbars(ax, g.Fr, g.drag, g.drag_err, i, f"$h = {h:.3g}d$", scale=h ** a)
     ax.set_xlabel(FR_LABEL)
     ax.set_ylabel(rf"$F^*_{{\rm drag}}/h^{{*\alpha_\mu}}$, $\alpha_\mu = {a:.2f}$")
     ax.legend(fontsize=7, title=rf"$\mu = {mu:g}$", title_fontsize=8)
@@ -405,18 +406,20 @@ def fig20_kn_gamman(df, outdir, mu=0.5):
     varied = rows[(~np.isclose(rows.kn, kn0)) | (~np.isclose(rows.gamman, gn0))]
     if same_e.kn.nunique() < 2 and same_k.gamman.nunique() < 2:
         raise NoData(f"no K_n or gamma_n variations at mu = {mu:g}")
-    # Compare at one depth: the one where the variations were run.
+    # Compare at one depth: the one where the variations were run. Depths are
+    # measured after settling, so beds poured for the same depth differ by a few
+    # tenths of d: rows within H_MATCH of it count as at that depth.
     h = (varied if len(varied) else rows).h.round(6).mode().iloc[0]
     fig, axes = _subplots(1, 2, figsize=(10, 3.8))
     for ax, sel, col, sym in ((axes[0], same_e, "kn", "K_n"), (axes[1], same_k, "gamman", r"\gamma_n")):
-        sel = sel[np.isclose(sel.h, h)]
+        sel = sel[np.isclose(sel.h, h, rtol=0, atol=H_MATCH)]
         for i, (v, g) in enumerate(sel.groupby(col)):
             _errorbars(ax, g.Fr, g.drag, g.drag_err, i, rf"${sym} = {_sci(v)}$")
         ax.set(xlabel=FR_LABEL, ylabel=F_LABEL)
         if len(sel):
             ax.legend(fontsize=7)
     axes[0].set_title(r"(a) fixed $\gamma_n/K_n^{0.6}$", loc="left")
-    axes[1].set_title(rf"(b) $K_n = {_sci(kn0)}$, $h = {h:g}d$", loc="left")
+    axes[1].set_title(rf"(b) $K_n = {_sci(kn0)}$, $h \approx {h:.3g}d$", loc="left")
     return _save(fig, outdir, "fig20_kn_gamman")
 
 

@@ -153,7 +153,9 @@ def _exponent_table(df, variable, system, names, speed):
                     variable + "_max": g[variable].max()})
     cols = ["mu", "kn", "gamman", names[0], names[0] + "_err", names[1], names[1] + "_err",
             "n", variable + "_min", variable + "_max"]
-    return pd.DataFrame(out, columns=cols)
+    table = pd.DataFrame(out, columns=cols)
+    # An empty table keeps numeric columns, so later selections on it stay valid.
+    return table.astype(float) if table.empty else table
 
 
 def fit_phi(df, speed=YIELD_SPEED, system="I"):

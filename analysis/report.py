@@ -117,7 +117,7 @@ def _row(quantity, p, published, shown=None):
 def comparisons(r):
     rows = []
     for (label, mu, key), fit in sorted(r.regimes.items(), key=lambda kv: (kv[0][0], -kv[0][1], kv[0][2])):
-        where = f"μ = {mu:g}, {label} = {key:g}"
+        where = f"μ = {mu:g}, {label} = {key:.3g}"
         rows.append(_row(f"Fr_1 ({where})", fit["Fr1"], paper.CROSSOVER_FR1, "≈ 1"))
         rows.append(_row(f"Fr_2 ({where})", fit["Fr2"], paper.CROSSOVER_FR2, "≈ 5"))
     for law in r.laws:
@@ -187,7 +187,9 @@ def _figures(df, r, outdir, restitution, trace):
     ]
     out = []
     if restitution is not None:
-        out.append(("Fig. 2: restitution coefficient", F.fig02_restitution(*restitution, outdir)[0], ""))
+        v, e, tv, te, *label = restitution
+        out.append(("Fig. 2: restitution coefficient",
+                    F.fig02_restitution(v, e, tv, te, outdir, *label)[0], ""))
     else:
         out.append(("Fig. 2: restitution coefficient", None, "no restitution data given"))
     if trace is not None:
@@ -293,7 +295,7 @@ def _html(blocks):
 def build_report(df, outdir, n_boot=200, seed=0, restitution=None, trace=None):
     """Fit, draw and write report.md, report.html and fits.json into outdir.
 
-    restitution: optional (v_n, e, theory_v, theory_e) arrays for Fig. 2;
+    restitution: optional (v_n, e, theory_v, theory_e[, label of e]) for Fig. 2;
     trace: optional (t, force[, transient]) for Fig. 4.
     Returns the path of report.md.
     """

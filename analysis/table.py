@@ -118,9 +118,8 @@ def save_csv(df, path):
 
 
 # --- Run files (HDF5) ---------------------------------------------------
-# Reading the engine's per-pull HDF5 files into this table belongs here, as
-# `load_runs(paths) -> DataFrame`, once the engine's file layout is fixed.
-# It is deliberately absent: nothing in this package fakes it.
+# The engine's per-pull HDF5 files are read into this table by
+# `analysis.runs.load_runs(paths)`.
 
 
 def yield_rows(df, speed=YIELD_SPEED):

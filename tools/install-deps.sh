@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
 # Installs the Debian packages granudrag needs that are missing (sudo when not root).
-# Usage: tools/install-deps.sh [build|test|all]   (default: all)
+# Usage: tools/install-deps.sh [build|study|test|all]   (default: all)
 set -euo pipefail
 build_pkgs=(g++ cmake make git libeigen3-dev libgtest-dev libhdf5-dev libyaml-cpp-dev hdf5-tools)
 python_pkgs=(python3 python3-numpy python3-scipy python3-pandas python3-matplotlib python3-h5py
-             python3-yaml python3-pytest)
+             python3-yaml python3-pytest python3-jsonschema snakemake)
+# A real one-node SLURM cluster for the profile's test (tests/workflow/slurm).
+slurm_pkgs=(slurmctld slurmd slurm-client munge)
 # The paper's own code, for the parity test and the benchmark comparison.
 peer_pkgs=(lammps openmpi-bin)
 case "${1:-all}" in
   build) wanted=("${build_pkgs[@]}") ;;
-  test|all) wanted=("${build_pkgs[@]}" "${python_pkgs[@]}" "${peer_pkgs[@]}") ;;
-  *) echo "usage: $0 [build|test|all]" >&2; exit 2 ;;
+  study) wanted=("${build_pkgs[@]}" "${python_pkgs[@]}") ;;
+  test|all) wanted=("${build_pkgs[@]}" "${python_pkgs[@]}" "${peer_pkgs[@]}" "${slurm_pkgs[@]}") ;;
+  *) echo "usage: $0 [build|study|test|all]" >&2; exit 2 ;;
 esac
 missing=()
 for p in "${wanted[@]}"; do

@@ -53,7 +53,7 @@ def test_reads_one_run_with_path_parameters(tmp_path):
     p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5")
     row = read_run(p, root=tmp_path)
     assert row["system"] == "I"
-    assert row["h"] == 10.0 and row["h_measured"] == pytest.approx(9.87)
+    assert row["h"] == pytest.approx(9.87) and row["h_requested"] == 10.0
     assert row["D"] == 2.0 and row["mu"] == 0.5 and row["kn"] == 2e4
     assert row["V"] == 0.75 and row["Fr"] == pytest.approx(1.0)
     assert row["drag"] == pytest.approx(111.1) and row["drag_err"] == 2.5
@@ -73,10 +73,10 @@ def test_load_runs_gives_a_valid_table(tmp_path):
     assert (df.system == "I").all() and df.run.is_unique
 
 
-def test_depth_without_h_component_is_the_measured_one(tmp_path):
+def test_depth_without_h_component_has_no_requested_depth(tmp_path):
     p = write_run(tmp_path / "somewhere" / "run.h5", depth=24.6)
     row = read_run(p, system="I")
-    assert row["h"] == pytest.approx(24.6)
+    assert row["h"] == pytest.approx(24.6) and math.isnan(row["h_requested"])
 
 
 def test_system_is_required(tmp_path):

@@ -90,7 +90,8 @@ def test_table_has_one_row_per_planned_pull(smoke):
     assert set(df.run) == {f"pulls/{key}" for key in plan.pulls}
     assert df.drag.notna().all() and (df.drag > 0).all()
     assert set(df.system) == {"I", "II"}
-    assert sorted(df[df.V == 0.01].h.tolist()) == [3, 4, 5]
+    assert sorted(df[df.V == 0.01].h_requested.tolist()) == [3, 4, 5]
+    assert ((df.h - df.h_requested).abs() < 2.0).all()
     assert not (workdir / config["results"] / "table_problems.txt").read_text()
 
 

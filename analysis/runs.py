@@ -1,0 +1,219 @@
+"""Loading granudrag run files (HDF5, written by `granudrag pull`) into the tidy table.
+
+A run file holds one pull: attributes on /run (D, depth, speed, froude, mu,
+kn, gamman, dt, steps) and the observables under /observables (drag with its
+block-averaging error, intruder coordination n, contact angle theta, bulk
+coordination Z, kappa, the force series). `read_run` turns one file into a
+row of `analysis.table.COLUMNS`; `load_runs` reads many and says by name
+which files it could not use.
+
+The table's `h` is the depth measured after settling (free surface at half
+the bulk packing fraction, see `granudrag pour`), the depth the intruder
+really had. Where a run's path names its parameters (the workflow writes
+`.../system~I/D~2/h~10/mu~0.5/.../Fr~1/run.h5`), the `system~` component
+gives the table's `system` and an `h~` component the requested depth,
+kept as `h_requested` (NaN for beds placed by height, `z~`). Other
+`key~value` components that name a stored quantity (D, mu, kn, gn, Fr, V)
+are checked against the file, so a run copied to the wrong place is refused
+rather than filed under the wrong parameters.
+"""
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .table import COLUMNS, froude, validate_table
+
+RUN_FORMAT = "granudrag-run"
+RUN_VERSIONS = (1,)
+
+# Extra columns after the schema's: what a reader of the table may want to
+# check (requested depth, time step, how much of the pull was discarded).
+EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err", "path"]
+
+# Path components checked against the file: key in the path -> /run attribute.
+_PATH_CHECKS = {"D": "D", "mu": "mu", "kn": "kn", "gn": "gamman"}
+_COMPONENT = re.compile(r"^([A-Za-z_]+)~(.+)$")
+
+
+class RunFileError(ValueError):
+    """A file that is not a usable granudrag run file; the message says why."""
+
+
+def path_parameters(path):
+    """{'system': 'I', 'D': '2', 'h': '10', ...} from the key~value components of a path."""
+    out = {}
+    for part in Path(path).parts:
+        m = _COMPONENT.match(part)
+        if m:
+            out[m.group(1)] = m.group(2)
+    return out
+
+
+def _attr(group, name, path, where):
+    if name not in group.attrs:
+        raise RunFileError(f"{path}: damaged run file: no attribute '{name}' on {where}")
+    value = group.attrs[name]
+    if isinstance(value, bytes):
+        value = value.decode()
+    if isinstance(value, np.ndarray) and value.shape == ():
+        value = value[()]
+    return value
+
+
+def _number(group, name, path, where):
+    value = _attr(group, name, path, where)
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise RunFileError(f"{path}: damaged run file: {where} attribute '{name}' "
+                           f"is not a number ({value!r})") from None
+
+
+def _group(f, name, path):
+    if name not in f:
+        raise RunFileError(f"{path}: damaged run file: no group {name}")
+    return f[name]
+
+
+def _open(path):
+    import h5py
+    path = Path(path)
+    if not path.is_file():
+        raise RunFileError(f"{path}: no such file (the pull did not finish or was not run)")
+    with open(path, "rb") as fh:
+        head = fh.read(8)
+    if head != b"\x89HDF\r\n\x1a\n":
+        raise RunFileError(f"{path}: not an HDF5 file (a run file is written by `granudrag pull`)")
+    try:
+        return h5py.File(path, "r")
+    except OSError as exc:
+        raise RunFileError(f"{path}: unreadable HDF5 file (truncated or corrupt?): {exc}") from None
+
+
+def _check_header(f, path):
+    if "granudrag" not in f or "format" not in f["granudrag"].attrs:
+        raise RunFileError(f"{path}: not a granudrag file (no /granudrag format attribute)")
+    fmt = _attr(f["granudrag"], "format", path, "/granudrag")
+    if fmt != RUN_FORMAT:
+        hint = " (a bed: pull it with `granudrag pull` first)" if fmt == "granudrag-bed" else ""
+        raise RunFileError(f"{path}: is a '{fmt}' file, not a '{RUN_FORMAT}' file{hint}")
+    version = int(_number(f["granudrag"], "version", path, "/granudrag"))
+    if version not in RUN_VERSIONS:
+        raise RunFileError(f"{path}: run file version {version} is not supported "
+                           f"(this reader knows {', '.join(map(str, RUN_VERSIONS))})")
+
+
+def read_run(path, system=None, root=None):
+    """One run file as a dict with the table's columns (and EXTRA_COLUMNS).
+
+    system: the table's system label; default: the path's `system~` component.
+    root: `run` is the run's directory relative to root (default: the path
+    of the run's directory as given).
+    Raises RunFileError naming the file and what is wrong with it.
+    """
+    path = Path(path)
+    params = path_parameters(path)
+    f = _open(path)
+    try:
+        _check_header(f, path)
+        run = _group(f, "run", path)
+        obs = _group(f, "observables", path)
+        get = {k: _number(run, k, path, "/run")
+               for k in ("D", "depth", "speed", "froude", "mu", "kn", "gamman", "dt", "steps")}
+
+        def observable(name, attr="value"):
+            return _number(_group(obs, name, path), attr, path, f"/observables/{name}")
+
+        drag, drag_err = observable("drag"), observable("drag", "error")
+        transient = observable("drag", "transient_distance")
+        n = observable("coordination")
+        theta, theta_err = observable("theta"), observable("theta", "error")
+        Z, kappa = observable("bulk_coordination"), observable("kappa")
+    except (KeyError, OSError, RuntimeError) as exc:
+        raise RunFileError(f"{path}: damaged run file: {exc}") from None
+    finally:
+        f.close()
+
+    system = system if system is not None else params.get("system")
+    if not system:
+        raise RunFileError(f"{path}: no system given and no 'system~' component in the path")
+    for key, attr in _PATH_CHECKS.items():
+        if key in params:
+            try:
+                named = float(params[key])
+            except ValueError:
+                raise RunFileError(f"{path}: path component '{key}~{params[key]}' is not a number") from None
+            if not math.isclose(named, get[attr], rel_tol=1e-5, abs_tol=1e-12):
+                raise RunFileError(f"{path}: the path says {key} = {params[key]} but the file has "
+                                   f"{attr} = {get[attr]:.6g} (run file in the wrong place?)")
+    for key in ("Fr", "V"):
+        if key in params:
+            stored = get["froude"] if key == "Fr" else get["speed"]
+            if not math.isclose(float(params[key]), stored, rel_tol=1e-5):
+                raise RunFileError(f"{path}: the path says {key} = {params[key]} but the file has "
+                                   f"{stored:.6g}")
+    fr = float(froude(get["speed"], get["D"]))
+    if not math.isclose(fr, get["froude"], rel_tol=1e-6, abs_tol=1e-12):
+        raise RunFileError(f"{path}: stored Froude number {get['froude']:.6g} is not paper Eq. 4 "
+                           f"of its speed and D ({fr:.6g})")
+    if not math.isfinite(drag):
+        raise RunFileError(f"{path}: the pull produced no drag (value {drag}); see its log")
+    h_requested = float(params["h"]) if "h" in params else math.nan
+    run_dir = path.parent
+    if root is not None:
+        try:
+            run_dir = run_dir.relative_to(root)
+        except ValueError:
+            pass
+    return {"system": str(system), "D": get["D"], "h": get["depth"], "mu": get["mu"], "kn": get["kn"],
+            "gamman": get["gamman"], "V": get["speed"], "Fr": get["froude"], "drag": drag,
+            "drag_err": drag_err, "n_contacts": n, "theta": theta, "Z": Z, "kappa": kappa,
+            "run": str(run_dir), "h_requested": h_requested, "dt": get["dt"],
+            "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
+            "path": str(path)}
+
+
+def load_runs(paths, system=None, root=None, errors="raise"):
+    """The tidy table of many run files, one row each, in the order given.
+
+    errors="raise": raise RunFileError listing every unusable file by name;
+    errors="collect": return (table, problems) with problems a list of
+    messages, one per file left out.
+    """
+    if errors not in ("raise", "collect"):
+        raise ValueError(f"errors must be 'raise' or 'collect', not {errors!r}")
+    rows, problems = [], []
+    for p in paths:
+        try:
+            rows.append(read_run(p, system=system, root=root))
+        except RunFileError as exc:
+            problems.append(str(exc))
+    if problems and errors == "raise":
+        raise RunFileError(f"{len(problems)} of {len(rows) + len(problems)} run files unusable:\n  "
+                           + "\n  ".join(problems))
+    df = pd.DataFrame(rows, columns=list(COLUMNS) + EXTRA_COLUMNS)
+    df = df.astype({c: float for c, (kind, _) in COLUMNS.items() if kind == "number"})
+    df = df.astype({"system": object, "run": object})
+    if len(df):
+        validate_table(df)
+    return (df, problems) if errors == "collect" else df
+
+
+def read_force_trace(path):
+    """(t, drag_t, transient_time) of a run: time, -F_x per sample interval, and
+    the time before which samples were discarded (for Fig. 4)."""
+    f = _open(path)
+    try:
+        _check_header(f, path)
+        t = np.asarray(f["observables/intruder_force/time"][:], dtype=float)
+        fx = np.asarray(f["observables/intruder_force/value"][:, 0], dtype=float)
+        skip = int(_number(f["observables/drag"], "transient_samples", path, "/observables/drag"))
+    except KeyError as exc:
+        raise RunFileError(f"{path}: damaged run file: {exc}") from None
+    finally:
+        f.close()
+    transient = float(t[skip - 1]) if 0 < skip <= len(t) else 0.0
+    return t, -fx, transient

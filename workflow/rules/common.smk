@@ -1,0 +1,100 @@
+# Config validation, the study's plan (beds and pulls) and helpers of the rules.
+
+import sys
+from collections import Counter
+from pathlib import Path
+
+from snakemake.exceptions import WorkflowError
+from snakemake.utils import validate
+
+REPO = Path(workflow.basedir).parent
+sys.path.insert(0, str(REPO / "workflow" / "scripts"))
+
+import study  # noqa: E402  (workflow/scripts/study.py)
+
+try:
+    # First our check, whose messages name the bad key in one line ...
+    study.validate_config(config, REPO / "workflow" / "schemas" / "config.schema.yaml")
+except study.ConfigError as exc:
+    raise WorkflowError(str(exc)) from None
+# ... then Snakemake's, which also fills in the schema's defaults.
+validate(config, schema="../schemas/config.schema.yaml")
+
+try:
+    PLAN = study.plan(config)
+except study.ConfigError as exc:
+    raise WorkflowError(f"invalid config: {exc}") from None
+
+RESULTS = config["results"].rstrip("/")
+LOGS = config["logs"].rstrip("/")
+GRANUDRAG = str(study.resolve_binary(config, REPO))
+THREADS = config["threads"]
+
+
+wildcard_constraints:
+    bed=study.BED_PATTERN,
+    speed=study.SPEED_PATTERN,
+
+
+def bed_file(key):
+    return f"{RESULTS}/beds/{key}/bed.h5"
+
+
+def run_file(key):
+    return f"{RESULTS}/pulls/{key}/run.h5"
+
+
+ALL_BEDS = [bed_file(k) for k in PLAN.beds]
+ALL_RUNS = [run_file(k) for k in PLAN.pulls]
+TRACE_RUN = run_file(study.trace_pull(PLAN).key)
+
+# The contact law with the most pulls: the study's reference (Fig. 2 uses it).
+REFERENCE_LAW = Counter((p.bed.kn, p.bed.gn) for p in PLAN.pulls.values()).most_common(1)[0][0]
+RESTITUTION_SPEEDS = study.log_grid(
+    config["restitution"]["v_min"], config["restitution"]["v_max"], config["restitution"]["points"]
+)
+
+
+def _bed(wildcards):
+    return study.Bed.parse(wildcards.bed)
+
+
+def pour_args(wildcards):
+    return " ".join(study.pour_args(_bed(wildcards), config))
+
+
+def pull_args(wildcards):
+    return " ".join(study.pull_args(_bed(wildcards), wildcards.speed, PLAN))
+
+
+def _grains(wildcards):
+    return int(config["systems"][_bed(wildcards).system]["grains"])
+
+
+def bed_mem_mb(wildcards):
+    return study.job_resources(study.bed_cost(_bed(wildcards), config), _grains(wildcards), config)[0]
+
+
+def bed_runtime(wildcards, attempt):
+    """Minutes; doubled on each retry (a cluster time limit is the likely reason)."""
+    cost = study.bed_cost(_bed(wildcards), config)
+    return study.job_resources(cost, _grains(wildcards), config)[1] * 2 ** (attempt - 1)
+
+
+def _pull(wildcards):
+    bed = _bed(wildcards)
+    return PLAN.pulls.get(f"{bed.key}/{wildcards.speed}") or study.Pull(bed, wildcards.speed)
+
+
+def pull_mem_mb(wildcards):
+    return study.job_resources(study.pull_cost(_pull(wildcards), config), _grains(wildcards), config)[0]
+
+
+def pull_runtime(wildcards, attempt):
+    """Minutes; doubled on each retry, which resumes from the pull's checkpoint."""
+    cost = study.pull_cost(_pull(wildcards), config)
+    return study.job_resources(cost, _grains(wildcards), config)[1] * 2 ** (attempt - 1)
+
+
+onsuccess:
+    print(f"granudrag: report at {RESULTS}/report/report.html (and report.md), table at {RESULTS}/table.csv")

@@ -1,0 +1,84 @@
+# The simulations: build the engine if it is missing, pour beds, pull intruders.
+# The engine is an input marked ancient(): rebuilding it does not make every
+# result out of date (re-run a result by deleting it, or with --forcerun).
+
+
+rule build_granudrag:
+    output:
+        GRANUDRAG,
+    log:
+        f"{LOGS}/build_granudrag.log",
+    params:
+        source=REPO,
+        build=lambda wildcards, output: Path(output[0]).parent,
+    threads: workflow.cores
+    conda:
+        "../envs/granudrag.yaml"
+    shell:
+        "(cmake -S {params.source} -B {params.build} -DCMAKE_BUILD_TYPE=Release"
+        " && cmake --build {params.build} -j {threads} --target granudrag) > {log} 2>&1"
+
+
+rule bed:
+    input:
+        granudrag=ancient(GRANUDRAG),
+    output:
+        f"{RESULTS}/beds/{{bed}}/bed.h5",
+    log:
+        f"{LOGS}/beds/{{bed}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/beds/{{bed}}.tsv"
+    params:
+        args=pour_args,
+    threads: THREADS
+    resources:
+        mem_mb=bed_mem_mb,
+        runtime=bed_runtime,
+    conda:
+        "../envs/granudrag.yaml"
+    shell:
+        "{input.granudrag} pour --output {output} --threads {threads} {params.args} > {log} 2>&1"
+
+
+# A pull checkpoints every tenth of its travel; when a job is killed (a cluster
+# time limit, a crash), the rerun resumes from the checkpoint, unless the bed
+# is newer than the checkpoint or the arguments changed.
+rule pull:
+    input:
+        granudrag=ancient(GRANUDRAG),
+        bed=f"{RESULTS}/beds/{{bed}}/bed.h5",
+    output:
+        f"{RESULTS}/pulls/{{bed}}/{{speed}}/run.h5",
+    log:
+        f"{LOGS}/pulls/{{bed}}/{{speed}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/pulls/{{bed}}/{{speed}}.tsv"
+    params:
+        args=pull_args,
+    threads: THREADS
+    resources:
+        mem_mb=pull_mem_mb,
+        runtime=pull_runtime,
+    conda:
+        "../envs/granudrag.yaml"
+    shell:
+        """
+        ckpt={output}.checkpoint.h5
+        args="{params.args}"
+        if [ -e "$ckpt" ] && {{ ! [ "$ckpt" -nt {input.bed} ] || [ "$(cat "$ckpt.args" 2>/dev/null)" != "$args" ]; }}; then
+            rm -f "$ckpt"
+        fi
+        echo "$args" > "$ckpt.args"
+        {input.granudrag} pull --bed {input.bed} --output {output} --threads {threads} --resume $args > {log} 2>&1
+        rm -f "$ckpt.args"
+        """
+
+
+rule beds:
+    input:
+        ALL_BEDS,
+
+
+rule pulls:
+    input:
+        ALL_RUNS,

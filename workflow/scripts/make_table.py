@@ -1,0 +1,28 @@
+"""Rule table: every run file of the study -> results/table.csv (analysis.runs)."""
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821  (set by Snakemake)
+from _setup import start  # noqa: E402
+
+log = start(snakemake)  # noqa: F821
+from analysis.runs import load_runs  # noqa: E402
+from analysis.table import save_csv  # noqa: E402
+
+sm = snakemake  # noqa: F821
+df, problems = load_runs(list(sm.input), root=sm.params.root, errors="collect")
+Path(sm.output.problems).write_text("".join(p + "\n" for p in problems))
+for p in problems:
+    log.error(p)
+if problems and not sm.params.allow_failed:
+    sys.exit(f"table: {len(problems)} of {len(sm.input)} run files unusable (listed in "
+             f"{sm.output.problems} and {sm.log[0]}); set table.allow_failed: true to leave them out")
+if df.empty:
+    sys.exit("table: no usable run files")
+off = (df.h_requested - df.h).dropna()
+log.info(f"table: {len(df)} pulls, {df.system.nunique()} systems")
+if len(off):
+    worst = df.loc[off.abs().idxmax()]
+    log.info(f"depth: measured minus requested from {-off.max():.3f} to {-off.min():.3f} d "
+             f"(largest: requested {worst.h_requested:g}, measured {worst.h:.3f}, {worst.run})")
+save_csv(df, sm.output.table)
