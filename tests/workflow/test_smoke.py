@@ -152,3 +152,10 @@ def test_slurm_profile_parses(smoke):
     r = snakemake(workdir, configfile, "--profile", str(ROOT / "workflow" / "profiles" / "slurm"),
                   "--dry-run", "--forcerun", "pull")
     assert "pull" in job_counts(r.stdout + r.stderr)
+
+
+@pytest.mark.parametrize("name", ["smoke.yaml", "config.yaml", "paper.yaml"])
+def test_lint_is_clean(name, tmp_path):
+    """`snakemake --lint` finds nothing to improve (it exits non-zero when it does)."""
+    r = snakemake(tmp_path, ROOT / "config" / name, "--lint", "json", check=False)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]

@@ -97,4 +97,5 @@ def pull_runtime(wildcards, attempt):
 
 
 onsuccess:
-    print(f"granudrag: report at {RESULTS}/report/report.html (and report.md), table at {RESULTS}/table.csv")
+    results = Path(RESULTS).resolve()
+    print(f"granudrag: report at {results}/report/report.html (and report.md), table at {results}/table.csv")
