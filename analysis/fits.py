@@ -281,7 +281,7 @@ def fit_scaling_law(df, phi, alpha, *, mu, kn=None, gamman=None, h_min=None,
     x, y, w = fitter.prepare(rows.Fr, drag / scale, err / scale)
     best = fitter.best(x, y, w)
     fitted = scale * regime_curve(x, **best)
-    resid = fitter.scaled_residuals(drag, fitted)
+    resid = scale * fitter.noise_residuals(x, y, w, best)
     rng = np.random.default_rng(seed)
     sd = [e if np.isfinite(e) else 0.0 for e in (a.alpha_err, p.phi_err)]
     reps, expo = [], []
