@@ -17,6 +17,7 @@ import numpy as np  # noqa: E402
 from . import paper  # noqa: E402
 from .fits import (evaluate, fit_alpha, fit_kappa, fit_phi, fit_regimes,  # noqa: E402
                    fit_saturation, fit_theta)
+from matplotlib.patches import Circle  # noqa: E402
 from matplotlib.ticker import FormatStrFormatter  # noqa: E402
 
 from .table import YIELD_SPEED, reference_params, select, yield_rows  # noqa: E402
@@ -189,6 +190,65 @@ def fig06_theta(df, outdir, mu=0.5, fit=None):
     ax.set_ylabel(r"mean contact angle $\theta$ (rad)")
     ax.legend(fontsize=7)
     return _save(fig, outdir, "fig06_theta_vs_Fr")
+
+
+def _spread(values, k):
+    """Up to k of the distinct values, evenly spread by rank (the grids are near-logarithmic)."""
+    v = np.unique(np.asarray(values, float))
+    if len(v) <= k:
+        return v
+    idx = np.unique(np.round(np.linspace(0, len(v) - 1, k)).astype(int))
+    return v[idx]
+
+
+def fig07_coordination(pz, outdir, D=4.0, mu=0.5, speeds=5):
+    """Fig. 7: P(Z), the bulk coordination number of the grains around the intruder, for
+    several speeds at one D (the one nearest D, system I, mu nearest mu, reference law).
+
+    pz: long table with columns system, D, mu, kn, gamman, V, Fr, Z, P (one row per run and Z;
+    the last Z bin holds Z and above)."""
+    rows = _reference(_need(pz, "P(Z)"))
+    rows = rows[rows.system == "I"] if (rows.system == "I").any() else rows
+    mu_near = rows.mu.iloc[np.argmin(np.abs(rows.mu.to_numpy() - mu))]
+    rows = rows[np.isclose(rows.mu, mu_near)]
+    D_near = rows.D.iloc[np.argmin(np.abs(rows.D.to_numpy() - D))]
+    rows = rows[np.isclose(rows.D, D_near)]
+    fig, ax = _subplots(figsize=(5.2, 4.0))
+    for i, V in enumerate(_spread(rows.V, speeds)):
+        g = rows[np.isclose(rows.V, V)]
+        g = g.groupby("Z", as_index=False).P.mean()     # several beds at one speed: their mean
+        ax.plot(g.Z, g.P, marker=MARKERS[i % len(MARKERS)], ms=4, mfc="none", lw=0.8,
+                label=rf"$V^* = {V:.3g}$")
+    zmax = rows.Z.max()
+    ax.set(xlabel=r"bulk coordination number $Z$", ylabel=r"$P(Z)$", xlim=(-0.5, zmax + 0.5))
+    ax.set_xticks(range(0, int(zmax) + 1, 2))
+    ax.legend(fontsize=7, title=rf"$D = {D_near:g}d$, $\mu = {mu_near:g}$", title_fontsize=8)
+    return _save(fig, outdir, "fig07_coordination_distribution")
+
+
+def fig09_flow_field(panels, outdir):
+    """Fig. 9: velocity of the grains near the intruder, in its frame, in the slab |y - Y| < d/2.
+
+    panels: list of (D, V, snapshot), snapshot a DataFrame with dx, dz, vx, vz (grain relative
+    to the intruder; velocity in the intruder's frame, as stored by `granudrag pull`)."""
+    panels = [p for p in panels if p[2] is not None and len(p[2])]
+    if not panels:
+        raise NoData("no velocity-field snapshots (pull with snapshots > 0)")
+    fig, axes = _subplots(1, len(panels), figsize=(4.0 * len(panels), 4.0), squeeze=False)
+    for ax, (D, V, snap) in zip(axes[0], panels):
+        half = D / 2 + 5.0
+        near = snap[(snap.dx.abs() < half) & (snap.dz.abs() < half)]
+        # Lab-frame speed relative to the intruder's: grains dragged along show up bright.
+        lab = np.hypot(near.vx + V, near.vz) / V
+        ax.scatter(near.dx, near.dz, s=6, c="0.85", zorder=0)   # where the grains are
+        q = ax.quiver(near.dx, near.dz, near.vx + V, near.vz, np.clip(lab, 0, 1.5), cmap="viridis",
+                      clim=(0, 1.5), angles="xy", scale_units="xy", scale=2.0 * V, width=0.004)
+        ax.add_patch(Circle((0, 0), D / 2, color="0.6", zorder=0))
+        ax.set(xlim=(-half, half), ylim=(-half, half), aspect="equal",
+               xlabel=r"$(x - X)/d$", ylabel=r"$(z - Z)/d$")
+        ax.set_title(rf"$D = {D:g}d$, $V = {V:g}\sqrt{{gd}}$", fontsize=9)
+    fig.colorbar(q, ax=axes[0].tolist(), label=r"grain speed / $V$ (lab frame)", shrink=0.8)
+    return _save(fig, outdir, "fig09_flow_field")
 
 
 def fig08_kappa(df, outdir, mu=0.5, fit=None):

@@ -165,7 +165,7 @@ def _saturation_row(D, fit):
 
 # --- document ------------------------------------------------------------
 
-def _figures(df, r, outdir, restitution, trace):
+def _figures(df, r, outdir, restitution, trace, coordination=None, flow=None):
     """Draw every figure; returns [(caption, png path or None, note)]."""
     jobs = [
         ("Fig. 5: drag vs Fr, μ = 0.5", F.fig05_drag_vs_Fr, dict(fits=r.by("D", 0.5))),
@@ -202,7 +202,22 @@ def _figures(df, r, outdir, restitution, trace):
             out.append((caption, fn(df, outdir, **kw)[0], ""))
         except F.NoData as exc:
             out.append((caption, None, str(exc)))
-    return out
+    extra = [("Fig. 7: distribution of the bulk coordination number", F.fig07_coordination,
+              coordination, "no P(Z) data given"),
+             ("Fig. 9: velocity field around the intruder", F.fig09_flow_field, flow,
+              "no velocity-field snapshots given")]
+    for caption, fn, data, missing in extra:
+        try:
+            out.append((caption, fn(data, outdir)[0], "") if data is not None else (caption, None, missing))
+        except F.NoData as exc:
+            out.append((caption, None, str(exc)))
+    return sorted(out, key=lambda c: _figure_number(c[0]))
+
+
+def _figure_number(caption):
+    """Paper order: Fig. 2, 4, ..., 20, with Table I after Fig. 10 as in the paper."""
+    head = caption.split(":")[0]
+    return 10.5 if head.startswith("Table") else float(head.split()[-1])
 
 
 def _blocks(df, r, figs, n_boot, seed):
@@ -292,17 +307,20 @@ def _html(blocks):
     return "\n".join(out + ["</body></html>"])
 
 
-def build_report(df, outdir, n_boot=200, seed=0, restitution=None, trace=None):
+def build_report(df, outdir, n_boot=200, seed=0, restitution=None, trace=None, coordination=None,
+                 flow=None):
     """Fit, draw and write report.md, report.html and fits.json into outdir.
 
     restitution: optional (v_n, e, theory_v, theory_e[, label of e]) for Fig. 2;
     trace: optional (t, force[, transient]) for Fig. 4.
+    coordination: optional long table of P(Z) per run for Fig. 7 (see figures.fig07_coordination);
+    flow: optional [(D, V, snapshot DataFrame)] for the panels of Fig. 9.
     Returns the path of report.md.
     """
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     r = run_fits(df, n_boot=n_boot, seed=seed)
-    figs = _figures(df, r, outdir, restitution, trace)
+    figs = _figures(df, r, outdir, restitution, trace, coordination, flow)
     fits = {f"regimes_mu{mu:g}_{lab}{key:g}": f for (lab, mu, key), f in r.regimes.items()}
     fits.update({k: v for k, v in (("theta", r.theta), ("kappa", r.kappa)) if v is not None})
     fits.update({f"saturation_D{D:g}": f for D, f in r.saturation.items()})

@@ -217,3 +217,40 @@ def read_force_trace(path):
         f.close()
     transient = float(t[skip - 1]) if 0 < skip <= len(t) else 0.0
     return t, -fx, transient
+
+
+def read_coordination_distribution(path):
+    """P(Z) of a run (Fig. 7): probabilities for Z = 0, 1, ..., the last bin holding Z and
+    above, over the grains of the shell around the intruder after the transient."""
+    f = _open(path)
+    try:
+        _check_header(f, path)
+        p = np.asarray(f["observables/bulk_coordination/distribution"][:], dtype=float)
+    except KeyError as exc:
+        raise RunFileError(f"{path}: damaged run file: {exc}") from None
+    finally:
+        f.close()
+    if p.ndim != 1 or not len(p) or not np.all(np.isfinite(p)) or np.any(p < 0):
+        raise RunFileError(f"{path}: damaged run file: P(Z) is not a distribution")
+    return np.arange(len(p)), p
+
+
+def read_snapshots(path):
+    """The velocity-field snapshots of a run (Fig. 9): a list of DataFrames with columns
+    dx, dz (grain minus intruder, d), vx, vz (grain velocity in the intruder's frame, sqrt(gd)),
+    one per snapshot in time order, each with .attrs["time"]. Grains in the slab |dy| < 0.5 d."""
+    f = _open(path)
+    out = []
+    try:
+        _check_header(f, path)
+        snaps = f.get("snapshots")
+        for name in sorted(snaps or (), key=int):
+            g = snaps[name]
+            df = pd.DataFrame({c: np.asarray(g[c][:], dtype=float) for c in ("dx", "dz", "vx", "vz")})
+            df.attrs["time"] = float(_number(g, "time", path, f"/snapshots/{name}"))
+            out.append(df)
+    except (KeyError, ValueError) as exc:
+        raise RunFileError(f"{path}: damaged run file: {exc}") from None
+    finally:
+        f.close()
+    return out

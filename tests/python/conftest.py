@@ -28,5 +28,6 @@ def report_dir(table, tmp_path_factory):
     t = np.linspace(0.0, 20.0, 500)
     build_report(table, out, n_boot=30, seed=0,
                  restitution=(v, 1 - 0.3 * v ** 0.2, v, 1 - 0.3 * v ** 0.2),
-                 trace=(t, 40 + np.sin(t), 2.0))
+                 trace=(t, 40 + np.sin(t), 2.0), coordination=synth.pz_table(table),
+                 flow=synth.flow_panels())
     return out

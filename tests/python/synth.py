@@ -99,3 +99,30 @@ def make_table(seed=0, noise=0.02, mus=(0.0, 0.1, 0.3, 0.5, 0.9), kn_variants=Tr
             for Fr in FR_GRID[::2]:
                 add("II", 4, 45, 0.5, speed_for(Fr, 4), gamman=gn)
     return pd.DataFrame(rows)
+
+
+def pz_table(table):
+    """P(Z) per run of a table: Poisson, the mean coordination falling with speed (as in
+    Fig. 7), the last bin holding Z >= 15."""
+    from scipy.stats import poisson
+    runs = table[["system", "D", "mu", "kn", "gamman", "V", "Fr"]].drop_duplicates()
+    z = np.arange(16)
+    rows = []
+    for r in runs.itertuples(index=False):
+        p = poisson.pmf(z, 4.0 / (1 + r.V))
+        p[-1] += 1 - p.sum()
+        rows += [r._asdict() | {"Z": k, "P": pk} for k, pk in zip(z, p)]
+    return pd.DataFrame(rows)
+
+
+def flow_panels(seed=1):
+    """Fig. 9 panels (D, V, snapshot) as the paper's: grains ahead of the intruder carried
+    along, the rest at rest (velocities in the intruder's frame, as the run files store them)."""
+    rng = np.random.default_rng(seed)
+    panels = []
+    for D, V in ((2, 0.1), (3, 1.0), (4, 3.0)):
+        x, z = rng.uniform(-8, 8, (2, 400))
+        ahead = (x > 0) & (np.hypot(x, z) < D)
+        snap = pd.DataFrame({"dx": x, "dz": z, "vx": np.where(ahead, 0.0, -V), "vz": 0.1 * V * z / 8})
+        panels.append((D, V, snap))
+    return panels

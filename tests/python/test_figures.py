@@ -4,6 +4,8 @@ import pytest
 
 from analysis import figures as F
 
+import synth
+
 TABLE_FIGURES = [
     (F.fig05_drag_vs_Fr, "fig05_drag_vs_Fr_mu0.5"),
     (F.fig06_theta, "fig06_theta_vs_Fr"),
@@ -59,3 +61,17 @@ def test_missing_data_raise_nodata(table, tmp_path):
     with pytest.raises(F.NoData, match="K_n or gamma_n"):
         F.fig20_kn_gamman(table[(table.kn == 2e5) & (table.gamman == 500.0)], tmp_path)
     assert not list(tmp_path.iterdir())
+
+
+def test_fig07_coordination(table, tmp_path):
+    pz = synth.pz_table(table)
+    check_written(F.fig07_coordination(pz, tmp_path), tmp_path, "fig07_coordination_distribution")
+    with pytest.raises(F.NoData):
+        F.fig07_coordination(pz.iloc[:0], tmp_path)
+
+
+def test_fig09_flow_field(tmp_path):
+    panels = synth.flow_panels()
+    check_written(F.fig09_flow_field(panels, tmp_path), tmp_path, "fig09_flow_field")
+    with pytest.raises(F.NoData, match="snapshots"):
+        F.fig09_flow_field([(2, 0.1, None)], tmp_path)

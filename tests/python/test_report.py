@@ -6,7 +6,8 @@ from analysis.report import comparisons, run_fits, verdict
 from analysis.result import Param
 
 FIGURES = ["fig02_restitution", "fig04_force_trace", "fig05_drag_vs_Fr_mu0.5",
-           "fig06_theta_vs_Fr", "fig08_kappa_vs_Fr", "fig10_drag_vs_Fr_mu0",
+           "fig06_theta_vs_Fr", "fig07_coordination_distribution", "fig08_kappa_vs_Fr",
+           "fig09_flow_field", "fig10_drag_vs_Fr_mu0",
            "table1_mu0_regime1", "fig11_quasistatic_vs_mu", "fig12_yield_vs_mu",
            "fig13_yield_vs_D", "fig14_phi_vs_mu", "fig15_scaled_drag_vs_Fr_D",
            "fig16_drag_vs_Fr_depth", "fig17_yield_vs_h", "fig18_alpha_and_sum_rule",
@@ -29,6 +30,8 @@ def test_report_has_every_figure_and_file(report_dir):
         assert f"src='{name}.png'" in html, name
         assert (report_dir / f"{name}.pdf").is_file(), name
     assert "not drawn" not in md
+    where = [md.index(f"]({name}.png)") for name in FIGURES]
+    assert where == sorted(where), "figures not in the paper's order"
     assert (report_dir / "fits.json").is_file()
 
 

@@ -5,8 +5,8 @@ import h5py
 import numpy as np
 import pytest
 
-from analysis.runs import (RunFileError, load_runs, path_parameters, read_force_trace,
-                           read_run)
+from analysis.runs import (RunFileError, load_runs, path_parameters, read_coordination_distribution,
+                           read_force_trace, read_run, read_snapshots)
 from analysis.table import froude, validate_table
 
 BED = "system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.05359/seed~1"
@@ -45,6 +45,11 @@ def write_run(path, D=2.0, depth=9.87, speed=0.75, mu=0.5, kn=2e4, gamman=199.05
                 grp.attrs[k] = v
         o.create_dataset("bulk_coordination/distribution", data=np.full(16, 1 / 16))
         o.create_dataset("theta/histogram", data=np.zeros(36, dtype=np.int64))
+        for k in range(2):      # as write_snapshots: /snapshots/<k>/{dx,dz,vx,vz}, attribute time
+            s = f.create_group(f"snapshots/{k}")
+            s.attrs["time"] = 1.0 + k
+            for c, v in zip(("dx", "dz", "vx", "vz"), (1.0, -2.0, -speed, 0.1 * (k + 1))):
+                s.create_dataset(c, data=np.full(3 + k, v))
         f.create_group("sanity").attrs["report"] = "sanity: grains lost 0"
     return path
 
@@ -181,3 +186,21 @@ def test_path_parameters():
     assert path_parameters(f"results/pulls/{BED}/V~0.01/run.h5") == {
         "system": "I", "D": "2", "h": "10", "mu": "0.5", "kn": "2e4", "gn": "199.05359",
         "seed": "1", "V": "0.01"}
+
+
+def test_coordination_distribution_and_snapshots(tmp_path):
+    p = write_run(tmp_path / "system~I" / "run.h5", speed=0.75)
+    z, pz = read_coordination_distribution(p)
+    assert list(z) == list(range(16)) and pz.sum() == pytest.approx(1.0)
+    snaps = read_snapshots(p)
+    assert [s.attrs["time"] for s in snaps] == [1.0, 2.0]
+    assert [len(s) for s in snaps] == [3, 4]
+    assert np.allclose(snaps[1].vx, -0.75) and np.allclose(snaps[1].vz, 0.2)
+    with h5py.File(p, "a") as f:
+        f["observables/bulk_coordination/distribution"][3] = np.nan
+    with pytest.raises(RunFileError, match="P\\(Z\\)"):
+        read_coordination_distribution(p)
+    text = tmp_path / "system~I" / "x.h5"
+    text.write_text("not hdf5")
+    with pytest.raises(RunFileError, match="not an HDF5 file"):
+        read_snapshots(text)

@@ -1,4 +1,4 @@
-# From run files to the report: tidy table, Fig. 2 and Fig. 4 data, fits, figures.
+# From run files to the report: tidy table and P(Z), Fig. 2, 4 and 9 data, fits, figures.
 
 
 rule table:
@@ -7,6 +7,7 @@ rule table:
     output:
         table=f"{RESULTS}/table.csv",
         problems=f"{RESULTS}/table_problems.txt",
+        coordination=f"{RESULTS}/coordination.csv",
     log:
         f"{LOGS}/table.log",
     params:
@@ -69,12 +70,29 @@ rule force_trace:
         "../scripts/force_trace.py"
 
 
+rule flow_field:
+    input:
+        [run_file(p.key) for p in study.flow_pulls(PLAN)],
+    output:
+        f"{RESULTS}/flow_field.csv",
+    log:
+        f"{LOGS}/flow_field.log",
+    params:
+        repo=str(REPO),
+    conda:
+        "../envs/analysis.yaml"
+    script:
+        "../scripts/flow_field.py"
+
+
 rule report:
     input:
         table=f"{RESULTS}/table.csv",
         restitution=f"{RESULTS}/restitution/engine.csv",
         theory=f"{RESULTS}/restitution/theory.csv",
         trace=f"{RESULTS}/trace.csv",
+        coordination=f"{RESULTS}/coordination.csv",
+        flow=f"{RESULTS}/flow_field.csv",
     output:
         report(
             directory(f"{RESULTS}/report"),

@@ -6,7 +6,8 @@ sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821  (set by Snakem
 from _setup import start  # noqa: E402
 
 log = start(snakemake)  # noqa: F821
-from analysis.runs import load_runs  # noqa: E402
+import pandas as pd  # noqa: E402
+from analysis.runs import load_runs, read_coordination_distribution  # noqa: E402
 from analysis.table import save_csv  # noqa: E402
 
 sm = snakemake  # noqa: F821
@@ -26,3 +27,14 @@ if len(off):
     log.info(f"depth: measured minus requested from {-off.max():.3f} to {-off.min():.3f} d "
              f"(largest: requested {worst.h_requested:g}, measured {worst.h:.3f}, {worst.run})")
 save_csv(df, sm.output.table)
+
+# P(Z) of every pull in the table (Fig. 7), long format: one row per run and Z.
+parts = []
+for row in df.itertuples(index=False):
+    z, p = read_coordination_distribution(row.path)
+    parts.append(pd.DataFrame({"run": row.run, "system": row.system, "D": row.D, "mu": row.mu,
+                               "kn": row.kn, "gamman": row.gamman, "V": row.V, "Fr": row.Fr,
+                               "Z": z, "P": p}))
+tmp = Path(sm.output.coordination).with_suffix(".csv.tmp")
+pd.concat(parts, ignore_index=True).to_csv(tmp, index=False, float_format="%.10g")
+tmp.replace(sm.output.coordination)

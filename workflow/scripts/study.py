@@ -289,17 +289,31 @@ def job_resources(cost, grains, config):
     return mem, minutes
 
 
+def nearest_pull(plan_, system="I", D=4.0, mu=0.5, V=1.0):
+    """The planned pull nearest to (system, D, mu, V): same system first, then mu, D, log V."""
+    def distance(p):
+        return ((p.bed.system != str(system)) * 100.0 + abs(p.bed.value("mu") - float(mu)) * 10
+                + abs(p.bed.value("D") - float(D)) + abs(math.log(p.V / float(V))))
+    return min(plan_.pulls.values(), key=distance)
+
+
 def trace_pull(plan_):
     """The pull whose force trace is Fig. 4: the config's report.trace if it is one
     of the pulls, else the system-I pull nearest to the paper's (D = 4, V = 1, mu = 0.5)."""
     want = dict((plan_.config.get("report") or {}).get("trace") or {})
-    target = {"system": str(want.get("system", "I")), "D": float(want.get("D", 4.0)),
-              "mu": float(want.get("mu", 0.5)), "V": float(want.get("V", 1.0))}
+    return nearest_pull(plan_, **want)
 
-    def distance(p):
-        return ((p.bed.system != target["system"]) * 100.0 + abs(p.bed.value("mu") - target["mu"]) * 10
-                + abs(p.bed.value("D") - target["D"]) + abs(math.log(p.V / target["V"])))
-    return min(plan_.pulls.values(), key=distance)
+
+# Fig. 9 of the paper: (D, V) = (2, 0.1), (3, 1), (4, 3) at mu = 0.5 in system I.
+PAPER_FLOW_FIELD = [{"D": 2.0, "V": 0.1}, {"D": 3.0, "V": 1.0}, {"D": 4.0, "V": 3.0}]
+
+
+def flow_pulls(plan_):
+    """The pulls whose velocity fields are the panels of Fig. 9 (report.flow_field, default the
+    paper's three), each the nearest planned pull; a pull is listed once."""
+    want = (plan_.config.get("report") or {}).get("flow_field") or PAPER_FLOW_FIELD
+    chosen = [nearest_pull(plan_, **{"system": "I", "mu": 0.5, **w}) for w in want]
+    return list(dict.fromkeys(chosen, None))
 
 
 def summary(plan_):
