@@ -44,8 +44,9 @@ void PourSpec::validate() const {
                   "the intruder centre above the wall)");
     if (!std::isnan(depth)) require(depth > 0, "depth", depth, "it must be > 0 (in d)");
   }
-  require(packing_estimate > 0.3 && packing_estimate < 0.75, "packing_estimate", packing_estimate,
-          "it must lie in (0.3, 0.75)");
+  if (!std::isnan(packing_estimate))
+    require(packing_estimate > 0.3 && packing_estimate < 0.75, "packing_estimate", packing_estimate,
+            "it must lie in (0.3, 0.75)");
   require(fill_fraction > 0 && fill_fraction <= 0.35, "fill_fraction", fill_fraction,
           "it must lie in (0, 0.35]: random placement jams above ~0.38");
   require(skin > 0, "skin", skin, "it must be > 0 (in d)");
@@ -56,11 +57,26 @@ void PourSpec::validate() const {
   contact.validate();
 }
 
+double bulk_packing_estimate(double mu) {
+  static const double table[][2] = {{0.0, 0.657}, {0.1, 0.633}, {0.2, 0.624},
+                                    {0.3, 0.619}, {0.5, 0.604}, {0.9, 0.598}};
+  const int n = sizeof table / sizeof table[0];
+  if (!(mu > table[0][0])) return table[0][1];
+  for (int i = 1; i < n; ++i)
+    if (mu <= table[i][0]) {
+      const double w = (mu - table[i - 1][0]) / (table[i][0] - table[i - 1][0]);
+      return (1 - w) * table[i - 1][1] + w * table[i][1];
+    }
+  return table[n - 1][1];
+}
+
 double intruder_height_for_depth(const PourSpec& s) {
   const double R = 0.5 * s.intruder_diameter;
   const double intruder_volume = 4.0 / 3.0 * M_PI * R * R * R;
+  const double packing =
+      std::isnan(s.packing_estimate) ? bulk_packing_estimate(s.contact.mu) : s.packing_estimate;
   const double height =
-      (grain_volume_estimate(s.grains) / s.packing_estimate + intruder_volume) / (s.lx * s.ly);
+      (grain_volume_estimate(s.grains) / packing + intruder_volume) / (s.lx * s.ly) + kSurfaceOffset;
   const double z = height - s.depth;
   if (z - R < s.base_height + 0.5) {
     std::ostringstream msg;
@@ -214,7 +230,8 @@ Bed pour(const PourSpec& s, bool show_progress) {
     if (!std::isnan(s.depth) && std::abs(bed.depth - s.depth) > 1.0)
       std::fprintf(stderr, "pour: warning: the intruder ended at depth %.3f d, %.2f d from the requested %.3f d "
                            "(bulk packing fraction %.3f, packing_estimate %.3f)\n",
-                   bed.depth, bed.depth - s.depth, s.depth, bed.profile.bulk_packing_fraction, s.packing_estimate);
+                   bed.depth, bed.depth - s.depth, s.depth, bed.profile.bulk_packing_fraction,
+                   std::isnan(s.packing_estimate) ? bulk_packing_estimate(s.contact.mu) : s.packing_estimate);
     if (bed.depth < 0.5 * s.intruder_diameter)
       std::fprintf(stderr, "pour: warning: the intruder is not buried (depth %.3f d < D/2)\n", bed.depth);
   }
