@@ -136,3 +136,25 @@ def test_estimate_cost_prints_jobs_and_core_hours():
     out = subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"),
                           str(ROOT / "config/paper.yaml")], capture_output=True, text=True, check=True)
     assert "simulation jobs" in out.stdout and "core-hours" in out.stdout
+
+
+def _cost_line(stdout):
+    return float(next(ln for ln in stdout.splitlines() if "cost:" in ln).split("cost:")[1].split()[0])
+
+
+@pytest.mark.skipif(not (ROOT / "build" / "granudrag").exists(), reason="needs build/granudrag")
+def test_estimate_cost_measures_throughput_and_scales_the_cost():
+    # --measure times a small bench here; the core-hours must be the particle-steps over the
+    # measured rate, i.e. scale inversely with the throughput the line reports.
+    script, cfg = str(ROOT / "workflow/scripts/estimate_cost.py"), str(ROOT / "config/smoke.yaml")
+    measured = subprocess.run(["/usr/bin/python3", script, cfg, "--measure", "--grains", "2000",
+                               "--binary", str(ROOT / "build" / "granudrag")],
+                              capture_output=True, text=True, check=True).stdout
+    assert "measured here:" in measured and "2000 grains" in measured, measured
+    tp = float(measured.split("throughput")[1].split()[0])
+    fixed = subprocess.run(["/usr/bin/python3", script, cfg, "--throughput", str(2 * tp)],
+                           capture_output=True, text=True, check=True).stdout
+    assert _cost_line(measured) == pytest.approx(2 * _cost_line(fixed), rel=0.02)
+    bad = subprocess.run(["/usr/bin/python3", script, cfg, "--measure", "--binary", "/nonexistent/granudrag"],
+                         capture_output=True, text=True)
+    assert bad.returncode != 0 and "no granudrag at /nonexistent/granudrag" in bad.stderr
