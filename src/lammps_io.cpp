@@ -48,23 +48,40 @@ void write_lammps_data(const std::string& path, const Particles& p, const Box& b
   write_file_atomically(path, s.str());
 }
 
-void write_lammps_settle_input(const std::string& path, const LammpsRun& run) {
-  const ContactParams& c = run.contact;
+namespace {
+
+// The system both inputs share: box, groups, the paper's contact law between grains and with
+// the wall, integration, gravity and the frozen base. The wall acts on `wall_group` ("all" in
+// the bench, "mobile" in a pull: frozen grains' forces are zeroed anyway and the intruder never
+// reaches the wall, so both are the same physics). `extra_groups` defines groups of the caller.
+std::string lammps_system(const std::string& data_file, const ContactParams& c, double skin, double dt,
+                          const std::string& extra_groups, const std::string& wall_group) {
   std::ostringstream s;
   s << std::setprecision(17);
-  s << "# Written by granudrag: the same system, contact law and steps as `granudrag bench`.\n"
-    << "units lj\natom_style sphere\nboundary p p fm\nnewton off\ncomm_modify vel yes\n"
-    << "read_data " << run.data_file << "\n"
-    << "group mobile type 1\ngroup frozen type 2\n"
-    << "neighbor " << run.skin << " bin\nneigh_modify delay 0 every 1 check yes\n"
-    << "pair_style gran/hertz/history " << c.kn << ' ' << c.kt << ' ' << c.gamman << ' '
-    << c.gammat << ' ' << c.mu << " 1\npair_coeff * *\n"
-    << "timestep " << run.dt << "\n"
+  const auto law = [&] {
+    std::ostringstream l;
+    l << std::setprecision(17) << c.kn << ' ' << c.kt << ' ' << c.gamman << ' ' << c.gammat << ' ' << c.mu << " 1";
+    return l.str();
+  }();
+  s << "units lj\natom_style sphere\natom_modify map array\nboundary p p fm\nnewton off\ncomm_modify vel yes\n"
+    << "read_data " << data_file << "\n"
+    << "group mobile type 1\ngroup frozen type 2\n" << extra_groups
+    << "neighbor " << skin << " bin\nneigh_modify delay 0 every 1 check yes\n"
+    << "pair_style gran/hertz/history " << law << "\npair_coeff * *\n"
+    << "timestep " << dt << "\n"
     << "fix integrate mobile nve/sphere\n"
     << "fix gravity mobile gravity 1.0 vector 0 0 -1\n"
     << "fix freeze frozen freeze\n"
-    << "fix wall all wall/gran hertz/history " << c.kn << ' ' << c.kt << ' ' << c.gamman << ' '
-    << c.gammat << ' ' << c.mu << " 1 zplane 0.0 NULL\n"
+    << "fix wall " << wall_group << " wall/gran hertz/history " << law << " zplane 0.0 NULL\n";
+  return s.str();
+}
+
+}  // namespace
+
+void write_lammps_settle_input(const std::string& path, const LammpsRun& run) {
+  std::ostringstream s;
+  s << "# Written by granudrag: the same system, contact law and steps as `granudrag bench`.\n"
+    << lammps_system(run.data_file, run.contact, run.skin, run.dt, "", "all")
     // lj units normalise extensive thermo output by the atom count: energies per grain.
     << "compute ke all ke\ncompute rke all erotate/sphere\n"
     << "thermo_style custom step atoms c_ke c_rke\n"
@@ -74,24 +91,13 @@ void write_lammps_settle_input(const std::string& path, const LammpsRun& run) {
 }
 
 void write_lammps_pull_input(const std::string& path, const LammpsPull& run) {
-  const ContactParams& c = run.contact;
   std::ostringstream s;
   s << std::setprecision(17);
   s << "# Written by granudrag export-lammps: the pull of a granudrag bed in LAMMPS.\n"
     << "# Contact histories start at zero here, as after any read_data (granudrag pull --fresh_start\n"
     << "# does the same for a like-for-like comparison).\n"
-    << "units lj\natom_style sphere\natom_modify map array\nboundary p p fm\nnewton off\ncomm_modify vel yes\n"
-    << "read_data " << run.data_file << "\n"
-    << "group mobile type 1\ngroup frozen type 2\ngroup intruder id " << run.intruder_id << "\n"
-    << "neighbor " << run.skin << " bin\nneigh_modify delay 0 every 1 check yes\n"
-    << "pair_style gran/hertz/history " << c.kn << ' ' << c.kt << ' ' << c.gamman << ' ' << c.gammat
-    << ' ' << c.mu << " 1\npair_coeff * *\n"
-    << "timestep " << run.dt << "\n"
-    << "fix integrate mobile nve/sphere\n"
-    << "fix gravity mobile gravity 1.0 vector 0 0 -1\n"
-    << "fix freeze frozen freeze\n"
-    << "fix wall mobile wall/gran hertz/history " << c.kn << ' ' << c.kt << ' ' << c.gamman << ' '
-    << c.gammat << ' ' << c.mu << " 1 zplane 0.0 NULL\n"
+    << lammps_system(run.data_file, run.contact, run.skin, run.dt,
+                     "group intruder id " + std::to_string(run.intruder_id) + "\n", "mobile")
     << "fix drive intruder move linear " << run.speed << " 0 0\n"
     << "variable fx equal fx[" << run.intruder_id << "]\n"
     << "variable fy equal fy[" << run.intruder_id << "]\n"
