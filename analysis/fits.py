@@ -86,9 +86,19 @@ def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf
         raise ValueError(f"{name} fit needs at least {len(names)} points, got {len(x)}")
     popt, pcov = curve_fit(model, x, y, p0=p0, sigma=s, absolute_sigma=False,
                            bounds=bounds, maxfev=20000)
-    err = np.sqrt(np.diag(pcov)) if len(x) > len(names) else np.full(len(names), np.nan)
+    dof = len(x) - len(names)
+    method = "least-squares covariance scaled by reduced chi^2"
+    if s is not None and dof > 0:
+        # With measurement errors, scale only up (the PDG convention): a few points that happen
+        # to lie on the curve (chi^2/dof << 1; 3 yield forces, 2 parameters) would otherwise
+        # claim a far smaller error than the measurements carry.
+        chi2 = float(np.sum(((y - model(x, *popt)) / s) ** 2)) / dof
+        if 0 < chi2 < 1:
+            pcov = pcov / chi2
+        method = "least-squares covariance scaled by reduced chi^2 when > 1"
+    err = np.sqrt(np.diag(pcov)) if dof > 0 else np.full(len(names), np.nan)
     return Fit(model=name, params={k: Param(float(v), float(e)) for k, v, e in zip(names, popt, err)},
-               method="least-squares covariance scaled by reduced chi^2",
+               method=method,
                n_points=len(x), x_range=(float(x.min()), float(x.max())))
 
 

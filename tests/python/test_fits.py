@@ -35,6 +35,22 @@ def test_kappa_fit_recovers_fig8_line(table):
     assert not within(fit["k1"], 0.2)
 
 
+def test_error_never_below_what_the_measurements_carry():
+    # Three points exactly on a line with 5 % errors: the slope's error must be the analytic
+    # weighted-least-squares one, 1 / sqrt(sum w (x - xw)^2), not the ~0 that scaling by the
+    # (vanishing) residuals gives. With residuals larger than the errors it scales up.
+    x = np.log(np.array([2.0, 3.0, 4.0]))
+    rel = np.full(3, 0.05)
+    w = 1 / rel ** 2
+    analytic = 1 / np.sqrt(np.sum(w * (x - np.sum(w * x) / np.sum(w)) ** 2))
+    exact = fit_power_law(np.exp(x), 3.0 * np.exp(x) ** 1.4, 3.0 * np.exp(x) ** 1.4 * rel)
+    assert exact["p"].value == pytest.approx(1.4)
+    assert exact["p"].err == pytest.approx(analytic, rel=1e-6)
+    y = 3.0 * np.exp(x) ** 1.4 * np.array([1.0, 1.3, 0.8])      # scatter >> 5 %
+    noisy = fit_power_law(np.exp(x), y, y * rel)
+    assert noisy["p"].err > 3 * analytic
+
+
 def test_power_law_exponent_and_errors():
     rng = np.random.default_rng(3)
     x = np.arange(2.0, 12.0)
