@@ -18,9 +18,9 @@ expect() {  # expect "what it should say" command...
     echo "ok: $want"
   fi
 }
-small=(--ly 8 --grains 300 --kn 2e4 --max_settle_time 1 --quiet)
+small=(--ly 8 --grains 400 --kn 2e4 --max_settle_time 1 --quiet)
 expect "unknown option '--frition'" "$gd" pour --output b.h5 "${small[@]}" --lx 8 --depth 2 --frition 0.5
-expect "did you mean '--grains'" "$gd" pour --output b.h5 --lx 8 --depth 2 --ly 8 --grain 300
+expect "did you mean '--grains'" "$gd" pour --output b.h5 --lx 8 --depth 2 --ly 8 --grain 400
 expect "'mu'" "$gd" pour --output b.h5 "${small[@]}" --lx 8 --depth 2 --mu -0.1
 expect "'lx'" "$gd" pour --output b.h5 "${small[@]}" --lx 0 --depth 2
 expect "'intruder_x'" "$gd" pour --output b.h5 "${small[@]}" --lx 8 --depth 2 --intruder_x 9
@@ -44,7 +44,7 @@ expect "format version 99" "$gd" pull --bed future.h5 --output r.h5
 expect "not a granudrag-bed file" "$gd" pull --bed run.h5 --output r2.h5
 expect "either 'speed' or 'froude'" "$gd" pull --bed good.h5 --output r.h5 --speed 1 --froude 1
 expect "'transient'" "$gd" pull --bed good.h5 --output r.h5 --distance 2 --transient 3
-expect "either 'youngs_modulus'" "$gd" pour --output b.h5 --ly 8 --grains 300 --lx 8 --depth 2 --youngs_modulus 1e6 --kn 2e4
+expect "either 'youngs_modulus'" "$gd" pour --output b.h5 --ly 8 --grains 400 --lx 8 --depth 2 --youngs_modulus 1e6 --kn 2e4
 printf 'title\n\nabc atoms\n' > bad.data
 expect "bad.data', line 3" "$gd" import-lammps --data bad.data --output i.h5
 # A checkpoint of a pull with other options is refused on --resume, naming the difference.
