@@ -246,7 +246,7 @@ def fig09_flow_field(panels, outdir):
         ax.add_patch(Circle((0, 0), D / 2, color="0.6", zorder=0))
         ax.set(xlim=(-half, half), ylim=(-half, half), aspect="equal",
                xlabel=r"$(x - X)/d$", ylabel=r"$(z - Z)/d$")
-        ax.set_title(rf"$D = {D:g}d$, $V = {V:g}\sqrt{{gd}}$", fontsize=9)
+        ax.set_title(rf"$D = {D:g}d$, $V = {V:.3g}\sqrt{{gd}}$", fontsize=9)
     fig.colorbar(q, ax=axes[0].tolist(), label=r"grain speed / $V$ (lab frame)", shrink=0.8)
     return _save(fig, outdir, "fig09_flow_field")
 
