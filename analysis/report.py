@@ -228,6 +228,7 @@ def _blocks(df, r, figs, n_boot, seed):
                f"K_n = {kn:.3g}, γ_n = {gn:.3g}. Regime fits: crossovers fitted by profile least "
                f"squares, errors from {n_boot} wild-bootstrap refits (seed {seed}); other fits: "
                "least-squares covariance. Errors are one standard error."),
+         ("p", _scale_text(df, kn)),
          ("p", f"Verdicts: within error bars = within {SIGMAS:g} standard errors of the published "
                f"value; qualitatively = within {REL_TOL:.0%} of it; else not reproduced. "
                "The paper publishes no error bars.")]
@@ -255,6 +256,33 @@ def _blocks(df, r, figs, n_boot, seed):
     if r.notes:
         b += [("h2", "Fits not made"), ("ul", r.notes)]
     return b
+
+
+def _span(values, unit="", fmt="{:.3g}"):
+    v = np.asarray(values, float)
+    v = v[np.isfinite(v)]
+    if not len(v):
+        return "?"
+    lo, hi = fmt.format(v.min()), fmt.format(v.max())
+    return (lo if lo == hi else f"{lo}–{hi}") + unit
+
+
+def _scale_text(df, kn):
+    """At what scale these numbers were obtained, beside the paper's."""
+    parts = []
+    for system, g in df.groupby("system", sort=True):
+        box = (f"{_span(g.lx, fmt='{:g}')} × {_span(g.ly, fmt='{:g}')} d, {_span(g.grains, fmt='{:.0f}')} grains"
+               if {"lx", "ly", "grains"} <= set(g.columns) else "box not recorded")
+        pulled = _span(g.distance, " d") if "distance" in g.columns else "?"
+        text = (f"system {system}: {box}, D = {_span(g.D, ' d', '{:g}')}, h = {_span(g.h, ' d')}, "
+                f"pulls of {pulled}")
+        if system in paper.SYSTEMS:
+            lx, ly, n = paper.SYSTEMS[system]
+            text += f" (paper: {lx:g} × {ly:g} d, {n:,} grains, pulls of one box length)"
+        parts.append(text)
+    return (f"Scale of these numbers: {'; '.join(parts)}; K_n = {kn:.3g} (paper {paper.KN:.0e}). "
+            "A verdict holds at this scale: a number not reproduced here may still be reproduced "
+            "at the paper's.")
 
 
 def _exponent_rows(r):

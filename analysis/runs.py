@@ -30,8 +30,12 @@ RUN_FORMAT = "granudrag-run"
 RUN_VERSIONS = (1,)
 
 # Extra columns after the schema's: what a reader of the table may want to
-# check (requested depth, time step, how much of the pull was discarded).
-EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err", "path"]
+# check (requested depth, time step, how much of the pull was discarded) and
+# the scale of the run (box, grains poured, distance pulled; NaN when the file
+# does not record them).
+EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err",
+                 "lx", "ly", "grains", "distance", "path"]
+SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
 _PATH_CHECKS = {"D": "D", "mu": "mu", "kn": "kn", "gn": "gamman"}
@@ -132,6 +136,7 @@ def read_run(path, system=None, root=None):
         n = observable("coordination")
         theta, theta_err = observable("theta"), observable("theta", "error")
         Z, kappa = observable("bulk_coordination"), observable("kappa")
+        scale = _scale(f)
     except (KeyError, OSError, RuntimeError) as exc:
         raise RunFileError(f"{path}: damaged run file: {exc}") from None
     finally:
@@ -173,7 +178,26 @@ def read_run(path, system=None, root=None):
             "drag_err": drag_err, "n_contacts": n, "theta": theta, "Z": Z, "kappa": kappa,
             "run": str(run_dir), "h_requested": h_requested, "dt": get["dt"],
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
-            "path": str(path)}
+            **scale, "distance": get["speed"] * get["steps"] * get["dt"], "path": str(path)}
+
+
+def _scale(f):
+    """Box and grain count of the bed a run was pulled through, from the resolved parameters
+    granudrag stores (/parameters attribute yaml: the pull's keys, then its bed's); NaN when
+    absent. Read line by line: the two documents share keys, and only the bed has these."""
+    out = dict.fromkeys(SCALE_KEYS, math.nan)
+    group = f.get("parameters")
+    text = group.attrs.get("yaml") if group is not None else None
+    if isinstance(text, bytes):
+        text = text.decode("utf-8", "replace")
+    for line in (text or "").splitlines():
+        key, sep, value = line.partition(":")
+        if sep and key.strip() in out:
+            try:
+                out[key.strip()] = float(value.strip())
+            except ValueError:
+                pass
+    return out
 
 
 def load_runs(paths, system=None, root=None, errors="raise"):

@@ -1,6 +1,8 @@
 """The report: every figure, fitted numbers beside the paper's, verdicts."""
 import math
 
+import numpy as np
+
 import synth
 from analysis.report import comparisons, run_fits, verdict
 from analysis.result import Param
@@ -45,6 +47,16 @@ def test_report_compares_with_paper_values(report_dir):
     for line in md.splitlines():
         if line.startswith("- Fr_1 (Eq. 12") or line.startswith("- θ(Fr)") or line.startswith("- κ(Fr)"):
             assert "— reproduced" in line, line
+
+
+def test_scale_is_stated_beside_the_papers(table):
+    from analysis.report import _scale_text
+    t = table.assign(lx=10.0, ly=np.where(table.system == "I", 10.0, 8.0), grains=1500.0, distance=5.0)
+    text = _scale_text(t, 2e4)
+    assert "system I: 10 × 10 d, 1500 grains" in text and "system II: 10 × 8 d" in text
+    assert "paper: 40 × 40 d, 70,000 grains" in text and "paper: 80 × 40 d, 300,000 grains" in text
+    assert "pulls of 5 d" in text and "K_n = 2e+04 (paper 2e+08)" in text
+    assert "box not recorded" in _scale_text(table, 2e4)
 
 
 def test_shifted_crossovers_are_reported_as_not_reproduced():

@@ -20,7 +20,10 @@ def write_run(path, D=2.0, depth=9.87, speed=0.75, mu=0.5, kn=2e4, gamman=199.05
         g = f.create_group("granudrag")
         g.attrs["format"] = fmt
         g.attrs["version"] = np.int64(version)
-        f.create_group("parameters").attrs["yaml"] = "# pull\nspeed: 1\n"
+        # As granudrag writes it: the pull's keys, then its bed's (both have 'output', 'skin').
+        f.create_group("parameters").attrs["yaml"] = (
+            "# pull\noutput: \"run.h5\"\nspeed: 1\ndistance: 2.7\nskin: 0.2\n"
+            "# bed b.h5\noutput: \"b.h5\"\nlx: 10.0\nly: 8.0\ngrains: 1500\nintruder_x: ~\nskin: 0.2\n")
         r = f.create_group("run")
         for k, v in dict(D=D, depth=depth, speed=speed, froude=float(froude(speed, D)), mu=mu,
                          kn=kn, gamman=gamman, dt=4.2e-4).items():
@@ -65,6 +68,17 @@ def test_reads_one_run_with_path_parameters(tmp_path):
     assert row["n_contacts"] == 10.0 and row["theta"] == 1.55 and row["Z"] == 3.7
     assert row["kappa"] == 0.96
     assert row["run"] == f"pulls/{BED}/Fr~1"
+    # The scale: box and grains from the bed's parameters, distance pulled from the run.
+    assert (row["lx"], row["ly"], row["grains"]) == (10.0, 8.0, 1500.0)
+    assert row["distance"] == pytest.approx(0.75 * 6384 * 4.2e-4)
+
+
+def test_scale_is_nan_when_the_file_does_not_record_it(tmp_path):
+    p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5")
+    with h5py.File(p, "a") as f:
+        del f["parameters"]
+    row = read_run(p)
+    assert all(np.isnan(row[k]) for k in ("lx", "ly", "grains")) and row["drag"] > 0
 
 
 def test_load_runs_gives_a_valid_table(tmp_path):
