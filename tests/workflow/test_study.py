@@ -100,6 +100,7 @@ def test_semantic_errors_name_the_sweep(change, message):
     (lambda c: c["systems"]["I"].update(grains=-3), "systems.I.grains"),
     (lambda c: c["systems"]["I"]["pull"].update(speed=3), "systems.I.pull"),
     (lambda c: c.update(thread=2), "'(top level)'"),
+    (lambda c: c.update(max_runtime=5), "max_runtime"),
 ])
 def test_schema_errors_name_the_key(change, key):
     config = copy.deepcopy(BASE)
@@ -158,3 +159,45 @@ def test_estimate_cost_measures_throughput_and_scales_the_cost():
     bad = subprocess.run(["/usr/bin/python3", script, cfg, "--measure", "--binary", "/nonexistent/granudrag"],
                          capture_output=True, text=True)
     assert bad.returncode != 0 and "no granudrag at /nonexistent/granudrag" in bad.stderr
+
+
+def _long_pull_config(**top):
+    # One pull of 800 grains x 2 d at V = 0.01 with dt 4.2e-4: 3.8e8 particle-steps, ~10.6 h
+    # at 1e4 particle-steps/s.
+    config = copy.deepcopy(BASE)
+    config.update(throughput=1e4, sweeps=[BASE["sweeps"][1] | {"mu": 0.5, "pull": {"distance": 2}}], **top)
+    plan = study.plan(config)
+    (pull,) = plan.pulls.values()
+    return config, plan, pull
+
+
+def test_long_pulls_checkpoint_every_checkpoint_minutes_of_wall_time():
+    config, plan, pull = _long_pull_config(checkpoint_minutes=30)
+    minutes = study.job_seconds(study.pull_cost(pull, config), config) / 60
+    interval = study.checkpoint_interval(pull, config)
+    pieces = (2 / 0.01) / interval
+    assert 30 * (1 - 1 / pieces) < minutes / pieces <= 30 * 1.001   # one per <= 30 min, not far less
+    assert pieces > 10
+    assert f"--checkpoint_interval {interval:g}" in " ".join(study.pull_args(pull.bed, pull.speed, plan))
+    # The default study's pulls are short: granudrag's tenth of the pull, no extra argument.
+    default = study.plan(load("config.yaml"))
+    assert not any("--checkpoint_interval" in study.pull_args(p.bed, p.speed, default)
+                   for p in default.pulls.values())
+
+
+def test_max_runtime_caps_each_job_and_splits_long_pulls():
+    config, plan, pull = _long_pull_config()
+    cost = study.pull_cost(pull, config)
+    assert study.pull_retries(plan) is None                       # the profile's restart-times
+    uncapped = [study.job_resources(cost, 800, config, a)[1] for a in (1, 2)]
+    assert uncapped[1] == 2 * uncapped[0] and uncapped[0] > 3 * 600
+    config, plan, pull = _long_pull_config(max_runtime=120)
+    assert [study.job_resources(cost, 800, config, a)[1] for a in (1, 2)] == [120, 120]
+    hours = study.job_seconds(cost, config) / 3600
+    retries = study.pull_retries(plan)
+    # Enough 2-hour jobs (each counted as 1.5 h: a quarter lost to restarts) for 1.5x the
+    # estimated work, and not many more.
+    assert hours <= retries + 1 <= hours + 2
+    # Several checkpoints inside each job: at most max_runtime / 4 of wall time apart.
+    minutes = study.job_seconds(cost, config) / 60
+    assert minutes / ((2 / 0.01) / study.checkpoint_interval(pull, config)) <= 30 * 1.02

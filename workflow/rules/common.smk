@@ -29,6 +29,7 @@ RESULTS = config["results"].rstrip("/")
 LOGS = config["logs"].rstrip("/")
 GRANUDRAG = str(study.resolve_binary(config, REPO))
 THREADS = config["threads"]
+PULL_RETRIES = study.pull_retries(PLAN)   # None: the profile's restart-times
 
 
 wildcard_constraints:
@@ -78,7 +79,7 @@ def bed_mem_mb(wildcards):
 def bed_runtime(wildcards, attempt):
     """Minutes; doubled on each retry (a cluster time limit is the likely reason)."""
     cost = study.bed_cost(_bed(wildcards), config)
-    return study.job_resources(cost, _grains(wildcards), config)[1] * 2 ** (attempt - 1)
+    return study.job_resources(cost, _grains(wildcards), config, attempt)[1]
 
 
 def _pull(wildcards):
@@ -91,9 +92,10 @@ def pull_mem_mb(wildcards):
 
 
 def pull_runtime(wildcards, attempt):
-    """Minutes; doubled on each retry, which resumes from the pull's checkpoint."""
+    """Minutes; doubled on each retry, which resumes from the pull's checkpoint (at most
+    max_runtime: a longer pull goes on over several jobs)."""
     cost = study.pull_cost(_pull(wildcards), config)
-    return study.job_resources(cost, _grains(wildcards), config)[1] * 2 ** (attempt - 1)
+    return study.job_resources(cost, _grains(wildcards), config, attempt)[1]
 
 
 onsuccess:

@@ -40,9 +40,11 @@ rule bed:
         "{input.granudrag} pour --output {output} --threads {threads} {params.args} > {log} 2>&1"
 
 
-# A pull checkpoints every tenth of its travel; when a job is killed (a cluster
-# time limit, a crash), the rerun resumes from the checkpoint, unless the bed
-# is newer than the checkpoint or the arguments changed.
+# A pull checkpoints every tenth of its travel, or every `checkpoint_minutes` of
+# estimated wall time if sooner; when a job is killed (a cluster time limit, a
+# crash), the rerun resumes from the checkpoint, unless the bed is newer than
+# the checkpoint or the arguments changed. With max_runtime, a pull longer than
+# that runs over several jobs (retries: enough for the longest).
 rule pull:
     input:
         granudrag=ancient(GRANUDRAG),
@@ -56,6 +58,7 @@ rule pull:
     params:
         args=pull_args,
     threads: THREADS
+    retries: PULL_RETRIES
     resources:
         mem_mb=pull_mem_mb,
         runtime=pull_runtime,

@@ -246,7 +246,39 @@ def pull_args(bed, speed, plan_):
     settings = dict(sysc.get("pull") or {})
     settings.update(plan_.pull_settings(bed.key, speed))
     args = ["--froude" if kind == "Fr" else "--speed", fmt(value)]
+    if not settings.get("checkpoint_interval"):
+        interval = checkpoint_interval(Pull(bed, speed, tuple(settings.items())), plan_.config)
+        if interval:
+            settings["checkpoint_interval"] = interval
     return args + _flags(settings)
+
+
+def checkpoint_interval(pull, config):
+    """Simulated time between checkpoints when a tenth of the pull would take longer than
+    `checkpoint_minutes` of estimated wall time (else None: granudrag's tenth). Simulated,
+    not wall, time: the checkpoints then fall on the same steps in every run, so a resumed
+    pull stays bitwise identical to an uninterrupted one."""
+    minutes = job_seconds(pull_cost(pull, config), config) / 60.0
+    per_job = float(config.get("checkpoint_minutes", 60))
+    if config.get("max_runtime"):
+        per_job = min(per_job, int(config["max_runtime"]) / 4.0)   # several per job
+    pieces = math.ceil(minutes / per_job)
+    if pieces <= 10:
+        return None
+    return float(f"{pull_distance(pull, config) / pull.V / pieces:.4g}")
+
+
+def job_attempts(minutes, config):
+    """Jobs needed for a run of `minutes` estimated wall time under max_runtime: its time
+    limit doubles per retry up to the cap, and each retry resumes from the checkpoint."""
+    cap = config.get("max_runtime")
+    if not cap:
+        return 1
+    limit, done, attempts = minutes, 0.0, 0
+    while done < minutes:
+        attempts += 1
+        done += min(limit * 2 ** (attempts - 1), cap) * 0.75    # a quarter lost to restarts
+    return attempts
 
 
 # --- cost -------------------------------------------------------------------
@@ -282,11 +314,26 @@ def job_seconds(particle_steps, config):
     return particle_steps / float(config["throughput"])
 
 
-def job_resources(cost, grains, config):
-    """(mem_mb, runtime in minutes) for a job: a generous bound for schedulers."""
+def job_resources(cost, grains, config, attempt=1):
+    """(mem_mb, runtime in minutes) for a job: a generous bound for schedulers, doubled on
+    each retry (a time limit is the likely reason; the retry resumes from the checkpoint),
+    at most max_runtime."""
     mem = int(200 + 0.004 * grains)          # ~1.5 kB per grain measured; x2.5 margin
-    minutes = int(math.ceil(3.0 * job_seconds(cost, config) / 60.0)) + 5
+    minutes = (int(math.ceil(3.0 * job_seconds(cost, config) / 60.0)) + 5) * 2 ** (attempt - 1)
+    if config.get("max_runtime"):
+        minutes = min(minutes, int(config["max_runtime"]))
     return mem, minutes
+
+
+def pull_retries(plan_):
+    """Retries of the pull rule: None (the profile's restart-times) without max_runtime,
+    else enough for the longest pull to finish in pieces."""
+    config = plan_.config
+    if not config.get("max_runtime") or not plan_.pulls:
+        return None
+    worst = max(job_seconds(pull_cost(p, config), config) for p in plan_.pulls.values()) / 60.0
+    # 1.5 x the estimate: the throughput is measured, the 3x of job_resources is for one job.
+    return max(1, job_attempts(1.5 * worst + 5, config) - 1)
 
 
 def nearest_pull(plan_, system="I", D=4.0, mu=0.5, V=1.0):
