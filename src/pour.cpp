@@ -70,13 +70,19 @@ double bulk_packing_estimate(double mu) {
   return table[n - 1][1];
 }
 
+namespace {
+// The spec's packing_estimate if given, else the measured one for its friction.
+double assumed_packing(const PourSpec& s) {
+  return std::isnan(s.packing_estimate) ? bulk_packing_estimate(s.contact.mu) : s.packing_estimate;
+}
+}  // namespace
+
 double intruder_height_for_depth(const PourSpec& s) {
   const double R = 0.5 * s.intruder_diameter;
   const double intruder_volume = 4.0 / 3.0 * M_PI * R * R * R;
-  const double packing =
-      std::isnan(s.packing_estimate) ? bulk_packing_estimate(s.contact.mu) : s.packing_estimate;
   const double height =
-      (grain_volume_estimate(s.grains) / packing + intruder_volume) / (s.lx * s.ly) + kSurfaceOffset;
+      (grain_volume_estimate(s.grains) / assumed_packing(s) + intruder_volume) / (s.lx * s.ly) +
+      kSurfaceOffset;
   const double z = height - s.depth;
   if (z - R < s.base_height + 0.5) {
     std::ostringstream msg;
@@ -230,8 +236,7 @@ Bed pour(const PourSpec& s, bool show_progress) {
     if (!std::isnan(s.depth) && std::abs(bed.depth - s.depth) > 1.0)
       std::fprintf(stderr, "pour: warning: the intruder ended at depth %.3f d, %.2f d from the requested %.3f d "
                            "(bulk packing fraction %.3f, packing_estimate %.3f)\n",
-                   bed.depth, bed.depth - s.depth, s.depth, bed.profile.bulk_packing_fraction,
-                   std::isnan(s.packing_estimate) ? bulk_packing_estimate(s.contact.mu) : s.packing_estimate);
+                   bed.depth, bed.depth - s.depth, s.depth, bed.profile.bulk_packing_fraction, assumed_packing(s));
     if (bed.depth < 0.5 * s.intruder_diameter)
       std::fprintf(stderr, "pour: warning: the intruder is not buried (depth %.3f d < D/2)\n", bed.depth);
   }

@@ -259,10 +259,10 @@ def checkpoint_interval(pull, config):
     not wall, time: the checkpoints then fall on the same steps in every run, so a resumed
     pull stays bitwise identical to an uninterrupted one."""
     minutes = job_seconds(pull_cost(pull, config), config) / 60.0
-    per_job = float(config.get("checkpoint_minutes", 60))
+    gap = float(config.get("checkpoint_minutes", 60))
     if config.get("max_runtime"):
-        per_job = min(per_job, int(config["max_runtime"]) / 4.0)   # several per job
-    pieces = math.ceil(minutes / per_job)
+        gap = min(gap, int(config["max_runtime"]) / 4.0)   # several checkpoints per job
+    pieces = math.ceil(minutes / gap)
     if pieces <= 10:
         return None
     return float(f"{pull_distance(pull, config) / pull.V / pieces:.4g}")
