@@ -110,11 +110,20 @@ def load_csv(path):
         raise TableError(f"{path}: not a granudrag pull table: {exc}") from None
 
 
+def write_csv(df, path, float_format="%.10g"):
+    """Write df as CSV atomically: a temporary file beside path, then a rename, so that an
+    interrupted write never leaves a truncated file under the final name."""
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    df.to_csv(tmp, index=False, float_format=float_format)
+    tmp.replace(path)
+
+
 def save_csv(df, path):
     """Write a validated table so that load_csv reads it back unchanged."""
     validate_table(df)
     extra = [c for c in df.columns if c not in COLUMNS]
-    df[list(COLUMNS) + extra].to_csv(path, index=False, float_format="%.17g")
+    write_csv(df[list(COLUMNS) + extra], path, float_format="%.17g")
 
 
 # --- Run files (HDF5) ---------------------------------------------------

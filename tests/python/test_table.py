@@ -93,3 +93,16 @@ def test_loader_rejects_foreign_and_corrupt_csv(table, tmp_path):
 def test_helpers(table):
     assert set(yield_rows(table).V) == {0.01}
     assert reference_params(table) == (2e5, 500.0)
+
+
+def test_write_csv_is_atomic(tmp_path):
+    import pandas as pd
+    from analysis.table import write_csv
+    path = tmp_path / "out.csv"
+    write_csv(pd.DataFrame({"a": [1.5, 2.0]}), path)
+    assert pd.read_csv(path).a.tolist() == [1.5, 2.0]
+    assert [p.name for p in tmp_path.iterdir()] == ["out.csv"]          # no temporary left
+    (tmp_path / "out.csv.tmp").mkdir()                                   # the next write fails ...
+    with pytest.raises(OSError):
+        write_csv(pd.DataFrame({"a": [9.0]}), path)
+    assert pd.read_csv(path).a.tolist() == [1.5, 2.0]                    # ... and the old file stands

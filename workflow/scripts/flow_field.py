@@ -11,6 +11,7 @@ from _setup import start  # noqa: E402
 log = start(snakemake)  # noqa: F821
 import pandas as pd  # noqa: E402
 from analysis.runs import read_run, read_snapshots  # noqa: E402
+from analysis.table import write_csv  # noqa: E402
 
 sm = snakemake  # noqa: F821
 parts = []
@@ -25,4 +26,4 @@ for panel, path in enumerate(sm.input):
     log.info(f"{path}: snapshot at t = {snap.attrs['time']:g}, {len(snap)} grains in the slab")
 columns = ["panel", "D", "V", "time", "dx", "dz", "vx", "vz"]
 out = pd.concat(parts, ignore_index=True)[columns] if parts else pd.DataFrame(columns=columns)
-out.to_csv(sm.output[0], index=False, float_format="%.8g")
+write_csv(out, sm.output[0], float_format="%.8g")

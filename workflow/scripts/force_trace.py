@@ -8,9 +8,9 @@ from _setup import start  # noqa: E402
 log = start(snakemake)  # noqa: F821
 import pandas as pd  # noqa: E402
 from analysis.runs import read_force_trace  # noqa: E402
+from analysis.table import write_csv  # noqa: E402
 
 sm = snakemake  # noqa: F821
 t, drag, transient = read_force_trace(sm.input[0])
-pd.DataFrame({"t": t, "drag": drag, "transient": transient}).to_csv(
-    sm.output[0], index=False, float_format="%.10g")
+write_csv(pd.DataFrame({"t": t, "drag": drag, "transient": transient}), sm.output[0])
 log.info(f"force trace of {sm.input[0]}: {len(t)} samples, transient before t = {transient:g}")

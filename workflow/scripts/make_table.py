@@ -8,7 +8,7 @@ from _setup import start  # noqa: E402
 log = start(snakemake)  # noqa: F821
 import pandas as pd  # noqa: E402
 from analysis.runs import load_runs, read_coordination_distribution  # noqa: E402
-from analysis.table import save_csv  # noqa: E402
+from analysis.table import save_csv, write_csv  # noqa: E402
 
 sm = snakemake  # noqa: F821
 df, problems = load_runs(list(sm.input), root=sm.params.root, errors="collect")
@@ -35,6 +35,4 @@ for row in df.itertuples(index=False):
     parts.append(pd.DataFrame({"run": row.run, "system": row.system, "D": row.D, "mu": row.mu,
                                "kn": row.kn, "gamman": row.gamman, "V": row.V, "Fr": row.Fr,
                                "Z": z, "P": p}))
-tmp = Path(sm.output.coordination).with_suffix(".csv.tmp")
-pd.concat(parts, ignore_index=True).to_csv(tmp, index=False, float_format="%.10g")
-tmp.replace(sm.output.coordination)
+write_csv(pd.concat(parts, ignore_index=True), sm.output.coordination)
