@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "error.hpp"
-#include "packing.hpp"
-#include "simulation.hpp"
+#include "core/error.hpp"
+#include "protocol/lattice_bed.hpp"
+#include "engine/simulation.hpp"
 
 namespace granudrag::support {
 

@@ -31,7 +31,7 @@ Particles converging_cluster(int n, std::uint64_t seed) {
     for (std::size_t j = 0; j < p.size(); ++j)
       if ((p.x[j] - x).norm() < r + p.radius[j]) free = false;
     if (!free) continue;
-    const std::size_t i = p.add(x, r, Kind::Mobile);
+    const std::size_t i = p.add(x, r, Species::Mobile);
     p.v[i] = -(x - centre) + 0.3 * Vec3(u(rng), u(rng), u(rng));
     p.omega[i] = 2.0 * Vec3(u(rng), u(rng), u(rng));
   }

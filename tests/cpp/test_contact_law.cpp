@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "contact_law.hpp"
+#include "contact/contact_law.hpp"
 #include "helpers.hpp"
 
 using namespace granudrag;
@@ -73,7 +73,7 @@ TEST(ContactLaw, StaticOverlapGivesHertzForce) {
   ContactGeometry g{Vec3(0, 0, ri + rj - delta), ri + rj - delta, ri + rj, ri * rj / (ri + rj),
                     0.1, Vec3::Zero(), Vec3::Zero()};
   Vec3 shear = Vec3::Zero();
-  const ContactForce cf = hertz_history(p, g, 1e-5, shear);
+  const PairForce cf = hertz_history(p, g, 1e-5, shear);
   const double expected = p.kn * std::sqrt(g.reff * delta) * delta;  // paper Eq. 1, v_n = 0
   EXPECT_NEAR(cf.force.z(), expected, 1e-12 * expected);
   EXPECT_EQ(cf.force.x(), 0.0);
@@ -112,7 +112,7 @@ TEST(ContactLaw, AgreesWithScalarTranscriptionOfLammps) {
 
     ContactGeometry g{del, r, ri + rj, ri * rj / (ri + rj), meff, vi - vj, ri * wi + rj * wj};
     Vec3 shear = shear0;
-    const ContactForce cf = hertz_history(p, g, dt, shear);
+    const PairForce cf = hertz_history(p, g, dt, shear);
     const ScalarResult ref = scalar_reference(p, del.data(), ri, rj, meff, vi.data(), vj.data(),
                                               wi.data(), wj.data(), dt, shear0.data());
     const double fscale = Vec3(ref.f[0], ref.f[1], ref.f[2]).norm() + 1e-300;
@@ -130,7 +130,7 @@ TEST(ContactLaw, CoulombCapRewritesSpringToMatchCap) {
   const double r = 0.998;
   ContactGeometry g{Vec3(0, 0, r), r, 1.0, 0.25, 0.26, Vec3(0.2, 0, 0), Vec3::Zero()};
   Vec3 shear(0.05, 0.0, 0.0);  // far beyond the sliding threshold
-  const ContactForce cf = hertz_history(p, g, 1e-5, shear);
+  const PairForce cf = hertz_history(p, g, 1e-5, shear);
   const double fn = cf.force.z();
   const Vec3 ft(cf.force.x(), cf.force.y(), 0.0);
   EXPECT_NEAR(ft.norm(), p.mu * std::abs(fn), 1e-12 * std::abs(fn));
@@ -152,9 +152,9 @@ TEST(ContactLaw, SpringStaysInTangentPlane) {
 }
 
 TEST(ContactLaw, FrozenPartnerGivesMobileMass) {
-  EXPECT_EQ(effective_mass(2.0, Kind::Frozen, 0.5, Kind::Mobile), 0.5);
-  EXPECT_EQ(effective_mass(2.0, Kind::Mobile, 0.5, Kind::Frozen), 2.0);
-  EXPECT_DOUBLE_EQ(effective_mass(2.0, Kind::Mobile, 0.5, Kind::Intruder), 0.4);
+  EXPECT_EQ(effective_mass(2.0, Species::Frozen, 0.5, Species::Mobile), 0.5);
+  EXPECT_EQ(effective_mass(2.0, Species::Mobile, 0.5, Species::Frozen), 2.0);
+  EXPECT_DOUBLE_EQ(effective_mass(2.0, Species::Mobile, 0.5, Species::Intruder), 0.4);
 }
 
 TEST(ContactParams, YoungsModulusFormOfEq3) {

@@ -37,10 +37,10 @@ Motion roll_down(double mu, double tan_theta, Surface surface = Surface::Wall) {
   if (surface == Surface::FrozenGrain) {
     box = Box{1700, 1700, false};
     centre = Vec3(850, 850, 0);
-    p.add(centre, R_big, Kind::Frozen);
+    p.add(centre, R_big, Species::Frozen);
   }
   const double lift = surface == Surface::Wall ? 0.0 : R_big;
-  p.add(centre + Vec3(0, 0, lift + R - delta), R, Kind::Mobile);
+  p.add(centre + Vec3(0, 0, lift + R - delta), R, Species::Mobile);
   const std::size_t ball = p.size() - 1;
   Settings s;
   s.gravity = Vec3(std::sin(theta), 0, -std::cos(theta));

@@ -14,9 +14,9 @@
 #include <regex>
 #include <sstream>
 
-#include "error.hpp"
-#include "h5_file.hpp"
-#include "xdmf.hpp"
+#include "core/error.hpp"
+#include "io/h5_file.hpp"
+#include "io/xdmf.hpp"
 
 using namespace granudrag;
 namespace fs = std::filesystem;

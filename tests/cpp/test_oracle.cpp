@@ -3,10 +3,10 @@
 // the periodic boundary; reproducibility per thread count; history surviving rebuilds.
 #include <gtest/gtest.h>
 
-#include "contact_history.hpp"
-#include "fast_contacts.hpp"
+#include "contact/contact_history.hpp"
+#include "contact/verlet_contacts.hpp"
 #include "helpers.hpp"
-#include "neighbor_list.hpp"
+#include "contact/neighbor_list.hpp"
 
 using namespace granudrag;
 using granudrag::support::ThreadCount;
@@ -29,12 +29,12 @@ Scene intruder_scene() {
   for (std::size_t i = 0; i < bed.particles.size(); ++i) {
     const Vec3 x = bed.particles.x[i];
     if (bed.box.min_image(x - centre).norm() < R + bed.particles.radius[i] + 0.005) continue;
-    const std::size_t k = p.add(x, bed.particles.radius[i], Kind::Mobile);
+    const std::size_t k = p.add(x, bed.particles.radius[i], Species::Mobile);
     p.v[k] = bed.particles.v[i];
     p.omega[k] = bed.particles.omega[i];
   }
   p.freeze_below(0.7);
-  const std::size_t in = p.add(centre, R, Kind::Intruder);
+  const std::size_t in = p.add(centre, R, Species::Intruder);
   p.v[in] = Vec3(2.0, 0, 0);
   return {p, bed.box};
 }
@@ -51,7 +51,7 @@ TEST(Oracle, FastForcesEqualBruteForceOnIntruderScene) {
   for (int threads : {1, 2}) {
     ThreadCount tc(threads);
     const Scene scene = intruder_scene();
-    ASSERT_GT(scene.particles.count(Kind::Frozen), 20u);
+    ASSERT_GT(scene.particles.count(Species::Frozen), 20u);
     Settings fast_s, brute_s;
     fast_s.skin = 0.05;  // thin: several rebuilds within the test
     brute_s.brute_force = true;
@@ -77,7 +77,7 @@ TEST(Oracle, FastForcesEqualBruteForceOnIntruderScene) {
       ASSERT_EQ(intruder_contacts, brute.contacts().contacts_of(intruder)) << "step " << step;
     }
     EXPECT_GE(most_intruder_contacts, 3);  // the intruder really was in the thick of it
-    const auto& fc = dynamic_cast<const FastContacts&>(fast.contacts());
+    const auto& fc = dynamic_cast<const VerletContacts&>(fast.contacts());
     EXPECT_GT(fc.list().builds(), 1);  // and the lists were rebuilt on the way
   }
 }
@@ -110,7 +110,7 @@ TEST(Oracle, TrajectoriesAgreeForDifferentSkins) {
     s.skin = skin;
     Simulation sim(scene.particles, scene.box, c, s);
     sim.run(1500);
-    *builds = dynamic_cast<const FastContacts&>(sim.contacts()).list().builds();
+    *builds = dynamic_cast<const VerletContacts&>(sim.contacts()).list().builds();
     return sim.particles();
   };
   long thin_builds = 0, thick_builds = 0;
@@ -143,8 +143,8 @@ TEST(ContactHistory, SpringsFollowTheirPairsAcrossRebuilds) {
 
 TEST(NeighborList, RefusesBoxTooSmallForTheIntruder) {
   Particles p;
-  p.add(Vec3(1, 1, 1), 0.5, Kind::Mobile);
-  p.add(Vec3(3, 3, 3), 4.0, Kind::Intruder);
+  p.add(Vec3(1, 1, 1), 0.5, Species::Mobile);
+  p.add(Vec3(3, 3, 3), 4.0, Species::Intruder);
   NeighborList list(0.2);
   EXPECT_THROW(list.build(p, Box{9, 9, true}), Error);
   EXPECT_NO_THROW(list.build(p, Box{10, 10, true}));

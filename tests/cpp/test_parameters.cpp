@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "error.hpp"
-#include "parameters.hpp"
+#include "core/error.hpp"
+#include "app/parameters.hpp"
 
 using namespace granudrag;
 using Type = ParameterSpec::Type;

@@ -2,10 +2,10 @@
 // and a real pour that must settle to a random close packing at the requested depth.
 #include <gtest/gtest.h>
 
-#include "bed_profile.hpp"
-#include "error.hpp"
+#include "protocol/bed_profile.hpp"
+#include "core/error.hpp"
 #include "helpers.hpp"
-#include "pour.hpp"
+#include "protocol/pour.hpp"
 
 using namespace granudrag;
 
@@ -23,7 +23,7 @@ TEST(BedProfile, SurfaceOfAnIdealSlabIsItsTop) {
   Particles p;
   for (int iz = 0; iz < 12; ++iz)
     for (int ix = 0; ix < 8; ++ix)
-      for (int iy = 0; iy < 8; ++iy) p.add(Vec3(ix + 0.5, iy + 0.5, iz + 0.5), 0.5, Kind::Mobile);
+      for (int iy = 0; iy < 8; ++iy) p.add(Vec3(ix + 0.5, iy + 0.5, iz + 0.5), 0.5, Species::Mobile);
   const BedProfile prof = measure_bed(p, Box{8, 8, true});
   EXPECT_NEAR(prof.bulk_packing_fraction, M_PI / 6, 0.08);  // the slab average oscillates
   EXPECT_NEAR(prof.surface_height, 11.5, 0.5);  // half-density point inside the top layer
@@ -33,9 +33,9 @@ TEST(BedProfile, AGrainInFlightDoesNotMoveTheSurface) {
   Particles p;
   for (int iz = 0; iz < 12; ++iz)
     for (int ix = 0; ix < 8; ++ix)
-      for (int iy = 0; iy < 8; ++iy) p.add(Vec3(ix + 0.5, iy + 0.5, iz + 0.5), 0.5, Kind::Mobile);
+      for (int iy = 0; iy < 8; ++iy) p.add(Vec3(ix + 0.5, iy + 0.5, iz + 0.5), 0.5, Species::Mobile);
   const double before = measure_bed(p, Box{8, 8, true}).surface_height;
-  p.add(Vec3(4, 4, 30), 0.5, Kind::Mobile);  // one grain far above the bed
+  p.add(Vec3(4, 4, 30), 0.5, Species::Mobile);  // one grain far above the bed
   EXPECT_NEAR(measure_bed(p, Box{8, 8, true}).surface_height, before, 1e-9);
 }
 
@@ -134,14 +134,14 @@ TEST_P(PourDepth, BedSettlesDenseAtTheRequestedDepth) {
   EXPECT_LT(bed.profile.bulk_packing_fraction, 0.67);
   EXPECT_NEAR(bed.depth, 6.0, 0.4);
   const Particles& p = bed.state.particles;
-  EXPECT_GT(p.count(Kind::Frozen), 50u);
+  EXPECT_GT(p.count(Species::Frozen), 50u);
   for (std::size_t i = 0; i < p.size(); ++i) {
     EXPECT_GT(p.x[i].z(), 0.0);
-    if (p.kind[i] == Kind::Frozen) {
+    if (p.species[i] == Species::Frozen) {
       EXPECT_LT(p.x[i].z(), 0.6);
     }
   }
-  EXPECT_EQ(p.kind[bed.intruder], Kind::Intruder);
+  EXPECT_EQ(p.species[bed.intruder], Species::Intruder);
   EXPECT_DOUBLE_EQ(p.x[bed.intruder].z() + bed.depth, bed.surface_height);
 }
 

@@ -4,10 +4,10 @@
 
 #include <random>
 
-#include "error.hpp"
+#include "core/error.hpp"
 #include "helpers.hpp"
-#include "observables.hpp"
-#include "pull.hpp"
+#include "protocol/observables.hpp"
+#include "protocol/pull.hpp"
 
 using namespace granudrag;
 

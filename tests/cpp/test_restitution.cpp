@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "helpers.hpp"
-#include "restitution.hpp"
+#include "protocol/restitution.hpp"
 
 using namespace granudrag;
 

@@ -1,9 +1,9 @@
 #include <gtest/gtest.h>
 
-#include "contact_params.hpp"
-#include "error.hpp"
+#include "contact/contact_params.hpp"
+#include "core/error.hpp"
 #include "helpers.hpp"
-#include "restitution.hpp"
+#include "protocol/restitution.hpp"
 
 using namespace granudrag;
 
@@ -46,5 +46,5 @@ TEST(TimeStep, SimulationRefusesTooLargeStep) {
   EXPECT_THROW(Simulation(bed.particles, bed.box, ContactParams{}, s), Error);
   s.dt = 0;  // derived
   Simulation sim(bed.particles, bed.box, ContactParams{}, s);
-  EXPECT_DOUBLE_EQ(sim.dt(), default_time_step(ContactParams{}, bed.particles.min_radius(Kind::Mobile)));
+  EXPECT_DOUBLE_EQ(sim.dt(), default_time_step(ContactParams{}, bed.particles.min_radius(Species::Mobile)));
 }

@@ -1,0 +1,100 @@
+#include "contact/brute_force_contacts.hpp"
+
+#include "contact/contact_law.hpp"
+
+namespace granudrag {
+
+bool BruteForceContacts::update_lists(Particles&, const Box&) { return false; }
+
+void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactParams& c,
+                                    double dt, bool update_history) {
+  const int n = static_cast<int>(p.size());
+  formed_.clear();
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      if (p.species[i] == Species::Frozen && p.species[j] == Species::Frozen) continue;
+      const Vec3 del = box.min_image(p.x[i] - p.x[j]);
+      const double radsum = p.radius[i] + p.radius[j];
+      const double r = del.norm();
+      if (r >= radsum) {
+        history_.erase({i, j});
+        continue;
+      }
+      ContactGeometry g;
+      g.del = del;
+      g.r = r;
+      g.contact_distance = radsum;
+      g.reff = p.radius[i] * p.radius[j] / radsum;
+      g.meff = effective_mass(p.mass[i], p.species[i], p.mass[j], p.species[j]);
+      g.rel_velocity = p.v[i] - p.v[j];
+      g.spin_sum = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
+      const auto [slot, formed] = history_.try_emplace({i, j}, Vec3::Zero());
+      if (formed) formed_.push_back({i, j});
+      Vec3& shear = slot->second;
+      const PairForce cf = hertz_history(c, g, dt, shear, update_history);
+      p.f[i] += cf.force;
+      p.f[j] -= cf.force;
+      p.torque[i] -= p.radius[i] * cf.torque;
+      p.torque[j] -= p.radius[j] * cf.torque;
+    }
+  }
+}
+
+double BruteForceContacts::elastic_energy(const Particles& p, const Box& box,
+                                          const ContactParams& c) const {
+  double energy = 0.0;
+  const int n = static_cast<int>(p.size());
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      if (p.species[i] == Species::Frozen && p.species[j] == Species::Frozen) continue;
+      const double radsum = p.radius[i] + p.radius[j];
+      const double r = box.min_image(p.x[i] - p.x[j]).norm();
+      if (r < radsum)
+        energy += hertz_normal_energy(c.kn, p.radius[i] * p.radius[j] / radsum, radsum - r);
+    }
+  return energy;
+}
+
+int BruteForceContacts::contacts_of(int body) const {
+  int n = 0;
+  for (const auto& entry : history_)
+    if (entry.first.first == body || entry.first.second == body) ++n;
+  return n;
+}
+
+void BruteForceContacts::new_contacts_of(int body, std::vector<int>& grains) const {
+  grains.clear();
+  for (const auto& [i, j] : formed_)
+    if (i == body || j == body) grains.push_back(i == body ? j : i);
+}
+
+void BruteForceContacts::count_contacts(std::vector<int>& contacts) const {
+  for (const auto& entry : history_) {
+    ++contacts[entry.first.first];
+    ++contacts[entry.first.second];
+  }
+}
+
+std::vector<PairHistory> BruteForceContacts::export_history() const {
+  std::vector<PairHistory> out;
+  for (const auto& [key, shear] : history_) out.push_back({key.first, key.second, shear});
+  return out;
+}
+
+void BruteForceContacts::import_history(const std::vector<PairHistory>& history) {
+  history_.clear();
+  for (const PairHistory& h : history) history_[{h.i, h.j}] = h.shear;
+}
+
+double BruteForceContacts::max_overlap(const Particles& p, const Box& box) const {
+  double worst = 0;
+  for (const auto& entry : history_) {
+    const int i = entry.first.first, j = entry.first.second;
+    worst = std::max(worst, p.radius[i] + p.radius[j] - box.min_image(p.x[i] - p.x[j]).norm());
+  }
+  return worst;
+}
+
+long BruteForceContacts::contact_count() const { return static_cast<long>(history_.size()); }
+
+}  // namespace granudrag

@@ -1,0 +1,50 @@
+#pragma once
+// How the contact forces between bodies are found and summed. Two implementations share the
+// contact law: VerletContacts (cell grid, Verlet lists, parallel) and BruteForceContacts (every
+// pair, serial, obviously correct), which the tests keep as the oracle for the fast path.
+#include <vector>
+
+#include "core/box.hpp"
+#include "contact/contact_params.hpp"
+#include "core/particles.hpp"
+
+namespace granudrag {
+
+// The history of one touching pair, as stored in checkpoints and bed files: i < j, and the
+// spring as seen from i (the relative displacement of i's contact point against j's).
+struct PairHistory {
+  int i, j;
+  Vec3 shear;
+};
+
+class ContactLoop {
+ public:
+  virtual ~ContactLoop() = default;
+  // Called after every position update; returns true when it rebuilt its pair lists
+  // (positions may then have been wrapped into the box).
+  virtual bool update_lists(Particles& p, const Box& box) = 0;
+  // Adds the forces and torques of all body-body contacts to p.f and p.torque.
+  virtual void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
+                          bool update_history) = 0;
+  // Energy stored in the normal springs of all touching pairs.
+  virtual double elastic_energy(const Particles& p, const Box& box,
+                                const ContactParams& c) const = 0;
+  // Number of bodies touching particle `body` (an intruder) at the last force evaluation.
+  virtual int contacts_of(int body) const = 0;
+  // Number of touching body-body pairs at the last force evaluation.
+  virtual long contact_count() const = 0;
+  // Grains that touched particle `body` (an intruder) at the last force evaluation but not at
+  // the one before: the contacts that formed in the last step (contact angle, paper Eq. 6).
+  virtual void new_contacts_of(int body, std::vector<int>& grains) const = 0;
+  // Adds 1 to contacts[k] for every touching pair (k, other): coordination numbers.
+  virtual void count_contacts(std::vector<int>& contacts) const = 0;
+  // Largest overlap delta among touching pairs, d.
+  virtual double max_overlap(const Particles& p, const Box& box) const = 0;
+  // Rebuilds the pair lists now (wrapping positions), whether or not they are due.
+  virtual void rebuild(Particles& p, const Box& box) = 0;
+  // The tangential springs of all touching pairs, and their restoration after a rebuild.
+  virtual std::vector<PairHistory> export_history() const = 0;
+  virtual void import_history(const std::vector<PairHistory>& history) = 0;
+};
+
+}  // namespace granudrag

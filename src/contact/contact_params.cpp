@@ -1,0 +1,93 @@
+#include "contact/contact_params.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace granudrag {
+
+ContactParams ContactParams::from_young(double E, double nu, double gamman, double gammat,
+                                        double mu) {
+  if (!(E > 0)) throw Error("youngs_modulus must be > 0 (got " + std::to_string(E) + ")");
+  if (!(nu > -1.0 && nu < 0.5))
+    throw Error("poisson_ratio must lie in (-1, 0.5) (got " + std::to_string(nu) + ")");
+  const double G = E / (2.0 * (1.0 + nu));
+  ContactParams p;
+  p.kn = 4.0 * G / (3.0 * (1.0 - nu));
+  p.kt = 4.0 * G / (2.0 - nu);
+  p.gamman = gamman;
+  p.gammat = gammat;
+  p.mu = mu;
+  return p;
+}
+
+ContactParams ContactParams::with_stiffness(double kn_new) const {
+  ContactParams p = *this;
+  const double s = kn_new / kn;
+  p.kn = kn_new;
+  p.kt = kt * s;
+  p.gamman = gamman * std::pow(s, 0.6);
+  p.gammat = gammat * std::pow(s, 0.6);
+  return p;
+}
+
+namespace {
+void require(bool ok, const char* key, double value, const char* range) {
+  if (ok) return;
+  std::ostringstream msg;
+  msg << "contact parameter '" << key << "' = " << value << " is out of range: it must be "
+      << range;
+  throw Error(msg.str());
+}
+}  // namespace
+
+void ContactParams::validate() const {
+  require(std::isfinite(kn) && kn > 0, "kn", kn, "> 0 (paper: 2e8)");
+  // K_t > 0 also when mu = 0: the Coulomb rescaling divides by it, as LAMMPS does.
+  require(std::isfinite(kt) && kt > 0, "kt", kt, "> 0 (paper: 2.45e8)");
+  require(std::isfinite(gamman) && gamman >= 0, "gamman", gamman, ">= 0 (paper: 5e4)");
+  require(std::isfinite(gammat) && gammat >= 0, "gammat", gammat, ">= 0 (paper: 5e4)");
+  require(std::isfinite(mu) && mu >= 0, "mu", mu, ">= 0 (paper: 0 to 0.9)");
+}
+
+std::string ContactParams::describe() const {
+  std::ostringstream s;
+  s << "kn=" << kn << " kt=" << kt << " gamman=" << gamman << " gammat=" << gammat
+    << " mu=" << mu;
+  return s.str();
+}
+
+double hertz_collision_time(double kn, double meff, double reff, double v) {
+  const double k = kn * std::sqrt(reff);
+  return 2.9432 * std::pow(5.0 * meff / (4.0 * k), 0.4) * std::pow(v, -0.2);
+}
+
+double shortest_collision_time(const ContactParams& p, double min_radius) {
+  const double m = 4.0 / 3.0 * M_PI * min_radius * min_radius * min_radius;
+  return hertz_collision_time(p.kn, 0.5 * m, 0.5 * min_radius, TimeStepPolicy::reference_speed);
+}
+
+double default_time_step(const ContactParams& p, double min_radius) {
+  return shortest_collision_time(p, min_radius) / TimeStepPolicy::steps_per_collision_default;
+}
+
+void check_time_step(double dt, const ContactParams& p, double min_radius) {
+  const double tc = shortest_collision_time(p, min_radius);
+  const double dt_max = tc / TimeStepPolicy::steps_per_collision_min;
+  if (std::isfinite(dt) && dt > 0 && dt <= dt_max) return;
+  std::ostringstream msg;
+  msg << "time step dt = " << dt << " is ";
+  if (!(dt > 0) || !std::isfinite(dt))
+    msg << "not a positive number";
+  else
+    msg << "too large for kn = " << p.kn << ": two grains of diameter " << 2 * min_radius
+        << " colliding at " << TimeStepPolicy::reference_speed << " sqrt(gd) stay in contact for t_c = "
+        << tc << ", and dt must resolve it with at least "
+        << TimeStepPolicy::steps_per_collision_min << " steps";
+  msg << ". Use dt <= " << dt_max << " (recommended: " << default_time_step(p, min_radius)
+      << ", or leave dt unset to get it).";
+  throw Error(msg.str());
+}
+
+}  // namespace granudrag

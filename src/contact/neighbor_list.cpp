@@ -1,0 +1,209 @@
+#include "contact/neighbor_list.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace granudrag {
+
+namespace {
+
+// Cell indices within `reach` of a coordinate along a periodic axis, each once even when the
+// reach wraps around a short axis.
+void periodic_cells(double coord, double reach, double cell, int n, std::vector<int>& out) {
+  out.clear();
+  const int lo = static_cast<int>(std::floor((coord - reach) / cell));
+  const int hi = static_cast<int>(std::floor((coord + reach) / cell));
+  if (hi - lo + 1 >= n) {
+    for (int c = 0; c < n; ++c) out.push_back(c);
+    return;
+  }
+  for (int c = lo; c <= hi; ++c) out.push_back(((c % n) + n) % n);
+}
+
+void check_finite(const Particles& p) {
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!p.x[i].allFinite()) {
+      std::ostringstream msg;
+      msg << "particle " << i << " has a non-finite position: the run became unstable "
+          << "(time step too large for the stiffness, or overlapping initial particles)";
+      throw Error(msg.str());
+    }
+  }
+}
+
+}  // namespace
+
+int NeighborList::Grid::cell_z(double z) const {
+  const int c = static_cast<int>((z - z0) / cz);
+  return std::clamp(c, 0, nz - 1);
+}
+
+bool NeighborList::needs_rebuild(const Particles& p) const {
+  if (builds_ == 0 || x_at_build_.size() != p.size()) return true;
+  const double limit = 0.25 * skin_ * skin_;  // (skin/2)^2: two bodies approach by < skin
+  const long n = static_cast<long>(p.size());
+  double max_d2 = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : max_d2)
+  for (long i = 0; i < n; ++i) {
+    const double d2 = (p.x[i] - x_at_build_[i]).squaredNorm();
+    // Written so that a NaN displacement wins: the rebuild it forces reports it.
+    if (!(d2 <= max_d2)) max_d2 = std::isnan(d2) ? HUGE_VAL : d2;
+  }
+  return !(max_d2 <= limit);
+}
+
+void NeighborList::build(Particles& p, const Box& box) {
+  check_finite(p);
+  for (auto& xi : p.x) box.wrap(xi);
+  x_at_build_ = p.x;
+  std::swap(grain_, grain_prev_);
+  std::swap(intruder_, intruder_prev_);
+
+  double rmax = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.species[i] != Species::Intruder) rmax = std::max(rmax, p.radius[i]);
+  const double cell = 2.0 * rmax + skin_;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double reach = (p.species[i] == Species::Intruder ? p.radius[i] : rmax) + rmax + skin_;
+    if (2.0 * reach + skin_ > std::min(box.lx, box.ly)) {
+      std::ostringstream msg;
+      msg << "box " << box.lx << " x " << box.ly << " is too small: particle " << i
+          << " of radius " << p.radius[i] << " would meet its own periodic image; Lx and Ly must"
+          << " exceed " << 2.0 * reach + skin_;
+      throw Error(msg.str());
+    }
+  }
+  bin(p, box, cell);
+  build_grain_pairs(p, box, rmax);
+  build_intruder_pairs(p, box, rmax);
+  ++builds_;
+}
+
+void NeighborList::bin(const Particles& p, const Box& box, double cell) {
+  Grid& g = grid_;
+  g.nx = std::max(1, static_cast<int>(box.lx / cell));
+  g.ny = std::max(1, static_cast<int>(box.ly / cell));
+  g.cx = box.lx / g.nx;
+  g.cy = box.ly / g.ny;
+  double zmin = 0.0, zmax = 0.0;
+  bool any = false;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.species[i] == Species::Intruder) continue;
+    const double z = p.x[i].z();
+    zmin = any ? std::min(zmin, z) : z;
+    zmax = any ? std::max(zmax, z) : z;
+    any = true;
+  }
+  g.z0 = zmin;
+  g.cz = cell;
+  const double layers = (zmax - zmin) / cell;
+  if (layers * g.nx * g.ny > 2e7 || !std::isfinite(layers))
+    throw Error("a grain flew " + std::to_string(zmax - zmin) +
+                " grain diameters away from the bed: the run became unstable (check dt and the "
+                "initial overlaps)");
+  g.nz = static_cast<int>(layers) + 1;
+
+  const std::size_t ncells = static_cast<std::size_t>(g.nx) * g.ny * g.nz;
+  g.start.assign(ncells + 1, 0);
+  std::vector<int> cell_of(p.size(), -1);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.species[i] == Species::Intruder) continue;
+    const int ix = std::min(g.nx - 1, static_cast<int>(p.x[i].x() / g.cx));
+    const int iy = std::min(g.ny - 1, static_cast<int>(p.x[i].y() / g.cy));
+    const int c = (g.cell_z(p.x[i].z()) * g.ny + iy) * g.nx + ix;
+    cell_of[i] = c;
+    ++g.start[c + 1];
+  }
+  for (std::size_t c = 0; c < ncells; ++c) g.start[c + 1] += g.start[c];
+  g.items.resize(g.start[ncells]);
+  std::vector<int> fill(g.start.begin(), g.start.end() - 1);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (cell_of[i] >= 0) g.items[fill[cell_of[i]]++] = static_cast<int>(i);
+}
+
+void NeighborList::build_grain_pairs(const Particles& p, const Box& box, double rmax) {
+  const Grid& g = grid_;
+  const long n = static_cast<long>(p.size());
+  std::vector<std::vector<int>> chunks(omp_get_max_threads());
+  grain_.offset.assign(n + 1, 0);
+
+#pragma omp parallel
+  {
+    // Contiguous blocks of rows per thread: concatenating the chunks in thread order gives
+    // the rows in order, whatever the thread count.
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const long i0 = n * t / nt, i1 = n * (t + 1) / nt;
+    std::vector<int>& out = chunks[t];
+    out.clear();
+    std::vector<int> xs, ys;
+    for (long i = i0; i < i1; ++i) {
+      if (p.species[i] == Species::Intruder) continue;
+      const Vec3& xi = p.x[i];
+      const bool frozen_i = p.species[i] == Species::Frozen;
+      periodic_cells(xi.x(), rmax * 2 + skin_, g.cx, g.nx, xs);
+      periodic_cells(xi.y(), rmax * 2 + skin_, g.cy, g.ny, ys);
+      const int iz = g.cell_z(xi.z());
+      const std::size_t row_start = out.size();
+      for (int cz = std::max(0, iz - 1); cz <= std::min(g.nz - 1, iz + 1); ++cz) {
+        for (int cy : ys) {
+          for (int cx : xs) {
+            const int c = (cz * g.ny + cy) * g.nx + cx;
+            for (int k = g.start[c]; k < g.start[c + 1]; ++k) {
+              const int j = g.items[k];
+              if (j <= i || (frozen_i && p.species[j] == Species::Frozen)) continue;
+              const double cut = p.radius[i] + p.radius[j] + skin_;
+              if (box.min_image(xi - p.x[j]).squaredNorm() < cut * cut) out.push_back(j);
+            }
+          }
+        }
+      }
+      std::sort(out.begin() + row_start, out.end());
+      grain_.offset[i + 1] = static_cast<int>(out.size() - row_start);
+    }
+  }
+  for (long i = 0; i < n; ++i) grain_.offset[i + 1] += grain_.offset[i];
+  grain_.partner.resize(grain_.offset[n]);
+  std::size_t pos = 0;
+  for (const auto& chunk : chunks) {
+    std::copy(chunk.begin(), chunk.end(), grain_.partner.begin() + pos);
+    pos += chunk.size();
+  }
+}
+
+void NeighborList::build_intruder_pairs(const Particles& p, const Box& box, double rmax) {
+  const Grid& g = grid_;
+  intruder_bodies_.clear();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.species[i] == Species::Intruder) intruder_bodies_.push_back(static_cast<int>(i));
+  intruder_.offset.assign(1, 0);
+  intruder_.partner.clear();
+  std::vector<int> xs, ys;
+  for (int body : intruder_bodies_) {
+    const Vec3& xb = p.x[body];
+    const double reach = p.radius[body] + rmax + skin_;
+    periodic_cells(xb.x(), reach, g.cx, g.nx, xs);
+    periodic_cells(xb.y(), reach, g.cy, g.ny, ys);
+    const int z_lo = static_cast<int>(std::floor((xb.z() - reach - g.z0) / g.cz));
+    const int z_hi = static_cast<int>(std::floor((xb.z() + reach - g.z0) / g.cz));
+    const std::size_t row_start = intruder_.partner.size();
+    for (int cz = std::max(0, z_lo); cz <= std::min(g.nz - 1, z_hi); ++cz)
+      for (int cy : ys)
+        for (int cx : xs) {
+          const int c = (cz * g.ny + cy) * g.nx + cx;
+          for (int k = g.start[c]; k < g.start[c + 1]; ++k) {
+            const int j = g.items[k];
+            const double cut = p.radius[body] + p.radius[j] + skin_;
+            if (box.min_image(xb - p.x[j]).squaredNorm() < cut * cut) intruder_.partner.push_back(j);
+          }
+        }
+    std::sort(intruder_.partner.begin() + row_start, intruder_.partner.end());
+    intruder_.offset.push_back(static_cast<int>(intruder_.partner.size()));
+  }
+}
+
+}  // namespace granudrag

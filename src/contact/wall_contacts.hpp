@@ -1,0 +1,24 @@
+#pragma once
+// Contacts of grains with the flat wall at z = 0 (LAMMPS `fix wall/gran hertz/history zplane`):
+// the same law with R_eff = R_i and m_eff = m_i, one tangential spring per grain.
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "contact/contact_params.hpp"
+#include "core/particles.hpp"
+
+namespace granudrag {
+
+class WallContacts {
+ public:
+  void accumulate(Particles& p, const ContactParams& c, double dt, bool update_history);
+  double elastic_energy(const Particles& p, const ContactParams& c) const;
+  const std::vector<Vec3>& shear() const { return shear_; }
+  void restore_shear(std::vector<Vec3> shear) { shear_ = std::move(shear); }
+
+ private:
+  std::vector<Vec3> shear_;
+};
+
+}  // namespace granudrag

@@ -1,0 +1,157 @@
+#include "engine/simulation.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "contact/brute_force_contacts.hpp"
+#include "core/error.hpp"
+#include "contact/verlet_contacts.hpp"
+#include "core/progress.hpp"
+
+namespace granudrag {
+
+namespace {
+double min_grain_radius(const Particles& p) {
+  double r = p.min_radius(Species::Mobile);
+  if (!std::isfinite(r)) r = p.min_radius(Species::Frozen);
+  if (!std::isfinite(r)) r = 0.5;
+  return r;
+}
+}  // namespace
+
+Simulation::Simulation(Particles particles, Box box, ContactParams contact, Settings settings)
+    : p_(std::move(particles)), box_(box), contact_(contact), settings_(settings) {
+  contact_.validate();
+  if (!(box_.lx > 0) || !(box_.ly > 0))
+    throw Error("box size must be positive (got lx = " + std::to_string(box_.lx) +
+                ", ly = " + std::to_string(box_.ly) + ")");
+  if (!(settings_.skin > 0))
+    throw Error("neighbour skin must be > 0 (got " + std::to_string(settings_.skin) + ")");
+  const double rmin = min_grain_radius(p_);
+  dt_ = settings_.dt > 0 ? settings_.dt : default_time_step(contact_, rmin);
+  check_time_step(dt_, contact_, rmin);
+  if (settings_.brute_force)
+    contacts_ = std::make_unique<BruteForceContacts>();
+  else
+    contacts_ = std::make_unique<VerletContacts>(settings_.skin);
+}
+
+void Simulation::setup() {
+  timers_.start();
+  contacts_->update_lists(p_, box_);
+  timers_.stamp(Phase::Neighbor);
+  compute_forces(false);
+  timers_.stamp(Phase::Force);
+  ready_ = true;
+}
+
+void Simulation::step() {
+  if (!ready_) setup();
+  timers_.start();
+  initial_integrate();
+  timers_.stamp(Phase::Integrate);
+  contacts_->update_lists(p_, box_);
+  timers_.stamp(Phase::Neighbor);
+  compute_forces(true);
+  timers_.stamp(Phase::Force);
+  final_integrate();
+  timers_.stamp(Phase::Integrate);
+  ++steps_;
+}
+
+void Simulation::run(long steps, bool show_progress) {
+  Progress progress("steps", steps);
+  for (long s = 0; s < steps; ++s) {
+    step();
+    if (show_progress && (s % 100 == 0 || s + 1 == steps))
+      progress.update(s + 1, static_cast<double>(p_.size()), "particle-steps");
+  }
+}
+
+void Simulation::initial_integrate() {
+  const double half = 0.5 * dt_;
+  const long n = static_cast<long>(p_.size());
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i) {
+    switch (p_.species[i]) {
+      case Species::Mobile:
+        p_.v[i] += (half / p_.mass[i]) * p_.f[i];
+        p_.x[i] += dt_ * p_.v[i];
+        p_.omega[i] += (half / p_.inertia(i)) * p_.torque[i];
+        break;
+      case Species::Intruder:  // prescribed velocity
+        p_.x[i] += dt_ * p_.v[i];
+        break;
+      case Species::Frozen:
+        break;
+    }
+  }
+}
+
+void Simulation::compute_forces(bool update_history) {
+  const long n = static_cast<long>(p_.size());
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i) {
+    p_.f[i].setZero();
+    p_.torque[i].setZero();
+  }
+  contacts_->accumulate(p_, box_, contact_, dt_, update_history);
+  if (box_.wall) wall_.accumulate(p_, contact_, dt_, update_history);
+  const Vec3 g = settings_.gravity;
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i) {
+    if (p_.species[i] == Species::Mobile) {
+      p_.f[i] += p_.mass[i] * g;
+    } else if (p_.species[i] == Species::Frozen) {
+      p_.f[i].setZero();  // as LAMMPS fix freeze
+      p_.torque[i].setZero();
+    }
+  }
+}
+
+void Simulation::final_integrate() {
+  const double half = 0.5 * dt_;
+  const long n = static_cast<long>(p_.size());
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i) {
+    if (p_.species[i] != Species::Mobile) continue;
+    p_.v[i] += (half / p_.mass[i]) * p_.f[i];
+    p_.omega[i] += (half / p_.inertia(i)) * p_.torque[i];
+  }
+}
+
+void Simulation::rebuild_lists() {
+  if (!ready_) setup();
+  contacts_->rebuild(p_, box_);
+}
+
+Simulation::State Simulation::state() const {
+  return {p_, contacts_->export_history(), wall_.shear(), steps_};
+}
+
+void Simulation::restore(const State& s) {
+  if (s.particles.size() != p_.size())
+    throw Error("state to restore has " + std::to_string(s.particles.size()) +
+                " particles, the simulation " + std::to_string(p_.size()));
+  p_ = s.particles;
+  contacts_->rebuild(p_, box_);
+  contacts_->import_history(s.pair_history);
+  wall_.restore_shear(s.wall_history);
+  steps_ = s.steps;
+  ready_ = true;  // the forces in s.particles are those of the last step: no setup()
+}
+
+Energy Simulation::energy() const {
+  Energy e;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    if (p_.species[i] != Species::Mobile) continue;
+    e.kinetic += 0.5 * p_.mass[i] * p_.v[i].squaredNorm();
+    e.rotational += 0.5 * p_.inertia(i) * p_.omega[i].squaredNorm();
+    e.potential -= p_.mass[i] * settings_.gravity.dot(p_.x[i]);
+  }
+  e.elastic = contacts_->elastic_energy(p_, box_, contact_);
+  if (box_.wall) e.elastic += wall_.elastic_energy(p_, contact_);
+  return e;
+}
+
+}  // namespace granudrag

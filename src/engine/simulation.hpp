@@ -1,0 +1,84 @@
+#pragma once
+// One DEM system and its step loop: velocity Verlet as LAMMPS does it (fix nve/sphere), the
+// forces of a step computed from the new positions and the half-step velocities.
+#include <memory>
+
+#include "core/box.hpp"
+#include "contact/contact_loop.hpp"
+#include "contact/contact_params.hpp"
+#include "core/particles.hpp"
+#include "core/timer.hpp"
+#include "contact/wall_contacts.hpp"
+
+namespace granudrag {
+
+struct Settings {
+  double dt = 0.0;     // 0: derived from the Hertz collision time (default_time_step)
+  double skin = 0.2;   // Verlet skin, in grain diameters
+  Vec3 gravity{0.0, 0.0, -1.0};
+  bool brute_force = false;  // use the O(N^2) oracle instead of the neighbour lists
+};
+
+struct Energy {
+  double kinetic = 0, rotational = 0, potential = 0, elastic = 0;
+  double total() const { return kinetic + rotational + potential + elastic; }
+};
+
+class Simulation {
+ public:
+  Simulation(Particles particles, Box box, ContactParams contact, Settings settings);
+
+  // Builds the lists and evaluates the forces of the initial state without advancing the
+  // tangential springs (LAMMPS' setup). Called by the first step() if not called before.
+  void setup();
+  void step();
+  void run(long steps, bool show_progress = false);
+
+  Particles& particles() { return p_; }
+  const Particles& particles() const { return p_; }
+  const Box& box() const { return box_; }
+  const ContactParams& contact() const { return contact_; }
+  const Settings& settings() const { return settings_; }
+  double dt() const { return dt_; }
+  long steps_done() const { return steps_; }
+  double time() const { return steps_ * dt_; }
+  const Timers& timers() const { return timers_; }
+  Timers& timers() { return timers_; }
+  const ContactLoop& contacts() const { return *contacts_; }
+
+  // Energy of the mobile grains: kinetic, rotational, gravitational, and elastic (normal
+  // springs of all contacts). Conserved without damping and friction.
+  Energy energy() const;
+
+  // Checkpointing. A checkpoint is taken right after a forced rebuild, so that a resumed run
+  // rebuilds from the very same (wrapped) positions and continues bitwise identically; the
+  // forces of the last step are part of the state (the next half-kick uses them).
+  void rebuild_lists();
+  struct State {
+    Particles particles;
+    std::vector<PairHistory> pair_history;
+    std::vector<Vec3> wall_history;
+    long steps = 0;
+  };
+  State state() const;
+  void restore(const State& s);  // replaces particles, histories and the step count
+  WallContacts& wall() { return wall_; }
+
+ private:
+  void initial_integrate();
+  void compute_forces(bool update_history);
+  void final_integrate();
+
+  Particles p_;
+  Box box_;
+  ContactParams contact_;
+  Settings settings_;
+  double dt_;
+  std::unique_ptr<ContactLoop> contacts_;
+  WallContacts wall_;
+  Timers timers_;
+  long steps_ = 0;
+  bool ready_ = false;
+};
+
+}  // namespace granudrag

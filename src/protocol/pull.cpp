@@ -1,0 +1,251 @@
+#include "protocol/pull.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "protocol/observables.hpp"
+#include "core/progress.hpp"
+
+namespace granudrag {
+
+namespace {
+void require(bool ok, const std::string& key, double value, const std::string& rule) {
+  if (ok) return;
+  std::ostringstream msg;
+  msg << "'" << key << "' = " << value << " is out of range: " << rule;
+  throw Error(msg.str());
+}
+
+Settings pull_settings(const Bed& bed, const PullSpec& spec) {
+  Settings s;
+  s.dt = bed.dt;
+  s.skin = spec.skin;
+  return s;
+}
+}  // namespace
+
+double froude_number(double speed, double diameter) {
+  return 2.0 * speed * std::sqrt(2.0 * diameter) / (diameter + 1.0);
+}
+
+void PullSpec::validate() const {
+  require(speed > 0 && std::isfinite(speed), "speed", speed, "it must be > 0 (sqrt(g d))");
+  require(distance >= 0 && std::isfinite(distance), "distance", distance,
+          "it must be >= 0 (d; 0 means one box length)");
+  require(sample_interval > 0, "sample_interval", sample_interval, "it must be > 0 (sqrt(d/g))");
+  require(shell > 0, "shell", shell, "it must be > 0 (d)");
+  require(snapshots >= 0, "snapshots", snapshots, "it must be >= 0");
+  require(slab_half_width > 0, "slab_half_width", slab_half_width, "it must be > 0 (d)");
+  require(checkpoint_every >= 0, "checkpoint_every", static_cast<double>(checkpoint_every),
+          "it must be >= 0 (steps; 0: no checkpoints)");
+  require(skin > 0, "skin", skin, "it must be > 0 (d)");
+}
+
+Pull::Pull(const Bed& bed, const PullSpec& spec)
+    : bed_(bed), spec_(spec), sim_(bed.state.particles, bed.box, bed.contact, pull_settings(bed, spec)) {
+  spec_.validate();
+  if (bed_.intruder < 0) throw Error("the bed has no intruder to pull: pour it with intruder_diameter > 0");
+  if (spec_.fresh_start) {
+    sim_.particles().v[bed_.intruder] = Vec3(spec_.speed, 0, 0);
+    sim_.setup();
+  } else {
+    sim_.restore(bed_.state);
+    sim_.particles().v[bed_.intruder] = Vec3(spec_.speed, 0, 0);
+  }
+  const double distance = spec_.distance > 0 ? spec_.distance : bed_.box.lx;
+  record_.samples_per_interval = std::max(1L, std::lround(spec_.sample_interval / sim_.dt()));
+  const double steps_wanted = std::ceil(distance / (spec_.speed * sim_.dt()));
+  if (!(steps_wanted < 1e13)) {
+    std::ostringstream msg;
+    msg << "'speed' = " << spec_.speed << " needs " << steps_wanted << " steps of dt = " << sim_.dt()
+        << " to cover " << distance << " d; use a larger speed or a shorter distance";
+    throw Error(msg.str());
+  }
+  const long steps = static_cast<long>(steps_wanted);
+  const long k = record_.samples_per_interval;
+  record_.total_steps = (steps + k - 1) / k * k;
+  const Energy e = sim_.energy();
+  record_.energy_start = e.total();
+  if (spec_.transient >= 0 && spec_.transient >= distance)
+  {
+    std::ostringstream msg;
+    msg << "'transient' = " << spec_.transient << " d leaves nothing of a pull of " << distance
+        << " d to average; it must be shorter than 'distance'";
+    throw Error(msg.str());
+  }
+}
+
+Pull::Pull(const Bed& bed, const PullSpec& spec, const Simulation::State& state, PullRecord record)
+    : Pull(bed, spec) {
+  sim_.restore(state);
+  record_ = std::move(record);
+}
+
+double Pull::transient_distance() const {
+  const double distance = record_.total_steps * sim_.dt() * spec_.speed;
+  if (spec_.transient >= 0) return std::min(spec_.transient, distance);
+  const double D = 2 * bed_.state.particles.radius[bed_.intruder];
+  return std::min(D + 1.0, 0.25 * distance);
+}
+
+void Pull::run(bool show_progress, const std::function<void(const Pull&)>& on_checkpoint) {
+  long every = spec_.checkpoint_every;
+  const long k = record_.samples_per_interval;
+  if (every > 0) every = (every + k - 1) / k * k;
+  Progress progress("pull", record_.total_steps);
+  const double n = static_cast<double>(sim_.particles().size());
+  while (sim_.steps_done() < record_.total_steps) {
+    sim_.step();
+    after_step();
+    if (sim_.steps_done() % k == 0) end_of_interval();
+    if (every > 0 && sim_.steps_done() % every == 0 && !finished() && on_checkpoint) {
+      sim_.rebuild_lists();
+      on_checkpoint(*this);
+    }
+    if (show_progress) progress.update(sim_.steps_done(), n, "particle-steps");
+  }
+}
+
+void Pull::after_step() {
+  const Particles& p = sim_.particles();
+  const int in = bed_.intruder;
+  record_.force_sum += p.f[in];
+  record_.contact_sum += sim_.contacts().contacts_of(in);
+  record_.work += -p.f[in].dot(p.v[in]) * sim_.dt();
+  const double travelled = sim_.steps_done() * sim_.dt() * spec_.speed;
+  if (travelled < transient_distance()) return;
+  sim_.contacts().new_contacts_of(in, scratch_);
+  for (int g : scratch_) {
+    // Angle between the intruder's velocity and the line from intruder to grain (Eq. 6 of the
+    // paper writes X - x; its data, theta near pi/2.45 falling with Fr, fit x - X).
+    const Vec3 d = bed_.box.min_image(p.x[g] - p.x[in]);
+    const double theta = std::acos(std::clamp(d.x() / d.norm(), -1.0, 1.0));
+    record_.theta_sum += theta;
+    record_.theta_sq_sum += theta * theta;
+    ++record_.theta_count;
+    const int bin = std::min(35, static_cast<int>(theta / M_PI * 36));
+    ++record_.theta_histogram[bin];
+  }
+}
+
+void Pull::end_of_interval() {
+  const Particles& p = sim_.particles();
+  const int in = bed_.intruder;
+  const double k = static_cast<double>(record_.samples_per_interval);
+  record_.time.push_back(sim_.time());
+  record_.fx.push_back(record_.force_sum.x() / k);
+  record_.fy.push_back(record_.force_sum.y() / k);
+  record_.fz.push_back(record_.force_sum.z() / k);
+  record_.contacts.push_back(record_.contact_sum / k);
+  record_.force_sum.setZero();
+  record_.contact_sum = 0;
+  record_.max_overlap = std::max(record_.max_overlap, sim_.contacts().max_overlap(p, bed_.box));
+
+  // A blow-up stops the run here, before a checkpoint could save it.
+  const Energy e = sim_.energy();
+  const double ke = (e.kinetic + e.rotational) / static_cast<double>(p.size());
+  if (!std::isfinite(ke) || ke > 100.0 * std::max(1.0, spec_.speed * spec_.speed)) {
+    std::ostringstream msg;
+    msg << "the run blew up at t = " << sim_.time() << ": kinetic energy per grain " << ke
+        << " (rho g d^4). The time step dt = " << sim_.dt() << " is too large for kn = "
+        << bed_.contact.kn << ", or the bed was overlapping; the last good checkpoint, if any, is kept";
+    throw Error(msg.str());
+  }
+
+  const double travelled = sim_.steps_done() * sim_.dt() * spec_.speed;
+  if (travelled < transient_distance()) return;
+  counts_.assign(p.size(), 0);
+  sim_.contacts().count_contacts(counts_);
+  const double R = p.radius[in];
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.species[i] != Species::Mobile) continue;
+    if (bed_.box.min_image(p.x[i] - p.x[in]).norm() < R + spec_.shell)
+      ++record_.z_histogram[std::min(15, counts_[i])];
+  }
+  // Snapshots evenly spread over the part of the pull after the transient.
+  const long done = static_cast<long>(record_.snapshots.size());
+  const double t_end = record_.total_steps * sim_.dt();
+  const double t_start = transient_distance() / spec_.speed;
+  if (done < spec_.snapshots &&
+      sim_.time() >= t_start + (t_end - t_start) * (done + 0.5) / spec_.snapshots) {
+    Snapshot s;
+    s.time = sim_.time();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.species[i] != Species::Mobile) continue;
+      const Vec3 d = bed_.box.min_image(p.x[i] - p.x[in]);
+      if (std::abs(d.y()) >= spec_.slab_half_width) continue;
+      s.dx.push_back(d.x());
+      s.dz.push_back(d.z());
+      s.vx.push_back(p.v[i].x() - spec_.speed);
+      s.vz.push_back(p.v[i].z());
+    }
+    record_.snapshots.push_back(std::move(s));
+  }
+}
+
+PullResult Pull::result() const {
+  PullResult r;
+  const double D = 2 * bed_.state.particles.radius[bed_.intruder];
+  r.froude = froude_number(spec_.speed, D);
+  r.transient_distance = transient_distance();
+  const double t0 = r.transient_distance / spec_.speed;
+  std::vector<double> fx, n;
+  for (std::size_t k = 0; k < record_.time.size(); ++k) {
+    // An interval counts when it starts after the transient.
+    if (record_.time[k] - record_.samples_per_interval * sim_.dt() < t0 - 1e-12) {
+      ++r.transient_samples;
+      continue;
+    }
+    fx.push_back(-record_.fx[k]);
+    n.push_back(record_.contacts[k]);
+  }
+  std::vector<double> resistance(record_.fx.size());
+  for (std::size_t k = 0; k < resistance.size(); ++k) resistance[k] = -record_.fx[k];
+  r.cumulative_drag = cumulative_average(resistance);
+  r.drag = mean(fx);
+  r.drag_error = block_average_error(fx);
+  r.coordination = mean(n);
+  if (record_.theta_count > 0) {
+    const double m = record_.theta_sum / record_.theta_count;
+    r.theta = m;
+    const double var = record_.theta_sq_sum / record_.theta_count - m * m;
+    r.theta_error = std::sqrt(std::max(0.0, var) / record_.theta_count);
+  }
+  long total = 0, weighted = 0;
+  for (std::size_t z = 0; z < record_.z_histogram.size(); ++z) {
+    total += record_.z_histogram[z];
+    weighted += static_cast<long>(z) * record_.z_histogram[z];
+  }
+  if (total > 0) {
+    r.bulk_coordination = static_cast<double>(weighted) / total;
+    for (long c : record_.z_histogram) r.z_distribution.push_back(static_cast<double>(c) / total);
+  }
+  r.kappa = r.bulk_coordination / r.coordination * (D + 1) * (D + 1) / (2 * std::sqrt(3.0));
+  return r;
+}
+
+int Pull::grains_lost() const {
+  const Particles& p = sim_.particles();
+  int lost = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.species[i] == Species::Mobile && (!p.x[i].allFinite() || p.x[i].z() < 0)) ++lost;
+  return lost;
+}
+
+std::string Pull::sanity_report(double wall_seconds) const {
+  const Energy e = sim_.energy();
+  const double grains = static_cast<double>(sim_.particles().size());
+  std::ostringstream s;
+  s << "sanity: grains lost " << grains_lost() << " of " << sim_.particles().count(Species::Mobile)
+    << "; largest overlap " << record_.max_overlap << " d; energy of the grains "
+    << record_.energy_start << " -> " << e.total() << ", work by the intruder " << record_.work
+    << ", dissipated " << record_.work - (e.total() - record_.energy_start) << " (rho g d^4); "
+    << grains * sim_.steps_done() / std::max(wall_seconds, 1e-9) << " particle-steps/s\n";
+  return s.str();
+}
+
+}  // namespace granudrag

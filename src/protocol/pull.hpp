@@ -1,0 +1,111 @@
+#pragma once
+// Pulling the intruder (SPEC §3-4): it moves at constant V along +x at fixed y and z, across
+// the periodic boundary, and the force on it and the state of the grains around it are
+// recorded. The step loop is the engine's; this adds sampling, statistics and checkpoints.
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "protocol/pour.hpp"
+#include "engine/simulation.hpp"
+
+namespace granudrag {
+
+struct PullSpec {
+  double speed = 1.0;             // V, sqrt(g d)
+  double distance = 0;            // travel, d; 0: one box length (as in the paper)
+  double sample_interval = 0.02;  // sqrt(d/g): forces are averaged over each interval
+  double transient = -1;          // travel discarded before averaging, d; <0: min(D + d, distance/4)
+  double shell = 2.0;             // Z is measured for grains whose centre is within R + shell
+  int snapshots = 3;              // velocity-field snapshots of the slab through the intruder
+  double slab_half_width = 0.5;   // |y - Y| < this for the snapshots, d
+  long checkpoint_every = 0;      // steps between checkpoints (rounded to whole samples); 0: none
+  double skin = 0.2;
+  // Drop the bed's contact histories and recompute the forces before the first step, as a
+  // LAMMPS run starting from a data file does: for like-for-like comparisons.
+  bool fresh_start = false;
+
+  void validate() const;
+};
+
+struct Snapshot {
+  double time = 0;
+  std::vector<double> dx, dz, vx, vz;  // grains in the slab, in the intruder's frame
+};
+
+// Everything a pull accumulates; with the simulation state it is the whole checkpoint.
+struct PullRecord {
+  long samples_per_interval = 1;
+  long total_steps = 0;
+  // One entry per sample interval: time at its end, mean force on the intruder over it,
+  // mean intruder coordination number over it.
+  std::vector<double> time, fx, fy, fz, contacts;
+  // Contact angles (paper Eq. 6) at formation, after the transient.
+  double theta_sum = 0, theta_sq_sum = 0;
+  long theta_count = 0;
+  std::vector<long> theta_histogram = std::vector<long>(36, 0);  // 5-degree bins on [0, pi]
+  // Bulk coordination number of grains in the shell, after the transient.
+  std::vector<long> z_histogram = std::vector<long>(16, 0);  // Z = 0 .. 15 (15: >= 15)
+  std::vector<Snapshot> snapshots;
+  double work = 0;          // done by the intruder on the grains
+  double max_overlap = 0;   // largest overlap seen at a sample, d
+  double energy_start = 0;  // of the mobile grains
+  // Running sums over the current interval.
+  Vec3 force_sum = Vec3::Zero();
+  double contact_sum = 0;
+};
+
+struct PullResult {
+  // The drag: -<F_x> after the transient (positive when it resists the motion along +x), and
+  // its block-averaging error. The record keeps the raw force components.
+  double drag = NAN, drag_error = NAN;
+  double transient_distance = 0;
+  long transient_samples = 0;
+  std::vector<double> cumulative_drag;  // running mean of -F_x over all samples (Fig. 4)
+  double coordination = NAN;            // n: mean number of grains touching the intruder
+  double theta = NAN, theta_error = NAN;
+  double bulk_coordination = NAN;       // Z
+  std::vector<double> z_distribution;   // P(Z)
+  double kappa = NAN;                   // (Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8
+  double froude = NAN;                  // 2V sqrt(2D/g)/(D+d), paper Eq. 4
+};
+
+double froude_number(double speed, double diameter);
+
+class Pull {
+ public:
+  Pull(const Bed& bed, const PullSpec& spec);
+  // Continues from a checkpoint: the bed (box, parameters), the state and the record.
+  Pull(const Bed& bed, const PullSpec& spec, const Simulation::State& state, PullRecord record);
+
+  // Runs to the end. on_checkpoint is called every spec.checkpoint_every steps, right after
+  // the forced rebuild that makes a resumed run bitwise identical. Throws Error when the run
+  // blows up (NaN or exploding kinetic energy).
+  void run(bool show_progress, const std::function<void(const Pull&)>& on_checkpoint = {});
+
+  PullResult result() const;
+  const PullRecord& record() const { return record_; }
+  const Simulation& simulation() const { return sim_; }
+  Simulation::State state() const { return sim_.state(); }
+  const Bed& bed() const { return bed_; }
+  const PullSpec& spec() const { return spec_; }
+  bool finished() const { return sim_.steps_done() >= record_.total_steps; }
+  // Sanity report printed at the end of every run (CoMD style).
+  std::string sanity_report(double wall_seconds) const;
+
+ private:
+  void after_step();
+  void end_of_interval();
+  double transient_distance() const;
+  int grains_lost() const;
+
+  Bed bed_;
+  PullSpec spec_;
+  Simulation sim_;
+  PullRecord record_;
+  std::vector<int> scratch_;
+  std::vector<int> counts_;
+};
+
+}  // namespace granudrag
