@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
-#include "app/parameters.hpp"
+#include "core/parameters.hpp"
 #include "io/lammps_io.hpp"
 #include "protocol/restitution.hpp"
 #include "io/run_files.hpp"

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "app/parameters.hpp"
+#include "core/parameters.hpp"
 
 using namespace granudrag;
 using Type = ParameterSpec::Type;

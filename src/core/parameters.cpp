@@ -1,4 +1,4 @@
-#include "app/parameters.hpp"
+#include "core/parameters.hpp"
 
 #include <yaml-cpp/yaml.h>
 
