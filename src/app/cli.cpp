@@ -43,8 +43,7 @@ double Options::number(const std::string& key, double fallback) const {
     used = 0;
   }
   if (used != it->second.size() || !std::isfinite(value))
-    throw Error("option '--" + key + "' of '" + command_ + "' must be a number (got '" +
-                it->second + "')");
+    throw Error("option '--" + key + "' of '" + command_ + "' must be a number (got '" + it->second + "')");
   return value;
 }
 
@@ -59,16 +58,14 @@ long Options::integer(const std::string& key, long fallback, long min_value) con
     used = 0;
   }
   if (used != it->second.size())
-    throw Error("option '--" + key + "' of '" + command_ + "' must be an integer (got '" +
-                it->second + "')");
+    throw Error("option '--" + key + "' of '" + command_ + "' must be an integer (got '" + it->second + "')");
   if (value < min_value)
-    throw Error("option '--" + key + "' of '" + command_ + "' must be >= " +
-                std::to_string(min_value) + " (got " + it->second + ")");
+    throw Error("option '--" + key + "' of '" + command_ + "' must be >= " + std::to_string(min_value) +
+                " (got " + it->second + ")");
   return value;
 }
 
-std::vector<int> Options::integer_list(const std::string& key,
-                                       const std::vector<int>& fallback) const {
+std::vector<int> Options::integer_list(const std::string& key, const std::vector<int>& fallback) const {
   auto it = values_.find(key);
   if (it == values_.end()) return fallback;
   std::vector<int> out;

@@ -5,16 +5,16 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <iostream>
 #include <iomanip>
+#include <iostream>
 #include <memory>
 #include <sstream>
 
 #include "core/error.hpp"
 #include "core/parameters.hpp"
 #include "io/lammps_io.hpp"
-#include "protocol/restitution.hpp"
 #include "io/run_files.hpp"
+#include "protocol/restitution.hpp"
 
 namespace granudrag {
 
@@ -32,11 +32,13 @@ std::vector<ParameterSpec> contact_specs() {
       {"kt", Type::Number, "rho d g", "", 0, inf, true, "tangential stiffness K_t (default 1.225 K_n)"},
       {"gamman", Type::Number, "sqrt(g/d^3)", "", 0, inf, false,
        "normal damping gamma_n (default 5e4 (K_n/2e8)^0.6)"},
-      {"gammat", Type::Number, "sqrt(g/d^3)", "", 0, inf, false, "tangential damping gamma_t (default gamma_n)"},
+      {"gammat", Type::Number, "sqrt(g/d^3)", "", 0, inf, false,
+       "tangential damping gamma_t (default gamma_n)"},
       {"mu", Type::Number, "", "0.5", 0, inf, false, "friction coefficient"},
       {"youngs_modulus", Type::Number, "rho d g", "", 0, inf, true,
        "instead of kn and kt: Young's modulus E (paper Eq. 3)"},
-      {"poisson_ratio", Type::Number, "", "0.3", -1, 0.5, true, "Poisson ratio nu with youngs_modulus", false, true},
+      {"poisson_ratio", Type::Number, "", "0.3", -1, 0.5, true, "Poisson ratio nu with youngs_modulus", false,
+       true},
       {"dt", Type::Number, "sqrt(d/g)", "", 0, inf, true,
        "time step (default: Hertz collision time of two 0.9 d grains at 10 sqrt(gd), over 64)"},
       {"skin", Type::Number, "d", "0.2", 0, inf, true, "Verlet-list skin"},
@@ -77,7 +79,8 @@ bool wants_help(const std::vector<std::string>& args) {
 void check_output_dir(const std::string& path, const std::string& key) {
   const std::filesystem::path dir = std::filesystem::path(path).parent_path();
   if (!dir.empty() && !std::filesystem::is_directory(dir))
-    throw Error("'" + key + "' = " + path + ": directory " + dir.string() + " does not exist; create it first");
+    throw Error("'" + key + "' = " + path + ": directory " + dir.string() +
+                " does not exist; create it first");
 }
 
 }  // namespace
@@ -87,18 +90,27 @@ int pour_command(const std::vector<std::string>& args) {
       {"output", Type::Text, "", "", -inf, inf, false, "bed file to write (HDF5)", true},
       {"lx", Type::Number, "d", "20", 0, inf, true, "box length along x (periodic; the pull direction)"},
       {"ly", Type::Number, "d", "20", 0, inf, true, "box width along y (periodic)"},
-      {"grains", Type::Integer, "", "4000", 1, 1e9, false, "number of grains, diameters uniform in [0.9, 1.1] d"},
+      {"grains", Type::Integer, "", "4000", 1, 1e9, false,
+       "number of grains, diameters uniform in [0.9, 1.1] d"},
       {"intruder_diameter", Type::Number, "d", "2", 0, inf, false, "D; 0 for a bed without intruder"},
       {"intruder_x", Type::Number, "d", "", 0, inf, false, "intruder centre x (default lx/2)"},
       {"intruder_y", Type::Number, "d", "", 0, inf, false, "intruder centre y (default ly/2)"},
-      {"depth", Type::Number, "d", "", 0, inf, true, "requested depth h of the intruder centre below the free surface"},
+      {"depth", Type::Number, "d", "", 0, inf, true,
+       "requested depth h of the intruder centre below the free surface"},
       {"intruder_z", Type::Number, "d", "", 0, inf, true, "or: height of the intruder centre above the wall"},
-      {"packing_estimate", Type::Number, "", "", 0.3, 0.75, false, "packing fraction assumed to place the intruder at 'depth' (default: measured, 0.657 at mu = 0 to 0.598 at mu = 0.9)"},
-      {"fill_fraction", Type::Number, "", "0.3", 0, 0.35, true, "packing fraction of the loose column the grains start in"},
-      {"ke_threshold", Type::Number, "rho g d^4", "1e-7", 0, inf, true, "settled when the mean kinetic energy per grain is below"},
-      {"max_settle_time", Type::Number, "sqrt(d/g)", "100", 0, inf, true, "stop settling after this time anyway (recorded)"},
-      {"check_interval", Type::Number, "sqrt(d/g)", "0.5", 0, inf, true, "time between kinetic-energy checks"},
-      {"base_height", Type::Number, "d", "0.6", 0, inf, false, "grains with centre below are frozen into the rough base"},
+      {"packing_estimate", Type::Number, "", "", 0.3, 0.75, false,
+       "packing fraction assumed to place the intruder at 'depth' (default: measured, 0.657 at mu = 0 to "
+       "0.598 at mu = 0.9)"},
+      {"fill_fraction", Type::Number, "", "0.3", 0, 0.35, true,
+       "packing fraction of the loose column the grains start in"},
+      {"ke_threshold", Type::Number, "rho g d^4", "1e-7", 0, inf, true,
+       "settled when the mean kinetic energy per grain is below"},
+      {"max_settle_time", Type::Number, "sqrt(d/g)", "100", 0, inf, true,
+       "stop settling after this time anyway (recorded)"},
+      {"check_interval", Type::Number, "sqrt(d/g)", "0.5", 0, inf, true,
+       "time between kinetic-energy checks"},
+      {"base_height", Type::Number, "d", "0.6", 0, inf, false,
+       "grains with centre below are frozen into the rough base"},
       {"seed", Type::Integer, "", "1", 0, 9e18, false, "random seed of the placement"},
       {"quiet", Type::Flag, "", "false", -inf, inf, false, "no progress lines on stderr"},
   };
@@ -149,8 +161,9 @@ int pour_command(const std::vector<std::string>& args) {
   std::printf("  surface height %.3f d (half bulk packing), bulk packing fraction %.4f\n", bed.surface_height,
               bed.profile.bulk_packing_fraction);
   if (bed.intruder >= 0)
-    std::printf("  intruder D = %g at depth h = %.3f d (requested %s)\n", s.intruder_diameter, bed.depth,
-                std::isnan(bed.requested_depth) ? "by intruder_z" : std::to_string(bed.requested_depth).c_str());
+    std::printf(
+        "  intruder D = %g at depth h = %.3f d (requested %s)\n", s.intruder_diameter, bed.depth,
+        std::isnan(bed.requested_depth) ? "by intruder_z" : std::to_string(bed.requested_depth).c_str());
   std::printf("  wall time %.1f s\n%s", omp_get_wtime() - t0, bed.sanity.c_str());
   return 0;
 }
@@ -160,16 +173,22 @@ int pull_command(const std::vector<std::string>& args) {
       {"bed", Type::Text, "", "", -inf, inf, false, "bed file from granudrag pour", true},
       {"output", Type::Text, "", "", -inf, inf, false, "run file to write (HDF5)", true},
       {"speed", Type::Number, "sqrt(g d)", "", 0, inf, true, "pulling speed V along +x (default 1)"},
-      {"froude", Type::Number, "", "", 0, inf, true, "or: the Froude number 2V sqrt(2D/g)/(D+d), paper Eq. 4"},
+      {"froude", Type::Number, "", "", 0, inf, true,
+       "or: the Froude number 2V sqrt(2D/g)/(D+d), paper Eq. 4"},
       {"distance", Type::Number, "d", "0", 0, inf, false, "travel; 0: one box length (as in the paper)"},
-      {"sample_interval", Type::Number, "sqrt(d/g)", "0.02", 0, inf, true, "forces are averaged over each interval"},
-      {"transient", Type::Number, "d", "-1", -inf, inf, false, "travel discarded before averaging; < 0: min(D + d, distance/4)"},
-      {"shell", Type::Number, "d", "2", 0, inf, true, "Z is measured for grains with centre within D/2 + shell"},
-      {"snapshots", Type::Integer, "", "3", 0, 1000, false, "velocity snapshots of the slab through the intruder"},
+      {"sample_interval", Type::Number, "sqrt(d/g)", "0.02", 0, inf, true,
+       "forces are averaged over each interval"},
+      {"transient", Type::Number, "d", "-1", -inf, inf, false,
+       "travel discarded before averaging; < 0: min(D + d, distance/4)"},
+      {"shell", Type::Number, "d", "2", 0, inf, true,
+       "Z is measured for grains with centre within D/2 + shell"},
+      {"snapshots", Type::Integer, "", "3", 0, 1000, false,
+       "velocity snapshots of the slab through the intruder"},
       {"slab_half_width", Type::Number, "d", "0.5", 0, inf, true, "half width of that slab in y"},
       {"checkpoint_interval", Type::Number, "sqrt(d/g)", "0", 0, inf, false,
        "simulated time between checkpoints (<output>.checkpoint.h5); 0: every tenth of the pull"},
-      {"resume", Type::Flag, "", "false", -inf, inf, false, "continue from <output>.checkpoint.h5 if it exists"},
+      {"resume", Type::Flag, "", "false", -inf, inf, false,
+       "continue from <output>.checkpoint.h5 if it exists"},
       {"skin", Type::Number, "d", "0.2", 0, inf, true, "Verlet-list skin"},
       {"fresh_start", Type::Flag, "", "false", -inf, inf, false,
        "drop the bed's contact histories and recompute forces first, as LAMMPS does after read_data"},
@@ -178,9 +197,10 @@ int pull_command(const std::vector<std::string>& args) {
   };
   Parameters par("pull", specs);
   if (wants_help(args)) {
-    std::cout << "granudrag pull — pull the intruder of a bed at constant speed and record the drag\n\n"
-                 "  granudrag pull --bed bed.h5 --output run.h5 [--speed V | --froude Fr] [--key value ...]\n\n"
-              << par.help_text();
+    std::cout
+        << "granudrag pull — pull the intruder of a bed at constant speed and record the drag\n\n"
+           "  granudrag pull --bed bed.h5 --output run.h5 [--speed V | --froude Fr] [--key value ...]\n\n"
+        << par.help_text();
     return 0;
   }
   par.apply_cli(args);
@@ -207,7 +227,8 @@ int pull_command(const std::vector<std::string>& args) {
   {
     const double distance = spec.distance > 0 ? spec.distance : bed.box.lx;
     const double total_time = distance / spec.speed;
-    const double interval = par.number("checkpoint_interval") > 0 ? par.number("checkpoint_interval") : total_time / 10;
+    const double interval =
+        par.number("checkpoint_interval") > 0 ? par.number("checkpoint_interval") : total_time / 10;
     spec.checkpoint_every = std::max(1L, std::lround(interval / bed.dt));
   }
   const std::string yaml = "# pull\n" + par.to_yaml() + "# bed " + bed_path + "\n" + bed_yaml;
@@ -217,7 +238,8 @@ int pull_command(const std::vector<std::string>& args) {
   {
     std::istringstream lines(par.to_yaml());
     for (std::string line; std::getline(lines, line);)
-      if (line.rfind("resume:", 0) && line.rfind("quiet:", 0) && line.rfind("threads:", 0)) identity += line + "\n";
+      if (line.rfind("resume:", 0) && line.rfind("quiet:", 0) && line.rfind("threads:", 0))
+        identity += line + "\n";
     identity += "bed_fingerprint: " + bed_fingerprint(bed) + "\n";
   }
 
@@ -235,7 +257,8 @@ int pull_command(const std::vector<std::string>& args) {
                   differs + "\nrerun with the same options, or delete the checkpoint to start over");
     }
     pull = std::make_unique<Pull>(bed, spec, c.state, std::move(c.record));
-    std::fprintf(stderr, "pull: resuming from %s at step %ld\n", checkpoint.c_str(), pull->simulation().steps_done());
+    std::fprintf(stderr, "pull: resuming from %s at step %ld\n", checkpoint.c_str(),
+                 pull->simulation().steps_done());
   } else {
     pull = std::make_unique<Pull>(bed, spec);
   }
@@ -245,8 +268,8 @@ int pull_command(const std::vector<std::string>& args) {
   save_run(out, *pull, yaml, sanity);
   std::filesystem::remove(checkpoint);
   const PullResult r = pull->result();
-  std::printf("run: %s\n  D = %g, depth %.3f d, V = %.4g sqrt(gd), Fr = %.4g, mu = %g, kn = %g\n", out.c_str(), D,
-              bed.depth, spec.speed, r.froude, bed.contact.mu, bed.contact.kn);
+  std::printf("run: %s\n  D = %g, depth %.3f d, V = %.4g sqrt(gd), Fr = %.4g, mu = %g, kn = %g\n",
+              out.c_str(), D, bed.depth, spec.speed, r.froude, bed.contact.mu, bed.contact.kn);
   std::printf("  drag = %.5g +- %.2g rho d^3 g (transient %.3g d discarded: %ld of %zu samples)\n", r.drag,
               r.drag_error, r.transient_distance, r.transient_samples, pull->record().fx.size());
   std::printf("  n = %.3f, theta = %.4f +- %.2g rad, Z = %.3f, kappa = %.4f\n", r.coordination, r.theta,
@@ -267,9 +290,10 @@ int export_lammps_command(const std::vector<std::string>& args) {
   };
   Parameters par("export-lammps", specs);
   if (wants_help(args)) {
-    std::cout << "granudrag export-lammps — write a bed as a LAMMPS data file plus an input script that runs\n"
-                 "the same pull with gran/hertz/history (run it as: cd DIR && lmp -in PREFIX.in)\n\n"
-              << par.help_text();
+    std::cout
+        << "granudrag export-lammps — write a bed as a LAMMPS data file plus an input script that runs\n"
+           "the same pull with gran/hertz/history (run it as: cd DIR && lmp -in PREFIX.in)\n\n"
+        << par.help_text();
     return 0;
   }
   par.apply_cli(args);
@@ -293,12 +317,13 @@ int export_lammps_command(const std::vector<std::string>& args) {
   run.skin = par.number("skin");
   run.speed = speed;
   const double distance = par.number("distance") > 0 ? par.number("distance") : bed.box.lx;
-  run.steps = par.integer("steps") > 0 ? par.integer("steps") : std::lround(std::ceil(distance / (speed * bed.dt)));
+  run.steps =
+      par.integer("steps") > 0 ? par.integer("steps") : std::lround(std::ceil(distance / (speed * bed.dt)));
   run.every = par.integer("every");
   run.intruder_id = bed.intruder + 1;
   write_lammps_pull_input(prefix + ".in", run);
-  std::printf("wrote %s.data and %s.in (%ld steps; force on the intruder to %s)\n", prefix.c_str(), prefix.c_str(),
-              run.steps, run.force_file.c_str());
+  std::printf("wrote %s.data and %s.in (%ld steps; force on the intruder to %s)\n", prefix.c_str(),
+              prefix.c_str(), run.steps, run.force_file.c_str());
   return 0;
 }
 
@@ -327,11 +352,14 @@ int import_lammps_command(const std::vector<std::string>& args) {
   Bed bed;
   bed.box = data.box;
   bed.contact = contact_from(par);
-  const double rmin = std::min(data.particles.min_radius(Species::Mobile), data.particles.min_radius(Species::Frozen));
-  bed.dt = par.is_set("dt") ? par.number("dt") : default_time_step(bed.contact, std::isfinite(rmin) ? rmin : 0.5);
+  const double rmin =
+      std::min(data.particles.min_radius(Species::Mobile), data.particles.min_radius(Species::Frozen));
+  bed.dt =
+      par.is_set("dt") ? par.number("dt") : default_time_step(bed.contact, std::isfinite(rmin) ? rmin : 0.5);
   check_time_step(bed.dt, bed.contact, std::isfinite(rmin) ? rmin : 0.5);
   if (data.particles.count(Species::Intruder) > 1) throw Error("more than one intruder in the data file");
-  bed.intruder = data.particles.count(Species::Intruder) == 1 ? static_cast<int>(data.particles.size()) - 1 : -1;
+  bed.intruder =
+      data.particles.count(Species::Intruder) == 1 ? static_cast<int>(data.particles.size()) - 1 : -1;
   // Forces of the imported state, with no history, as the first step of a pull needs them.
   Settings settings;
   settings.dt = bed.dt;
@@ -363,9 +391,10 @@ int restitution_command(const std::vector<std::string>& args) {
   specs.insert(specs.end(), contact.begin(), contact.end());
   Parameters par("restitution", specs);
   if (wants_help(args)) {
-    std::cout << "granudrag restitution — coefficient of restitution of a grain hitting the wall (paper Fig. 2):\n"
-                 "the DEM engine's e(v_n) and the direct integration of the viscoelastic Hertz equation\n\n"
-              << par.help_text();
+    std::cout
+        << "granudrag restitution — coefficient of restitution of a grain hitting the wall (paper Fig. 2):\n"
+           "the DEM engine's e(v_n) and the direct integration of the viscoelastic Hertz equation\n\n"
+        << par.help_text();
     return 0;
   }
   par.apply_cli(args);

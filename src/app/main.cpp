@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "protocol/bench.hpp"
 #include "app/cli.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
+#include "protocol/bench.hpp"
 
 namespace {
 
@@ -59,9 +59,9 @@ Options (defaults in brackets):
 
 int bench(const std::vector<std::string>& args) {
   using namespace granudrag;
-  const Options opt(args, {"grains", "steps", "settle", "threads", "skin", "kn", "mu", "dt", "speed",
-                           "seed", "lammps"},
-                    "bench");
+  const Options opt(
+      args, {"grains", "steps", "settle", "threads", "skin", "kn", "mu", "dt", "speed", "seed", "lammps"},
+      "bench");
   BenchOptions o;
   o.grains = opt.integer("grains", o.grains, 1);
   o.steps = opt.integer("steps", o.steps, 1);

@@ -6,8 +6,8 @@ namespace granudrag {
 
 bool BruteForceContacts::update_lists(Particles&, const Box&) { return false; }
 
-void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactParams& c,
-                                    double dt, bool update_history) {
+void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
+                                    bool update_history) {
   const int n = static_cast<int>(p.size());
   formed_.clear();
   for (int i = 0; i < n; ++i) {
@@ -40,8 +40,7 @@ void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactP
   }
 }
 
-double BruteForceContacts::elastic_energy(const Particles& p, const Box& box,
-                                          const ContactParams& c) const {
+double BruteForceContacts::elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const {
   double energy = 0.0;
   const int n = static_cast<int>(p.size());
   for (int i = 0; i < n; ++i)
@@ -49,8 +48,7 @@ double BruteForceContacts::elastic_energy(const Particles& p, const Box& box,
       if (p.species[i] == Species::Frozen && p.species[j] == Species::Frozen) continue;
       const double radsum = p.radius[i] + p.radius[j];
       const double r = box.min_image(p.x[i] - p.x[j]).norm();
-      if (r < radsum)
-        energy += hertz_normal_energy(c.kn, p.radius[i] * p.radius[j] / radsum, radsum - r);
+      if (r < radsum) energy += hertz_normal_energy(c.kn, p.radius[i] * p.radius[j] / radsum, radsum - r);
     }
   return energy;
 }

@@ -21,13 +21,13 @@ struct PairForce {
 // Both bodies' state for one contact. For the wall, j is the wall: contact_distance = R_i,
 // reff = R_i, meff = m_i, and rel_velocity / spin_sum use the wall at rest.
 struct ContactGeometry {
-  Vec3 del;                // r_i - r_j (minimum image); for the wall (0, 0, z_i)
-  double r;                // |del|, strictly less than contact_distance
-  double contact_distance; // R_i + R_j
-  double reff;             // R_i R_j / (R_i + R_j)
-  double meff;             // m_i m_j / (m_i + m_j), or the mobile partner's mass (frozen, wall)
-  Vec3 rel_velocity;       // v_i - v_j
-  Vec3 spin_sum;           // R_i w_i + R_j w_j
+  Vec3 del;                 // r_i - r_j (minimum image); for the wall (0, 0, z_i)
+  double r;                 // |del|, strictly less than contact_distance
+  double contact_distance;  // R_i + R_j
+  double reff;              // R_i R_j / (R_i + R_j)
+  double meff;              // m_i m_j / (m_i + m_j), or the mobile partner's mass (frozen, wall)
+  Vec3 rel_velocity;        // v_i - v_j
+  Vec3 spin_sum;            // R_i w_i + R_j w_j
 };
 
 // m_eff: a frozen grain counts as infinitely heavy (LAMMPS fix freeze); the intruder has its
@@ -41,8 +41,8 @@ inline double effective_mass(double mi, Species ki, double mj, Species kj) {
 // shear: the pair's tangential spring, updated in place (accumulated, projected onto the
 // tangent plane, rescaled at the Coulomb cap). update_history = false only for the force
 // evaluation of a run's setup, as LAMMPS does.
-inline PairForce hertz_history(const ContactParams& p, const ContactGeometry& g, double dt,
-                                  Vec3& shear, bool update_history = true) {
+inline PairForce hertz_history(const ContactParams& p, const ContactGeometry& g, double dt, Vec3& shear,
+                               bool update_history = true) {
   const double rinv = 1.0 / g.r;
   const double rsqinv = rinv * rinv;
   const double delta = g.contact_distance - g.r;

@@ -4,8 +4,8 @@
 // pair, serial, obviously correct), which the tests keep as the oracle for the fast path.
 #include <vector>
 
-#include "core/box.hpp"
 #include "contact/contact_params.hpp"
+#include "core/box.hpp"
 #include "core/particles.hpp"
 
 namespace granudrag {
@@ -27,8 +27,7 @@ class ContactLoop {
   virtual void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
                           bool update_history) = 0;
   // Energy stored in the normal springs of all touching pairs.
-  virtual double elastic_energy(const Particles& p, const Box& box,
-                                const ContactParams& c) const = 0;
+  virtual double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const = 0;
   // Number of bodies touching particle `body` (an intruder) at the last force evaluation.
   virtual int contacts_of(int body) const = 0;
   // Number of touching body-body pairs at the last force evaluation.

@@ -7,8 +7,7 @@
 
 namespace granudrag {
 
-ContactParams ContactParams::from_young(double E, double nu, double gamman, double gammat,
-                                        double mu) {
+ContactParams ContactParams::from_young(double E, double nu, double gamman, double gammat, double mu) {
   if (!(E > 0)) throw Error("youngs_modulus must be > 0 (got " + std::to_string(E) + ")");
   if (!(nu > -1.0 && nu < 0.5))
     throw Error("poisson_ratio must lie in (-1, 0.5) (got " + std::to_string(nu) + ")");
@@ -36,8 +35,7 @@ namespace {
 void require(bool ok, const char* key, double value, const char* range) {
   if (ok) return;
   std::ostringstream msg;
-  msg << "contact parameter '" << key << "' = " << value << " is out of range: it must be "
-      << range;
+  msg << "contact parameter '" << key << "' = " << value << " is out of range: it must be " << range;
   throw Error(msg.str());
 }
 }  // namespace
@@ -53,8 +51,7 @@ void ContactParams::validate() const {
 
 std::string ContactParams::describe() const {
   std::ostringstream s;
-  s << "kn=" << kn << " kt=" << kt << " gamman=" << gamman << " gammat=" << gammat
-    << " mu=" << mu;
+  s << "kn=" << kn << " kt=" << kt << " gamman=" << gamman << " gammat=" << gammat << " mu=" << mu;
   return s.str();
 }
 
@@ -81,10 +78,9 @@ void check_time_step(double dt, const ContactParams& p, double min_radius) {
   if (!(dt > 0) || !std::isfinite(dt))
     msg << "not a positive number";
   else
-    msg << "too large for kn = " << p.kn << ": two grains of diameter " << 2 * min_radius
-        << " colliding at " << TimeStepPolicy::reference_speed << " sqrt(gd) stay in contact for t_c = "
-        << tc << ", and dt must resolve it with at least "
-        << TimeStepPolicy::steps_per_collision_min << " steps";
+    msg << "too large for kn = " << p.kn << ": two grains of diameter " << 2 * min_radius << " colliding at "
+        << TimeStepPolicy::reference_speed << " sqrt(gd) stay in contact for t_c = " << tc
+        << ", and dt must resolve it with at least " << TimeStepPolicy::steps_per_collision_min << " steps";
   msg << ". Use dt <= " << dt_max << " (recommended: " << default_time_step(p, min_radius)
       << ", or leave dt unset to get it).";
   throw Error(msg.str());

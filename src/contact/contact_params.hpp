@@ -13,8 +13,8 @@ struct ContactParams {
   double mu = 0.5;
 
   // Eq. 3: G = E/(2(1+nu)), K_n = 4G/(3(1-nu)), K_t = 4G/(2-nu).
-  static ContactParams from_young(double youngs_modulus, double poisson_ratio, double gamman,
-                                  double gammat, double mu);
+  static ContactParams from_young(double youngs_modulus, double poisson_ratio, double gamman, double gammat,
+                                  double mu);
 
   // A softer (or stiffer) variant with the same restitution curve: K_t/K_n, gamma_t/gamma_n
   // and gamma_n/K_n^0.6 held fixed (paper Sec. III I).

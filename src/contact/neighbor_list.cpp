@@ -72,8 +72,8 @@ void NeighborList::build(Particles& p, const Box& box) {
     const double reach = (p.species[i] == Species::Intruder ? p.radius[i] : rmax) + rmax + skin_;
     if (2.0 * reach + skin_ > std::min(box.lx, box.ly)) {
       std::ostringstream msg;
-      msg << "box " << box.lx << " x " << box.ly << " is too small: particle " << i
-          << " of radius " << p.radius[i] << " would meet its own periodic image; Lx and Ly must"
+      msg << "box " << box.lx << " x " << box.ly << " is too small: particle " << i << " of radius "
+          << p.radius[i] << " would meet its own periodic image; Lx and Ly must"
           << " exceed " << 2.0 * reach + skin_;
       throw Error(msg.str());
     }

@@ -9,8 +9,8 @@
 //    scanning only the cells its sphere covers.
 #include <vector>
 
-#include "core/box.hpp"
 #include "contact/pair_list.hpp"
+#include "core/box.hpp"
 #include "core/particles.hpp"
 
 namespace granudrag {

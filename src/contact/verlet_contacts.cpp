@@ -69,7 +69,7 @@ void VerletContacts::balance_rows(int threads) {
 }
 
 void VerletContacts::accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
-                              bool update_history) {
+                                bool update_history) {
   const PairList& pairs = list_.grain_pairs();
   const long n = static_cast<long>(p.size());
   const int max_threads = omp_get_max_threads();
@@ -170,13 +170,11 @@ void VerletContacts::accumulate(Particles& p, const Box& box, const ContactParam
   }
 }
 
-double VerletContacts::elastic_energy(const Particles& p, const Box& box,
-                                    const ContactParams& c) const {
+double VerletContacts::elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const {
   double energy = 0.0;
   auto add_pair = [&](int i, int j) {
     ContactGeometry g;
-    if (pair_geometry(p, box, i, j, g))
-      energy += hertz_normal_energy(c.kn, g.reff, g.contact_distance - g.r);
+    if (pair_geometry(p, box, i, j, g)) energy += hertz_normal_energy(c.kn, g.reff, g.contact_distance - g.r);
   };
   const PairList& pairs = list_.grain_pairs();
   for (std::size_t i = 0; i < pairs.rows(); ++i)

@@ -1,19 +1,19 @@
 #pragma once
 #include <vector>
 
-#include "contact/contact_loop.hpp"
 #include "contact/contact_history.hpp"
+#include "contact/contact_loop.hpp"
 #include "contact/neighbor_list.hpp"
 
 namespace granudrag {
 
 // The production path. Each grain pair is evaluated once (Newton's third law), by the thread
 // that owns its row; rows are split into one contiguous block per thread of about equal cost
-// (list entries, touching pairs weighted as the contact law costs), re-balanced at each rebuild. Thread 0 adds into the particles' forces
-// directly, as a serial code would; the other threads add into private copies that are summed
-// in thread order afterwards. No atomics, and a fixed summation order for a given thread count:
-// runs are bitwise reproducible for that count. (A per-pair buffer gathered in fixed order would
-// make them independent of the thread count too, but doubled the memory traffic and the cost.)
+// (list entries, touching pairs weighted as the contact law costs), re-balanced at each rebuild. Thread 0
+// adds into the particles' forces directly, as a serial code would; the other threads add into private copies
+// that are summed in thread order afterwards. No atomics, and a fixed summation order for a given thread
+// count: runs are bitwise reproducible for that count. (A per-pair buffer gathered in fixed order would make
+// them independent of the thread count too, but doubled the memory traffic and the cost.)
 class VerletContacts : public ContactLoop {
  public:
   explicit VerletContacts(double skin) : list_(skin) {}
@@ -38,8 +38,8 @@ class VerletContacts : public ContactLoop {
   void after_build();
 
   std::vector<std::vector<Vec3>> thread_force_, thread_torque_;  // threads 1.., per particle
-  std::vector<long> row_split_;  // thread t owns rows row_split_[t] .. row_split_[t+1]
-  std::vector<Vec3> intruder_force_, intruder_torque_;      // per intruder-list entry
+  std::vector<long> row_split_;                         // thread t owns rows row_split_[t] .. row_split_[t+1]
+  std::vector<Vec3> intruder_force_, intruder_torque_;  // per intruder-list entry
   std::vector<std::uint8_t> intruder_new_;              // per intruder-list entry: touched first now
 };
 

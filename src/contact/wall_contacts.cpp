@@ -4,8 +4,7 @@
 
 namespace granudrag {
 
-void WallContacts::accumulate(Particles& p, const ContactParams& c, double dt,
-                              bool update_history) {
+void WallContacts::accumulate(Particles& p, const ContactParams& c, double dt, bool update_history) {
   if (shear_.size() != p.size()) shear_.resize(p.size(), Vec3::Zero());
   const long n = static_cast<long>(p.size());
 #pragma omp parallel for schedule(static)

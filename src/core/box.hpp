@@ -14,8 +14,14 @@ struct Box {
   // because positions are wrapped at every rebuild and move less than a skin in between.
   Vec3 min_image(Vec3 d) const {
     const double hx = 0.5 * lx, hy = 0.5 * ly;
-    if (d.x() > hx) d.x() -= lx; else if (d.x() < -hx) d.x() += lx;
-    if (d.y() > hy) d.y() -= ly; else if (d.y() < -hy) d.y() += ly;
+    if (d.x() > hx)
+      d.x() -= lx;
+    else if (d.x() < -hx)
+      d.x() += lx;
+    if (d.y() > hy)
+      d.y() -= ly;
+    else if (d.y() < -hy)
+      d.y() += ly;
     return d;
   }
   void wrap(Vec3& p) const {

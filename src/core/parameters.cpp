@@ -44,22 +44,32 @@ std::string lower(std::string s) {
 
 const char* type_name(Type t) {
   switch (t) {
-    case Type::Number: return "number";
-    case Type::Integer: return "integer";
-    case Type::Text: return "text";
-    case Type::Flag: return "flag";
-    case Type::NumberList: return "list";
+    case Type::Number:
+      return "number";
+    case Type::Integer:
+      return "integer";
+    case Type::Text:
+      return "text";
+    case Type::Flag:
+      return "flag";
+    case Type::NumberList:
+      return "list";
   }
   return "?";
 }
 
 const char* accessor_name(Type t) {
   switch (t) {
-    case Type::Number: return "number()";
-    case Type::Integer: return "integer()";
-    case Type::Text: return "text()";
-    case Type::Flag: return "flag()";
-    case Type::NumberList: return "numbers()";
+    case Type::Number:
+      return "number()";
+    case Type::Integer:
+      return "integer()";
+    case Type::Text:
+      return "text()";
+    case Type::Flag:
+      return "flag()";
+    case Type::NumberList:
+      return "numbers()";
   }
   return "?";
 }
@@ -67,10 +77,14 @@ const char* accessor_name(Type t) {
 // The end of "'key' must be ..., got '...'".
 const char* expectation(Type t) {
   switch (t) {
-    case Type::Number: return "a number";
-    case Type::Integer: return "an integer";
-    case Type::Text: return "text";
-    case Type::Flag: return "true or false";
+    case Type::Number:
+      return "a number";
+    case Type::Integer:
+      return "an integer";
+    case Type::Text:
+      return "text";
+    case Type::Flag:
+      return "true or false";
     case Type::NumberList:
       return "a list of numbers (a YAML sequence [1, 2.5] or comma-separated 1,2.5)";
   }
@@ -151,16 +165,15 @@ std::optional<std::vector<double>> parse_list(const std::string& text) {
   return out;
 }
 
-std::string join(const std::vector<double>& list, const char* separator,
-                 std::string (*format)(double)) {
+std::string join(const std::vector<double>& list, const char* separator, std::string (*format)(double)) {
   std::string s;
   for (std::size_t i = 0; i < list.size(); ++i) s += (i ? separator : "") + format(list[i]);
   return s;
 }
 
 // Parses `text` as a value of the spec's type; `source` says where it was written.
-ParameterValue parse_value(const ParameterSpec& spec, const std::string& text,
-                           const std::string& source, int level) {
+ParameterValue parse_value(const ParameterSpec& spec, const std::string& text, const std::string& source,
+                           int level) {
   ParameterValue v;
   v.set = true;
   v.level = level;
@@ -193,8 +206,8 @@ ParameterValue parse_value(const ParameterSpec& spec, const std::string& text,
     }
   }
   if (!ok)
-    throw Error("'" + spec.key + "' must be " + expectation(spec.type) + ", got '" + text +
-                "' (in " + source + ")");
+    throw Error("'" + spec.key + "' must be " + expectation(spec.type) + ", got '" + text + "' (in " +
+                source + ")");
   return v;
 }
 
@@ -228,14 +241,12 @@ std::string range_problem(const ParameterSpec& s, const ParameterValue& v) {
   if (!v.set || !numeric(s.type)) return "";
   std::string rule = range_text(s);
   if (bounded_below(s) && bounded_above(s)) rule = "in " + rule;
-  const std::string context =
-      " (" + (s.help.empty() ? "" : s.help + "; ") + "from " + v.source + ")";
+  const std::string context = " (" + (s.help.empty() ? "" : s.help + "; ") + "from " + v.source + ")";
   if (s.type == Type::NumberList) {
     for (std::size_t i = 0; i < v.list.size(); ++i)
       if (!in_range(s, v.list[i]))
-        return "'" + s.key + "' = " + v.raw + " is out of range: every item must be " +
-               with_unit(rule, s) + ", and item " + std::to_string(i + 1) + " is " +
-               shortest(v.list[i]) + context;
+        return "'" + s.key + "' = " + v.raw + " is out of range: every item must be " + with_unit(rule, s) +
+               ", and item " + std::to_string(i + 1) + " is " + shortest(v.list[i]) + context;
     return "";
   }
   const double x = s.type == Type::Integer ? static_cast<double>(v.integer) : v.number;
@@ -341,13 +352,11 @@ Parameters::Parameters(std::string command, std::vector<ParameterSpec> specs)
       throw std::logic_error(where + "'" + s.key + "' is reserved for the command line");
     for (std::size_t j = 0; j < i; ++j)
       if (specs_[j].key == s.key) throw std::logic_error(where + "declared twice");
-    if (std::isnan(s.min) || std::isnan(s.max) || s.min > s.max)
-      throw std::logic_error(where + "min > max");
+    if (std::isnan(s.min) || std::isnan(s.max) || s.min > s.max) throw std::logic_error(where + "min > max");
     if (s.required && (!s.default_value.empty() || s.type == Type::Flag))
       throw std::logic_error(where + "a required key has no default (and a flag always has one)");
     // A flag is never unset: without a default it is off.
-    const std::string text =
-        s.type == Type::Flag && s.default_value.empty() ? "false" : s.default_value;
+    const std::string text = s.type == Type::Flag && s.default_value.empty() ? "false" : s.default_value;
     if (text.empty()) continue;
     try {
       values_[i] = parse_value(s, text, "the default", kDefaultLevel);
@@ -370,12 +379,11 @@ const ParameterValue& Parameters::value_of(const std::string& key, Type type) co
   const std::size_t i = index_of(key);
   const ParameterSpec& s = specs_[i];
   if (s.type != type)
-    throw std::logic_error("parameter '" + key + "' of " + command_ + " is a " +
-                           type_name(s.type) + ": read it with " + accessor_name(s.type));
+    throw std::logic_error("parameter '" + key + "' of " + command_ + " is a " + type_name(s.type) +
+                           ": read it with " + accessor_name(s.type));
   if (!values_[i].set)
     throw Error("'" + key + "'" + (s.help.empty() ? "" : " (" + s.help + ")") +
-                " has no value: give it in the YAML file (" + key + ": ...) or as --" + key +
-                " ...");
+                " has no value: give it in the YAML file (" + key + ": ...) or as --" + key + " ...");
   return values_[i];
 }
 
@@ -393,9 +401,7 @@ void Parameters::load_yaml(const std::string& path) {
   if (std::filesystem::is_directory(path, ec))
     throw Error("cannot read the " + file + ": it is a directory, not a YAML file");
   std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw Error("cannot read the " + file + ": " + std::strerror(errno) +
-                " (check its permissions)");
+  if (!in) throw Error("cannot read the " + file + ": " + std::strerror(errno) + " (check its permissions)");
   std::ostringstream content;
   content << in.rdbuf();
   if (in.bad()) throw Error("cannot read the " + file + ": read error");
@@ -406,8 +412,7 @@ void Parameters::load_yaml(const std::string& path) {
   } catch (const YAML::Exception& e) {
     std::string at;
     if (e.mark.line >= 0)
-      at = ", line " + std::to_string(e.mark.line + 1) + ", column " +
-           std::to_string(e.mark.column + 1);
+      at = ", line " + std::to_string(e.mark.line + 1) + ", column " + std::to_string(e.mark.column + 1);
     throw Error("YAML syntax error in the " + file + at + ": " + e.msg +
                 " (each line is 'key: value'; quote values that contain ': ' or ' #')");
   }
@@ -418,8 +423,8 @@ void Parameters::load_yaml(const std::string& path) {
   const YAML::Node& root = documents[0];
   if (!root.IsMap())
     throw Error("the " + file + " must be a mapping of 'key: value' lines, but its top level is " +
-                (root.IsSequence() ? "a list" : "the single value '" + root.Scalar() + "'") +
-                " (line " + std::to_string(line_of(root)) + ")");
+                (root.IsSequence() ? "a list" : "the single value '" + root.Scalar() + "'") + " (line " +
+                std::to_string(line_of(root)) + ")");
 
   // Flatten nested mappings into dotted keys, then check and parse everything before assigning
   // anything, so that a bad file leaves the parameters as they were.
@@ -448,22 +453,20 @@ void Parameters::load_yaml(const std::string& path) {
   for (const auto& e : entries) {
     const int line = line_of(e.key_node);
     const std::string source = path + ", line " + std::to_string(line);
-    const auto it = std::find_if(specs_.begin(), specs_.end(),
-                                 [&](const ParameterSpec& s) { return s.key == e.key; });
+    const auto it =
+        std::find_if(specs_.begin(), specs_.end(), [&](const ParameterSpec& s) { return s.key == e.key; });
     if (it == specs_.end())
-      throw Error("unknown key '" + e.key + "' in " + path + " (line " + std::to_string(line) +
-                  ")" + suggestion(e.key, specs_, "") + " (granudrag " + command_ +
-                  " --help lists every key)");
+      throw Error("unknown key '" + e.key + "' in " + path + " (line " + std::to_string(line) + ")" +
+                  suggestion(e.key, specs_, "") + " (granudrag " + command_ + " --help lists every key)");
     if (!seen.emplace(e.key, line).second)
-      throw Error("'" + e.key + "' is given twice in " + path + " (lines " +
-                  std::to_string(seen[e.key]) + " and " + std::to_string(line) +
-                  "); keep one");
+      throw Error("'" + e.key + "' is given twice in " + path + " (lines " + std::to_string(seen[e.key]) +
+                  " and " + std::to_string(line) + "); keep one");
     const ParameterSpec& spec = *it;
     const std::size_t index = static_cast<std::size_t>(it - specs_.begin());
     if (e.value.IsNull()) continue;  // `key:` or `key: ~`: not given here
     if (e.value.IsMap())
-      throw Error("'" + e.key + "' must be " + expectation(spec.type) + ", got a mapping (in " +
-                  source + ")");
+      throw Error("'" + e.key + "' must be " + expectation(spec.type) + ", got a mapping (in " + source +
+                  ")");
     if (e.value.IsSequence()) {
       if (spec.type != Type::NumberList)
         throw Error("'" + e.key + "' must be " + expectation(spec.type) + ", got the list '" +
@@ -476,8 +479,8 @@ void Parameters::load_yaml(const std::string& path) {
       for (const auto& item : e.value) {
         const auto d = item.IsScalar() ? parse_double(item.Scalar()) : std::nullopt;
         if (!d)
-          throw Error("'" + e.key + "' must be " + expectation(spec.type) + ", got '" + v.raw +
-                      "' (in " + source + ")");
+          throw Error("'" + e.key + "' must be " + expectation(spec.type) + ", got '" + v.raw + "' (in " +
+                      source + ")");
         v.list.push_back(*d);
       }
       pending.emplace_back(index, std::move(v));
@@ -515,14 +518,13 @@ void Parameters::apply_cli(const std::vector<std::string>& args) {
         throw Error("option '--config' needs the path of a YAML parameter file");
       continue;
     }
-    const auto it = std::find_if(specs_.begin(), specs_.end(),
-                                 [&](const ParameterSpec& s) { return s.key == name; });
+    const auto it =
+        std::find_if(specs_.begin(), specs_.end(), [&](const ParameterSpec& s) { return s.key == name; });
     if (it == specs_.end())
       throw Error("unknown option '--" + name + "' for granudrag " + command_ +
                   suggestion(name, specs_, "--") + see_help);
     const std::size_t index = static_cast<std::size_t>(it - specs_.begin());
-    if (given[index])
-      throw Error("option '--" + name + "' is given twice on the command line; keep one");
+    if (given[index]) throw Error("option '--" + name + "' is given twice on the command line; keep one");
     given[index] = true;
 
     std::string text;
@@ -535,8 +537,7 @@ void Parameters::apply_cli(const std::vector<std::string>& args) {
     else
       throw Error("option '--" + name + "' needs a value: " + expectation(it->type) +
                   (it->unit.empty() ? "" : " in " + it->unit) + see_help);
-    pending.emplace_back(index,
-                         parse_value(*it, text, "--" + name + " on the command line", kCliLevel));
+    pending.emplace_back(index, parse_value(*it, text, "--" + name + " on the command line", kCliLevel));
   }
   // Work on a copy: a bad file or value leaves *this untouched.
   Parameters staged = *this;
@@ -561,21 +562,15 @@ void Parameters::validate() const {
   }
   if (problems.empty()) return;
   if (problems.size() == 1) throw Error(problems[0]);
-  std::string msg = std::to_string(problems.size()) +
-                    " problems with the parameters of granudrag " + command_ + ":";
+  std::string msg =
+      std::to_string(problems.size()) + " problems with the parameters of granudrag " + command_ + ":";
   for (const auto& p : problems) msg += "\n  - " + p;
   throw Error(msg);
 }
 
-double Parameters::number(const std::string& key) const {
-  return value_of(key, Type::Number).number;
-}
-long Parameters::integer(const std::string& key) const {
-  return value_of(key, Type::Integer).integer;
-}
-std::string Parameters::text(const std::string& key) const {
-  return value_of(key, Type::Text).text;
-}
+double Parameters::number(const std::string& key) const { return value_of(key, Type::Number).number; }
+long Parameters::integer(const std::string& key) const { return value_of(key, Type::Integer).integer; }
+std::string Parameters::text(const std::string& key) const { return value_of(key, Type::Text).text; }
 bool Parameters::flag(const std::string& key) const { return value_of(key, Type::Flag).flag; }
 std::vector<double> Parameters::numbers(const std::string& key) const {
   return value_of(key, Type::NumberList).list;
@@ -593,10 +588,18 @@ std::string Parameters::to_yaml() const {
       continue;
     }
     switch (s.type) {
-      case Type::Number: out += yaml_number(v.number); break;
-      case Type::Integer: out += std::to_string(v.integer); break;
-      case Type::Flag: out += v.flag ? "true" : "false"; break;
-      case Type::NumberList: out += "[" + join(v.list, ", ", yaml_number) + "]"; break;
+      case Type::Number:
+        out += yaml_number(v.number);
+        break;
+      case Type::Integer:
+        out += std::to_string(v.integer);
+        break;
+      case Type::Flag:
+        out += v.flag ? "true" : "false";
+        break;
+      case Type::NumberList:
+        out += "[" + join(v.list, ", ", yaml_number) + "]";
+        break;
       case Type::Text: {
         // Always quoted: "true", "1e5", "~" or "a: b" must come back as the same text.
         YAML::Emitter emitter;
@@ -622,8 +625,7 @@ std::string Parameters::help_text() const {
   }
   std::array<std::size_t, 5> width{};
   for (const auto& r : rows)
-    for (std::size_t c = 0; c < width.size(); ++c)
-      width[c] = std::max(width[c], display_width(r[c]));
+    for (std::size_t c = 0; c < width.size(); ++c) width[c] = std::max(width[c], display_width(r[c]));
   std::string out =
       "Parameters: --key value on the command line, or 'key: value' lines in a YAML file given\n"
       "with --config FILE; the command line wins. Lists: 1,2,3 or [1, 2, 3]. A flag alone\n"

@@ -16,12 +16,12 @@ struct ParameterSpec {
   enum class Type { Number, Integer, Text, Flag, NumberList };
   static constexpr double unbounded = std::numeric_limits<double>::infinity();
 
-  std::string key{};          // letters, digits, '_', '-', '.'; must start with a letter
+  std::string key{};  // letters, digits, '_', '-', '.'; must start with a letter
   Type type = Type::Number;
-  std::string unit{};         // "" for dimensionless
+  std::string unit{};           // "" for dimensionless
   std::string default_value{};  // as it would be written on the command line; "" = none
-  double min = -unbounded;    // inclusive unless min_exclusive; Number, Integer, NumberList items
-  double max = unbounded;     // inclusive unless max_exclusive
+  double min = -unbounded;      // inclusive unless min_exclusive; Number, Integer, NumberList items
+  double max = unbounded;       // inclusive unless max_exclusive
   bool min_exclusive = false;
   std::string help{};
   bool required = false;       // no default allowed: the user must give it
@@ -32,14 +32,14 @@ namespace detail {
 // One key's value, as parsed for its type.
 struct ParameterValue {
   bool set = false;
-  int level = 0;      // 0 default, 1 YAML, 2 command line: a lower level never overrides a higher
-  double number = 0;  // Number
-  long integer = 0;   // Integer
-  std::string text;   // Text
-  bool flag = false;  // Flag
+  int level = 0;             // 0 default, 1 YAML, 2 command line: a lower level never overrides a higher
+  double number = 0;         // Number
+  long integer = 0;          // Integer
+  std::string text;          // Text
+  bool flag = false;         // Flag
   std::vector<double> list;  // NumberList
-  std::string raw;     // as written, for messages
-  std::string source;  // where it came from, for messages
+  std::string raw;           // as written, for messages
+  std::string source;        // where it came from, for messages
 };
 }  // namespace detail
 

@@ -4,8 +4,8 @@
 #include <sstream>
 
 #include "contact/brute_force_contacts.hpp"
-#include "core/error.hpp"
 #include "contact/verlet_contacts.hpp"
+#include "core/error.hpp"
 #include "core/progress.hpp"
 
 namespace granudrag {
@@ -131,8 +131,8 @@ Simulation::State Simulation::state() const {
 
 void Simulation::restore(const State& s) {
   if (s.particles.size() != p_.size())
-    throw Error("state to restore has " + std::to_string(s.particles.size()) +
-                " particles, the simulation " + std::to_string(p_.size()));
+    throw Error("state to restore has " + std::to_string(s.particles.size()) + " particles, the simulation " +
+                std::to_string(p_.size()));
   p_ = s.particles;
   contacts_->rebuild(p_, box_);
   contacts_->import_history(s.pair_history);

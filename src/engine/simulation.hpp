@@ -3,18 +3,18 @@
 // forces of a step computed from the new positions and the half-step velocities.
 #include <memory>
 
-#include "core/box.hpp"
 #include "contact/contact_loop.hpp"
 #include "contact/contact_params.hpp"
+#include "contact/wall_contacts.hpp"
+#include "core/box.hpp"
 #include "core/particles.hpp"
 #include "core/timer.hpp"
-#include "contact/wall_contacts.hpp"
 
 namespace granudrag {
 
 struct Settings {
-  double dt = 0.0;     // 0: derived from the Hertz collision time (default_time_step)
-  double skin = 0.2;   // Verlet skin, in grain diameters
+  double dt = 0.0;    // 0: derived from the Hertz collision time (default_time_step)
+  double skin = 0.2;  // Verlet skin, in grain diameters
   Vec3 gravity{0.0, 0.0, -1.0};
   bool brute_force = false;  // use the O(N^2) oracle instead of the neighbour lists
 };

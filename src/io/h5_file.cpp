@@ -151,8 +151,7 @@ Handle link_create_plist() {
 
 // Opens the group or dataset at `path`; with `create`, makes a group there (and on the way)
 // when nothing exists yet.
-Handle open_object(hid_t file, const std::string& file_name, const std::string& path,
-                   bool create) {
+Handle open_object(hid_t file, const std::string& file_name, const std::string& path, bool create) {
   if (!object_exists(file, path)) {
     if (!create) throw Error("no group or dataset " + in_file(path, file_name));
     require_group_ancestors(file, file_name, path);
@@ -176,19 +175,27 @@ bool accepts(Want want, hid_t type) {
   if (cls != H5T_INTEGER) return false;
   const bool is_signed = H5Tget_sign(type) == H5T_SGN_2;
   switch (want) {
-    case Want::Int64: return is_signed ? size <= 8 : size < 8;
-    case Want::Int: return is_signed ? size <= 4 : size < 4;
-    case Want::UInt8: return !is_signed && size == 1;
-    default: return false;
+    case Want::Int64:
+      return is_signed ? size <= 8 : size < 8;
+    case Want::Int:
+      return is_signed ? size <= 4 : size < 4;
+    case Want::UInt8:
+      return !is_signed && size == 1;
+    default:
+      return false;
   }
 }
 
 const char* wanted(Want want) {
   switch (want) {
-    case Want::Float: return "floating-point numbers";
-    case Want::Int64: return "integers that fit in 64-bit signed integers";
-    case Want::Int: return "integers that fit in 32-bit signed integers";
-    case Want::UInt8: return "8-bit unsigned integers";
+    case Want::Float:
+      return "floating-point numbers";
+    case Want::Int64:
+      return "integers that fit in 64-bit signed integers";
+    case Want::Int:
+      return "integers that fit in 32-bit signed integers";
+    case Want::UInt8:
+      return "8-bit unsigned integers";
   }
   return "";
 }
@@ -196,39 +203,46 @@ const char* wanted(Want want) {
 std::string describe(hid_t type) {
   const std::string bits = std::to_string(8 * H5Tget_size(type)) + "-bit ";
   switch (H5Tget_class(type)) {
-    case H5T_FLOAT: return bits + "floats";
+    case H5T_FLOAT:
+      return bits + "floats";
     case H5T_INTEGER:
       return bits + (H5Tget_sign(type) == H5T_SGN_2 ? "signed" : "unsigned") + " integers";
-    case H5T_STRING: return "strings";
-    case H5T_COMPOUND: return "compound records";
-    case H5T_ENUM: return "enumerations";
-    default: return "data of HDF5 type class " + std::to_string(H5Tget_class(type));
+    case H5T_STRING:
+      return "strings";
+    case H5T_COMPOUND:
+      return "compound records";
+    case H5T_ENUM:
+      return "enumerations";
+    default:
+      return "data of HDF5 type class " + std::to_string(H5Tget_class(type));
   }
 }
 
 std::string shape_text(const std::vector<hsize_t>& dims) {
   if (dims.empty()) return "a scalar";
   std::string s = "[";
-  for (std::size_t k = 0; k < dims.size(); ++k)
-    s += (k ? " x " : "") + std::to_string(dims[k]);
+  for (std::size_t k = 0; k < dims.size(); ++k) s += (k ? " x " : "") + std::to_string(dims[k]);
   return s + "]";
 }
 
 hid_t memory_type(Want want) {
   switch (want) {
-    case Want::Float: return H5T_NATIVE_DOUBLE;
-    case Want::Int64: return H5T_NATIVE_INT64;
-    case Want::Int: return H5T_NATIVE_INT;
-    case Want::UInt8: return H5T_NATIVE_UINT8;
+    case Want::Float:
+      return H5T_NATIVE_DOUBLE;
+    case Want::Int64:
+      return H5T_NATIVE_INT64;
+    case Want::Int:
+      return H5T_NATIVE_INT;
+    case Want::UInt8:
+      return H5T_NATIVE_UINT8;
   }
   return -1;
 }
 
 // ---- datasets
 
-void create_and_write(hid_t file, const std::string& file_name, const std::string& raw_path,
-                      hid_t file_type, hid_t mem_type, const std::vector<hsize_t>& dims,
-                      const void* data) {
+void create_and_write(hid_t file, const std::string& file_name, const std::string& raw_path, hid_t file_type,
+                      hid_t mem_type, const std::vector<hsize_t>& dims, const void* data) {
   const std::string path = canonical(raw_path);
   if (path == "/") throw Error("cannot write a dataset at the root of " + in_quotes(file_name));
   if (object_exists(file, path))
@@ -250,14 +264,11 @@ void create_and_write(hid_t file, const std::string& file_name, const std::strin
     }
   }
   const Handle lcpl = link_create_plist();
-  Handle dset(H5Dcreate2(file, path.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(),
-                         H5P_DEFAULT),
+  Handle dset(H5Dcreate2(file, path.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
               H5Dclose);
-  if (!dset.ok())
-    throw Error("cannot create dataset " + in_file(path, file_name) + hdf5_reason());
+  if (!dset.ok()) throw Error("cannot create dataset " + in_file(path, file_name) + hdf5_reason());
   if (total > 0 && H5Dwrite(dset.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    throw Error("cannot write dataset " + in_file(path, file_name) + hdf5_reason() +
-                " (disk full?)");
+    throw Error("cannot write dataset " + in_file(path, file_name) + hdf5_reason() + " (disk full?)");
 }
 
 struct Dataset {
@@ -267,8 +278,7 @@ struct Dataset {
   std::string path;
 };
 
-Dataset open_dataset(hid_t file, const std::string& file_name, const std::string& raw_path,
-                     Want want) {
+Dataset open_dataset(hid_t file, const std::string& file_name, const std::string& raw_path, Want want) {
   Dataset d;
   d.path = canonical(raw_path);
   if (!object_exists(file, d.path)) throw Error("no dataset " + in_file(d.path, file_name));
@@ -278,8 +288,8 @@ Dataset open_dataset(hid_t file, const std::string& file_name, const std::string
   if (!d.dset.ok()) throw Error("cannot open dataset " + in_file(d.path, file_name) + hdf5_reason());
   const Handle type(H5Dget_type(d.dset.get()), H5Tclose);
   if (!accepts(want, type.get()))
-    throw Error("dataset " + in_file(d.path, file_name) + " holds " + describe(type.get()) +
-                ", not " + wanted(want));
+    throw Error("dataset " + in_file(d.path, file_name) + " holds " + describe(type.get()) + ", not " +
+                wanted(want));
   const Handle space(H5Dget_space(d.dset.get()), H5Sclose);
   const int rank = H5Sget_simple_extent_ndims(space.get());
   if (rank < 0) throw Error("cannot read the shape of " + in_file(d.path, file_name) + hdf5_reason());
@@ -289,27 +299,25 @@ Dataset open_dataset(hid_t file, const std::string& file_name, const std::string
   return d;
 }
 
-void require_shape(const Dataset& d, const std::string& file_name, std::size_t rank,
-                   std::size_t columns, const char* expected) {
+void require_shape(const Dataset& d, const std::string& file_name, std::size_t rank, std::size_t columns,
+                   const char* expected) {
   const bool ok = d.dims.size() == rank && (rank < 2 || d.dims[1] == columns);
   if (!ok)
-    throw Error("dataset " + in_file(d.path, file_name) + " has shape " + shape_text(d.dims) +
-                ", expected " + expected);
+    throw Error("dataset " + in_file(d.path, file_name) + " has shape " + shape_text(d.dims) + ", expected " +
+                expected);
 }
 
 template <class T>
 std::vector<T> read_whole(const Dataset& d, const std::string& file_name, hid_t mem_type) {
   std::vector<T> out(d.count);
-  if (d.count > 0 &&
-      H5Dread(d.dset.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+  if (d.count > 0 && H5Dread(d.dset.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
     throw Error("cannot read dataset " + in_file(d.path, file_name) + hdf5_reason() +
                 "; the file may be damaged");
   return out;
 }
 
 template <class T>
-std::vector<T> read_1d(hid_t file, const std::string& file_name, const std::string& path,
-                       Want want) {
+std::vector<T> read_1d(hid_t file, const std::string& file_name, const std::string& path, Want want) {
   const Dataset d = open_dataset(file, file_name, path, want);
   require_shape(d, file_name, 1, 0, "a 1-D array [N]");
   return read_whole<T>(d, file_name, memory_type(want));
@@ -322,15 +330,13 @@ std::string attr_where(const std::string& name, const std::string& path, const s
 }
 
 void write_attr(hid_t file, const std::string& file_name, const std::string& raw_path,
-                const std::string& name, hid_t file_type, hid_t mem_type, hid_t space,
-                const void* data) {
+                const std::string& name, hid_t file_type, hid_t mem_type, hid_t space, const void* data) {
   const std::string path = canonical(raw_path);
   if (name.empty()) throw Error("empty attribute name for " + in_file(path, file_name));
   const Handle object = open_object(file, file_name, path, true);
   if (H5Aexists(object.get(), name.c_str()) > 0 && H5Adelete(object.get(), name.c_str()) < 0)
     throw Error("cannot replace " + attr_where(name, path, file_name) + hdf5_reason());
-  Handle attr(H5Acreate2(object.get(), name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT),
-              H5Aclose);
+  Handle attr(H5Acreate2(object.get(), name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   if (!attr.ok() || H5Awrite(attr.get(), mem_type, data) < 0)
     throw Error("cannot write " + attr_where(name, path, file_name) + hdf5_reason());
 }
@@ -352,8 +358,7 @@ bool any_non_ascii(const std::vector<std::string>& values) {
 }
 
 void write_string_attr(hid_t file, const std::string& file_name, const std::string& path,
-                       const std::string& name, const std::vector<std::string>& values,
-                       bool scalar) {
+                       const std::string& name, const std::vector<std::string>& values, bool scalar) {
   std::size_t width = 0;
   for (const auto& v : values) width = std::max(width, v.size());
   const Handle type = fixed_string_type(width, any_non_ascii(values));
@@ -466,8 +471,7 @@ void fsync_path(const std::string& path, int flags) {
 
 std::string login_name() {
   if (const char* user = std::getenv("USER"); user != nullptr && user[0] != '\0') return user;
-  if (const passwd* pw = getpwuid(geteuid()); pw != nullptr && pw->pw_name != nullptr)
-    return pw->pw_name;
+  if (const passwd* pw = getpwuid(geteuid()); pw != nullptr && pw->pw_name != nullptr) return pw->pw_name;
   return "unknown";
 }
 
@@ -505,13 +509,16 @@ File File::open(const std::string& path) {
   const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
   if (is_hdf5 < 0) throw Error("cannot read " + in_quotes(path) + hdf5_reason() + ": check its permissions");
   if (is_hdf5 == 0)
-    throw Error(in_quotes(path) + " is not an HDF5 file (no HDF5 signature): was it written by "
+    throw Error(in_quotes(path) +
+                " is not an HDF5 file (no HDF5 signature): was it written by "
                 "granudrag, and completely?");
   const Handle fapl = file_access_plist();
   const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get());
   if (id < 0)
-    throw Error(in_quotes(path) + " is an HDF5 file but cannot be opened: it is truncated or "
-                "corrupt" + hdf5_reason() + "; regenerate it");
+    throw Error(in_quotes(path) +
+                " is an HDF5 file but cannot be opened: it is truncated or "
+                "corrupt" +
+                hdf5_reason() + "; regenerate it");
   File f;
   f.id_ = id;
   f.path_ = path;
@@ -552,7 +559,8 @@ std::int64_t File::id(bool for_writing) const {
     throw Error(in_quotes(path_) + (committed_ ? " was committed and is closed" : " is not open") +
                 "; open it again to read it");
   if (for_writing && !writable_)
-    throw Error(in_quotes(path_) + " is open read-only: run files are written once, through "
+    throw Error(in_quotes(path_) +
+                " is open read-only: run files are written once, through "
                 "File::create");
   return id_;
 }
@@ -564,8 +572,7 @@ void File::commit() {
   if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
     throw Error("cannot write " + in_quotes(tmp) + hdf5_reason() + " (disk full?)");
   id_ = -1;
-  if (H5Fclose(file) < 0)
-    throw Error("cannot close " + in_quotes(tmp) + hdf5_reason() + " (disk full?)");
+  if (H5Fclose(file) < 0) throw Error("cannot close " + in_quotes(tmp) + hdf5_reason() + " (disk full?)");
   // Data on disk before the rename makes it visible: a crash leaves the old file or the new.
   fsync_path(tmp, O_RDONLY);
   std::error_code ec;
@@ -579,23 +586,19 @@ void File::commit() {
 bool File::exists(const std::string& path) const { return object_exists(id(false), canonical(path)); }
 
 void File::write(const std::string& path, const std::vector<double>& data) {
-  create_and_write(id(true), path_, path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {data.size()},
-                   data.data());
+  create_and_write(id(true), path_, path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {data.size()}, data.data());
 }
 
 void File::write(const std::string& path, const std::vector<std::int64_t>& data) {
-  create_and_write(id(true), path_, path, H5T_STD_I64LE, H5T_NATIVE_INT64, {data.size()},
-                   data.data());
+  create_and_write(id(true), path_, path, H5T_STD_I64LE, H5T_NATIVE_INT64, {data.size()}, data.data());
 }
 
 void File::write(const std::string& path, const std::vector<int>& data) {
-  create_and_write(id(true), path_, path, H5T_STD_I32LE, H5T_NATIVE_INT, {data.size()},
-                   data.data());
+  create_and_write(id(true), path_, path, H5T_STD_I32LE, H5T_NATIVE_INT, {data.size()}, data.data());
 }
 
 void File::write(const std::string& path, const std::vector<std::uint8_t>& data) {
-  create_and_write(id(true), path_, path, H5T_STD_U8LE, H5T_NATIVE_UINT8, {data.size()},
-                   data.data());
+  create_and_write(id(true), path_, path, H5T_STD_U8LE, H5T_NATIVE_UINT8, {data.size()}, data.data());
 }
 
 void File::write_rows(const std::string& path, const std::vector<Vec3>& rows) {
@@ -650,8 +653,7 @@ void File::set_attr(const std::string& path, const std::string& name,
                     const std::vector<std::int64_t>& values) {
   const hsize_t n = values.size();
   const Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
-  write_attr(id(true), path_, path, name, H5T_STD_I64LE, H5T_NATIVE_INT64, space.get(),
-             values.data());
+  write_attr(id(true), path_, path, name, H5T_STD_I64LE, H5T_NATIVE_INT64, space.get(), values.data());
 }
 
 void File::set_attr(const std::string& path, const std::string& name,
@@ -689,14 +691,12 @@ std::string File::get_attr_string(const std::string& path, const std::string& na
   return only_value(read_string_attr(a), a.where, "get_attr_strings");
 }
 
-std::vector<std::int64_t> File::get_attr_int64s(const std::string& path,
-                                                const std::string& name) const {
+std::vector<std::int64_t> File::get_attr_int64s(const std::string& path, const std::string& name) const {
   const Attribute a = open_attr(id(false), path_, path, name);
   return read_numeric_attr<std::int64_t>(a, Want::Int64);
 }
 
-std::vector<std::string> File::get_attr_strings(const std::string& path,
-                                                const std::string& name) const {
+std::vector<std::string> File::get_attr_strings(const std::string& path, const std::string& name) const {
   return read_string_attr(open_attr(id(false), path_, path, name));
 }
 
@@ -704,8 +704,8 @@ std::vector<std::string> File::get_attr_strings(const std::string& path,
 
 namespace {
 
-Handle create_extendible(hid_t file, const std::string& file_name, const std::string& path,
-                         hid_t file_type, hsize_t columns, bool two_d) {
+Handle create_extendible(hid_t file, const std::string& file_name, const std::string& path, hid_t file_type,
+                         hsize_t columns, bool two_d) {
   const hsize_t dims[2] = {0, columns};
   const hsize_t max_dims[2] = {H5S_UNLIMITED, columns};
   const int rank = two_d ? 2 : 1;
@@ -719,11 +719,9 @@ Handle create_extendible(hid_t file, const std::string& file_name, const std::st
     H5Pset_deflate(dcpl.get(), 1);
   }
   const Handle lcpl = link_create_plist();
-  Handle dset(H5Dcreate2(file, path.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(),
-                         H5P_DEFAULT),
+  Handle dset(H5Dcreate2(file, path.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
               H5Dclose);
-  if (!dset.ok())
-    throw Error("cannot create dataset " + in_file(path, file_name) + hdf5_reason());
+  if (!dset.ok()) throw Error("cannot create dataset " + in_file(path, file_name) + hdf5_reason());
   return dset;
 }
 
@@ -734,8 +732,7 @@ bool append_row(hid_t dset, hid_t mem_type, const void* data, hsize_t row, hsize
   const Handle file_space(H5Dget_space(dset), H5Sclose);
   const hsize_t start[2] = {row, 0};
   const hsize_t count[2] = {1, columns};
-  if (H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr) < 0)
-    return false;
+  if (H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr) < 0) return false;
   const Handle mem_space(H5Screate_simple(1, &columns, nullptr), H5Sclose);
   return H5Dwrite(dset, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, data) >= 0;
 }
@@ -759,8 +756,7 @@ Series File::series(const std::string& group, std::size_t columns) {
   s.columns_ = columns;
   s.step_ = create_extendible(file, path_, base + "/step", H5T_STD_I64LE, 1, false).release();
   s.time_ = create_extendible(file, path_, base + "/time", H5T_IEEE_F64LE, 1, false).release();
-  s.value_ = create_extendible(file, path_, base + "/value", H5T_IEEE_F64LE, columns, columns > 1)
-                 .release();
+  s.value_ = create_extendible(file, path_, base + "/value", H5T_IEEE_F64LE, columns, columns > 1).release();
   return s;
 }
 
@@ -818,8 +814,8 @@ void Series::append(std::int64_t step, double time, const double* row) {
 
 void Series::append(std::int64_t step, double time, const std::vector<double>& row) {
   if (row.size() != columns_)
-    throw Error("row of " + std::to_string(row.size()) + " values for series " +
-                in_file(group_, file_) + ", which has " + std::to_string(columns_) + " columns");
+    throw Error("row of " + std::to_string(row.size()) + " values for series " + in_file(group_, file_) +
+                ", which has " + std::to_string(columns_) + " columns");
   append(step, time, row.data());
 }
 
@@ -838,9 +834,9 @@ SeriesData File::read_series(const std::string& group) const {
   out.values = read_whole<double>(v, path_, H5T_NATIVE_DOUBLE);
   const std::size_t rows = v.dims[0];
   if (out.steps.size() != rows || out.times.size() != rows)
-    throw Error("series " + in_file(g, path_) + " is inconsistent: " +
-                std::to_string(out.steps.size()) + " steps, " + std::to_string(out.times.size()) +
-                " times, " + std::to_string(rows) + " value rows");
+    throw Error("series " + in_file(g, path_) + " is inconsistent: " + std::to_string(out.steps.size()) +
+                " steps, " + std::to_string(out.times.size()) + " times, " + std::to_string(rows) +
+                " value rows");
   return out;
 }
 

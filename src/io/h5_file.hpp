@@ -111,10 +111,8 @@ class File {
   void set_attr(const std::string& path, const std::string& name, double value);
   void set_attr(const std::string& path, const std::string& name, std::int64_t value);
   void set_attr(const std::string& path, const std::string& name, const std::string& value);
-  void set_attr(const std::string& path, const std::string& name,
-                const std::vector<std::int64_t>& values);
-  void set_attr(const std::string& path, const std::string& name,
-                const std::vector<std::string>& values);
+  void set_attr(const std::string& path, const std::string& name, const std::vector<std::int64_t>& values);
+  void set_attr(const std::string& path, const std::string& name, const std::vector<std::string>& values);
   // Any other integer (int, std::size_t, ...) is stored as int64, so that
   // set_attr(p, "count", v.size()) compiles without a cast. bool is refused at compile time.
   template <class T, std::enable_if_t<std::is_integral_v<T> && !std::is_same_v<T, bool> &&
@@ -152,7 +150,6 @@ class File {
 // The mandatory /h5md group of H5MD 1.1: attribute version = [1, 1]; /h5md/author with the
 // author's name (empty: the login name, else "unknown"); /h5md/creator with name "granudrag"
 // and the given version.
-void write_h5md_header(File& file, const std::string& creator_version,
-                       const std::string& author = "");
+void write_h5md_header(File& file, const std::string& creator_version, const std::string& author = "");
 
 }  // namespace granudrag::h5

@@ -1,11 +1,11 @@
 #include "io/lammps_io.hpp"
 
-#include <cstdio>
-#include <fstream>
-#include <iomanip>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
 #include <map>
 #include <sstream>
 #include <vector>
@@ -27,8 +27,7 @@ void write_file_atomically(const std::string& path, const std::string& content) 
     throw Error("cannot rename '" + tmp + "' to '" + path + "'");
 }
 
-void write_lammps_data(const std::string& path, const Particles& p, const Box& box,
-                       double z_top) {
+void write_lammps_data(const std::string& path, const Particles& p, const Box& box, double z_top) {
   std::ostringstream s;
   s << std::setprecision(17);
   s << "LAMMPS data file written by granudrag\n\n"
@@ -38,13 +37,13 @@ void write_lammps_data(const std::string& path, const Particles& p, const Box& b
   for (std::size_t i = 0; i < p.size(); ++i) {
     Vec3 x = p.x[i];
     box.wrap(x);
-    s << i + 1 << ' ' << static_cast<int>(p.species[i]) + 1 << ' ' << 2 * p.radius[i] << " 1 "
-      << x.x() << ' ' << x.y() << ' ' << x.z() << '\n';
+    s << i + 1 << ' ' << static_cast<int>(p.species[i]) + 1 << ' ' << 2 * p.radius[i] << " 1 " << x.x() << ' '
+      << x.y() << ' ' << x.z() << '\n';
   }
   s << "\nVelocities\n\n";
   for (std::size_t i = 0; i < p.size(); ++i)
-    s << i + 1 << ' ' << p.v[i].x() << ' ' << p.v[i].y() << ' ' << p.v[i].z() << ' '
-      << p.omega[i].x() << ' ' << p.omega[i].y() << ' ' << p.omega[i].z() << '\n';
+    s << i + 1 << ' ' << p.v[i].x() << ' ' << p.v[i].y() << ' ' << p.v[i].z() << ' ' << p.omega[i].x() << ' '
+      << p.omega[i].y() << ' ' << p.omega[i].z() << '\n';
   write_file_atomically(path, s.str());
 }
 
@@ -60,13 +59,15 @@ std::string lammps_system(const std::string& data_file, const ContactParams& c, 
   s << std::setprecision(17);
   const auto law = [&] {
     std::ostringstream l;
-    l << std::setprecision(17) << c.kn << ' ' << c.kt << ' ' << c.gamman << ' ' << c.gammat << ' ' << c.mu << " 1";
+    l << std::setprecision(17) << c.kn << ' ' << c.kt << ' ' << c.gamman << ' ' << c.gammat << ' ' << c.mu
+      << " 1";
     return l.str();
   }();
-  s << "units lj\natom_style sphere\natom_modify map array\nboundary p p fm\nnewton off\ncomm_modify vel yes\n"
+  s << "units lj\natom_style sphere\natom_modify map array\nboundary p p fm\nnewton off\ncomm_modify vel "
+       "yes\n"
     << "read_data " << data_file << "\n"
-    << "group mobile type 1\ngroup frozen type 2\n" << extra_groups
-    << "neighbor " << skin << " bin\nneigh_modify delay 0 every 1 check yes\n"
+    << "group mobile type 1\ngroup frozen type 2\n"
+    << extra_groups << "neighbor " << skin << " bin\nneigh_modify delay 0 every 1 check yes\n"
     << "pair_style gran/hertz/history " << law << "\npair_coeff * *\n"
     << "timestep " << dt << "\n"
     << "fix integrate mobile nve/sphere\n"
@@ -117,7 +118,12 @@ LammpsData read_lammps_data(const std::string& path, int frozen_type, int intrud
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   bool have[3] = {false, false, false};
   std::string line, section;
-  struct Atom { long id; int type; double d, density; Vec3 x; };
+  struct Atom {
+    long id;
+    int type;
+    double d, density;
+    Vec3 x;
+  };
   std::vector<Atom> atoms;
   std::map<long, std::pair<Vec3, Vec3>> velocities;
   auto fail = [&](const std::string& why) {
@@ -136,7 +142,8 @@ LammpsData read_lammps_data(const std::string& path, int frozen_type, int intrud
     // Atoms and Velocities are read, other sections are skipped.
     if (std::isupper(static_cast<unsigned char>(w[0][0]))) {
       section = w[0];
-      if (section == "Atoms" && line.find('#') != std::string::npos && line.find("sphere") == std::string::npos)
+      if (section == "Atoms" && line.find('#') != std::string::npos &&
+          line.find("sphere") == std::string::npos)
         fail("the Atoms section is not atom_style sphere ('" + line + "')");
       continue;
     }
@@ -156,7 +163,8 @@ LammpsData read_lammps_data(const std::string& path, int frozen_type, int intrud
         Atom a{std::stol(w[0]), std::stoi(w[1]), std::stod(w[2]), std::stod(w[3]),
                Vec3(std::stod(w[4]), std::stod(w[5]), std::stod(w[6]))};
         if (!(a.d > 0)) fail("diameter must be > 0 (a point particle cannot be a grain)");
-        if (w.size() == 10) a.x += Vec3(std::stol(w[7]) * (hi[0] - lo[0]), std::stol(w[8]) * (hi[1] - lo[1]), 0);
+        if (w.size() == 10)
+          a.x += Vec3(std::stol(w[7]) * (hi[0] - lo[0]), std::stol(w[8]) * (hi[1] - lo[1]), 0);
         atoms.push_back(a);
       } else if (section == "Velocities") {
         if (w.size() != 7) fail("expected 'id vx vy vz wx wy wz'");
@@ -183,7 +191,9 @@ LammpsData read_lammps_data(const std::string& path, int frozen_type, int intrud
     if (std::abs(a.density - 1.0) > 1e-12)
       throw Error("LAMMPS data file '" + path + "': atom " + std::to_string(a.id) + " has density " +
                   std::to_string(a.density) + "; granudrag's unit of density is the grains' (1)");
-    const Species kind = a.type == intruder_type ? Species::Intruder : a.type == frozen_type ? Species::Frozen : Species::Mobile;
+    const Species kind = a.type == intruder_type ? Species::Intruder
+                         : a.type == frozen_type ? Species::Frozen
+                                                 : Species::Mobile;
     Vec3 x = a.x - Vec3(lo[0], lo[1], 0.0);
     out.box.wrap(x);
     const std::size_t i = out.particles.add(x, 0.5 * a.d, kind);

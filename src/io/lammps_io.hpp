@@ -3,15 +3,14 @@
 // script that runs the same contact law, so a state can be cross-checked or benchmarked there.
 #include <string>
 
-#include "core/box.hpp"
 #include "contact/contact_params.hpp"
+#include "core/box.hpp"
 #include "core/particles.hpp"
 
 namespace granudrag {
 
 // Types: 1 mobile grain, 2 frozen grain, 3 intruder. Density 1, so LAMMPS' masses equal ours.
-void write_lammps_data(const std::string& path, const Particles& p, const Box& box,
-                       double z_top);
+void write_lammps_data(const std::string& path, const Particles& p, const Box& box, double z_top);
 
 struct LammpsRun {
   std::string data_file;

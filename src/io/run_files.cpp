@@ -26,18 +26,19 @@ void check_header(const h5::File& f, const std::string& path, const std::string&
   if (!f.has_attr("/granudrag", "format"))
     throw Error("'" + path + "' is not a granudrag file (no /granudrag format attribute)");
   const std::string got = f.get_attr_string("/granudrag", "format");
-  if (got != format)
-    throw Error("'" + path + "' is a " + got + " file, not a " + format + " file");
+  if (got != format) throw Error("'" + path + "' is a " + got + " file, not a " + format + " file");
   const std::int64_t version = f.get_attr_int64("/granudrag", "version");
   if (version != kFileVersion)
-    throw Error("'" + path + "' has format version " + std::to_string(version) + "; this granudrag reads version " +
-                std::to_string(kFileVersion) + ": re-create it with this version");
+    throw Error("'" + path + "' has format version " + std::to_string(version) +
+                "; this granudrag reads version " + std::to_string(kFileVersion) +
+                ": re-create it with this version");
 }
 
 void write_state(h5::File& f, const Simulation::State& s, double dt) {
   const Particles& p = s.particles;
   // One frame: each element gets the H5MD step and time beside its value.
-  for (const char* element : {"position", "velocity", "angular_velocity", "force", "torque", "radius", "species"}) {
+  for (const char* element :
+       {"position", "velocity", "angular_velocity", "force", "torque", "radius", "species"}) {
     f.write(std::string(kParticles) + "/" + element + "/step", std::vector<std::int64_t>{s.steps});
     f.write(std::string(kParticles) + "/" + element + "/time", std::vector<double>{s.steps * dt});
   }
@@ -50,7 +51,8 @@ void write_state(h5::File& f, const Simulation::State& s, double dt) {
   std::vector<std::uint8_t> species(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) species[i] = static_cast<std::uint8_t>(p.species[i]);
   f.write(std::string(kParticles) + "/species/value", species);
-  f.set_attr(std::string(kParticles) + "/species", "meaning", std::string("0 mobile grain, 1 frozen base grain, 2 intruder"));
+  f.set_attr(std::string(kParticles) + "/species", "meaning",
+             std::string("0 mobile grain, 1 frozen base grain, 2 intruder"));
   std::vector<std::int64_t> pairs;
   std::vector<Vec3> shear;
   for (const PairHistory& h : s.pair_history) {
@@ -60,7 +62,8 @@ void write_state(h5::File& f, const Simulation::State& s, double dt) {
   }
   f.write("/contacts/pairs", pairs);
   f.write_rows("/contacts/shear", shear);
-  f.set_attr("/contacts", "convention", std::string("pairs (i, j), i < j; shear: tangential spring seen from i"));
+  f.set_attr("/contacts", "convention",
+             std::string("pairs (i, j), i < j; shear: tangential spring seen from i"));
   std::vector<Vec3> wall = s.wall_history;
   wall.resize(p.size(), Vec3::Zero());
   f.write_rows("/contacts/wall_shear", wall);
@@ -77,21 +80,24 @@ Simulation::State read_state(const h5::File& f) {
   Particles& p = s.particles;
   p.reserve(x.size());
   for (std::size_t i = 0; i < x.size(); ++i) {
-    if (species[i] > 2) throw Error("unknown species " + std::to_string(species[i]) + " of particle " + std::to_string(i));
+    if (species[i] > 2)
+      throw Error("unknown species " + std::to_string(species[i]) + " of particle " + std::to_string(i));
     p.add(x[i], radius[i], static_cast<Species>(species[i]));
   }
   p.v = f.read_vec3(std::string(kParticles) + "/velocity/value");
   p.omega = f.read_vec3(std::string(kParticles) + "/angular_velocity/value");
   p.f = f.read_vec3(std::string(kParticles) + "/force/value");
   p.torque = f.read_vec3(std::string(kParticles) + "/torque/value");
-  if (p.v.size() != x.size() || p.omega.size() != x.size() || p.f.size() != x.size() || p.torque.size() != x.size())
+  if (p.v.size() != x.size() || p.omega.size() != x.size() || p.f.size() != x.size() ||
+      p.torque.size() != x.size())
     throw Error("particle arrays of different lengths in the file");
   const std::vector<std::int64_t> pairs = f.read_int64("/contacts/pairs");
   const std::vector<Vec3> shear = f.read_vec3("/contacts/shear");
   if (pairs.size() != 2 * shear.size()) throw Error("/contacts/pairs and /contacts/shear disagree in length");
   for (std::size_t k = 0; k < shear.size(); ++k) {
     const std::int64_t i = pairs[2 * k], j = pairs[2 * k + 1];
-    if (i < 0 || j <= i || j >= static_cast<std::int64_t>(x.size())) throw Error("bad contact pair in /contacts/pairs");
+    if (i < 0 || j <= i || j >= static_cast<std::int64_t>(x.size()))
+      throw Error("bad contact pair in /contacts/pairs");
     s.pair_history.push_back({static_cast<int>(i), static_cast<int>(j), shear[k]});
   }
   s.wall_history = f.read_vec3("/contacts/wall_shear");
@@ -112,10 +118,11 @@ void write_bed_body(h5::File& f, const Bed& bed) {
   f.set_attr("/contact", "dt", bed.dt);
   f.set_attr("/bed", "intruder", static_cast<std::int64_t>(bed.intruder));
   f.set_attr("/bed", "surface_height", bed.surface_height);
-  f.set_attr("/bed", "surface_definition",
-             std::string("height where the packing fraction of the grains (slabs of 0.1 d) falls to half its bulk "
-                         "value; bulk = median over slabs from 2 d above the wall to 4 d below the bed top (highest "
-                         "slab denser than a tenth of the densest), slabs cut by the intruder left out"));
+  f.set_attr(
+      "/bed", "surface_definition",
+      std::string("height where the packing fraction of the grains (slabs of 0.1 d) falls to half its bulk "
+                  "value; bulk = median over slabs from 2 d above the wall to 4 d below the bed top (highest "
+                  "slab denser than a tenth of the densest), slabs cut by the intruder left out"));
   f.set_attr("/bed", "depth", bed.depth);
   f.set_attr("/bed", "requested_depth", bed.requested_depth);
   f.set_attr("/bed", "stop_reason", bed.stop_reason);
@@ -229,7 +236,8 @@ void save_checkpoint(const std::string& path, const Pull& pull, const std::strin
   f.write("/pull/contacts", r.contacts);
   f.write("/pull/theta_sums", std::vector<double>{r.theta_sum, r.theta_sq_sum});
   f.set_attr("/pull", "theta_count", static_cast<std::int64_t>(r.theta_count));
-  f.write("/pull/theta_histogram", std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
+  f.write("/pull/theta_histogram",
+          std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
   f.write("/pull/z_histogram", std::vector<std::int64_t>(r.z_histogram.begin(), r.z_histogram.end()));
   f.write("/pull/energy", std::vector<double>{r.work, r.max_overlap, r.energy_start, r.contact_sum});
   f.write_rows("/pull/force_sum", std::vector<Vec3>{r.force_sum});
@@ -334,10 +342,13 @@ void save_run(const std::string& path, const Pull& pull, const std::string& yaml
   f.set_attr("/observables/drag", "transient_distance", res.transient_distance);
   f.set_attr("/observables/drag", "transient_samples", static_cast<std::int64_t>(res.transient_samples));
   scalar("coordination", res.coordination, NAN, "n: mean number of grains touching the intruder");
-  scalar("theta", res.theta, res.theta_error,
-         "mean angle between the intruder velocity and the intruder-to-grain line at contact formation (rad)");
-  f.write("/observables/theta/histogram", std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
-  scalar("bulk_coordination", res.bulk_coordination, NAN, "Z of mobile grains with centre within R + shell of the intruder");
+  scalar(
+      "theta", res.theta, res.theta_error,
+      "mean angle between the intruder velocity and the intruder-to-grain line at contact formation (rad)");
+  f.write("/observables/theta/histogram",
+          std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
+  scalar("bulk_coordination", res.bulk_coordination, NAN,
+         "Z of mobile grains with centre within R + shell of the intruder");
   f.set_attr("/observables/bulk_coordination", "shell", pull.spec().shell);
   f.write("/observables/bulk_coordination/distribution", res.z_distribution);
   scalar("kappa", res.kappa, NAN, "(Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8");
@@ -350,8 +361,7 @@ void save_run(const std::string& path, const Pull& pull, const std::string& yaml
 
 void write_bed_xdmf(const std::string& bed_path, std::size_t particles) {
   const std::string name = bed_path.substr(bed_path.find_last_of('/') + 1);
-  write_xdmf(bed_path + ".xdmf", name, "all", particles, {"radius"},
-             {"velocity", "angular_velocity"});
+  write_xdmf(bed_path + ".xdmf", name, "all", particles, {"radius"}, {"velocity", "angular_velocity"});
 }
 
 }  // namespace granudrag

@@ -14,20 +14,30 @@ std::string xml_escape(const std::string& s) {
   std::string out;
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
 }
 
 // All granudrag particle data are 64-bit floats; ParaView needs the type spelled out.
-std::string data_item(const std::string& h5_file, const std::string& dataset, std::size_t n,
-                      bool vector) {
+std::string data_item(const std::string& h5_file, const std::string& dataset, std::size_t n, bool vector) {
   std::ostringstream s;
   s << "<DataItem Dimensions=\"" << n << (vector ? " 3" : "")
     << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << xml_escape(h5_file) << ':'
@@ -39,8 +49,7 @@ std::string data_item(const std::string& h5_file, const std::string& dataset, st
 // no cells at all without a connectivity array (points you cannot see in Surface or Points
 // view), and XDMF has no formula for 0..N-1: it is spelled out, about 6 bytes per particle.
 void write_identity_connectivity(std::ostringstream& s, std::size_t n) {
-  s << "        <DataItem Dimensions=\"" << n
-    << "\" NumberType=\"Int\" Precision=\"8\" Format=\"XML\">";
+  s << "        <DataItem Dimensions=\"" << n << "\" NumberType=\"Int\" Precision=\"8\" Format=\"XML\">";
   char buffer[24];
   for (std::size_t i = 0; i < n; ++i) {
     if (i % 20 == 0) s << "\n         ";
@@ -66,8 +75,7 @@ void write_xdmf(const std::string& xdmf_path, const std::string& h5_file_name,
   if (h5_file_name.empty() || h5_file_name.find(':') != std::string::npos)
     throw Error("cannot write '" + xdmf_path + "': the HDF5 file name '" + h5_file_name +
                 "' is empty or contains ':', which XDMF uses to separate file and dataset");
-  if (n_particles == 0)
-    throw Error("cannot write '" + xdmf_path + "': there are no particles to show");
+  if (n_particles == 0) throw Error("cannot write '" + xdmf_path + "': there are no particles to show");
   check_name(particle_group, "particle group", xdmf_path);
   for (const auto& f : scalar_fields) check_name(f, "field", xdmf_path);
   for (const auto& f : vector_fields) check_name(f, "field", xdmf_path);
@@ -89,8 +97,7 @@ void write_xdmf(const std::string& xdmf_path, const std::string& h5_file_name,
   auto attribute = [&](const std::string& field, bool vector) {
     s << "      <Attribute Name=\"" << xml_escape(field) << "\" AttributeType=\""
       << (vector ? "Vector" : "Scalar") << "\" Center=\"Node\">\n"
-      << "        " << data_item(h5_file_name, group + field + "/value", n_particles, vector)
-      << "\n"
+      << "        " << data_item(h5_file_name, group + field + "/value", n_particles, vector) << "\n"
       << "      </Attribute>\n";
   };
   for (const auto& f : scalar_fields) attribute(f, false);

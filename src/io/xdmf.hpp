@@ -18,7 +18,6 @@ namespace granudrag {
 // together; it must not contain ':' (XDMF splits file and dataset there).
 void write_xdmf(const std::string& xdmf_path, const std::string& h5_file_name,
                 const std::string& particle_group, std::size_t n_particles,
-                const std::vector<std::string>& scalar_fields,
-                const std::vector<std::string>& vector_fields);
+                const std::vector<std::string>& scalar_fields, const std::vector<std::string>& vector_fields);
 
 }  // namespace granudrag

@@ -55,8 +55,10 @@ BedProfile measure_bed(const Particles& p, const Box& box, double slab) {
     if (!cut) bulk.push_back(out.packing_fraction[k]);
   }
   if (bulk.size() < 5)
-    throw Error("bed is too shallow to measure its surface: it needs at least 6.5 d of grains clear of the "
-                "intruder (top at " + std::to_string(bed_top) + " d)");
+    throw Error(
+        "bed is too shallow to measure its surface: it needs at least 6.5 d of grains clear of the "
+        "intruder (top at " +
+        std::to_string(bed_top) + " d)");
   std::nth_element(bulk.begin(), bulk.begin() + bulk.size() / 2, bulk.end());
   out.bulk_packing_fraction = bulk[bulk.size() / 2];
   const double half = 0.5 * out.bulk_packing_fraction;

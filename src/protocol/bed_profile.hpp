@@ -16,8 +16,8 @@ namespace granudrag {
 
 struct BedProfile {
   double slab = 0.1;
-  std::vector<double> z;                // slab centres
-  std::vector<double> packing_fraction; // grains only (the intruder excluded)
+  std::vector<double> z;                 // slab centres
+  std::vector<double> packing_fraction;  // grains only (the intruder excluded)
   double bulk_packing_fraction = 0;
   double surface_height = 0;
 };

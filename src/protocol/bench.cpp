@@ -7,9 +7,9 @@
 #include <sstream>
 
 #include "contact/verlet_contacts.hpp"
+#include "engine/simulation.hpp"
 #include "io/lammps_io.hpp"
 #include "protocol/lattice_bed.hpp"
-#include "engine/simulation.hpp"
 
 namespace granudrag {
 
@@ -69,15 +69,15 @@ void run_bench(const BenchOptions& o) {
                     "# dt = %.6g, skin = %.3g, list entries = %zu, contacts = %ld (%.2f per grain), "
                     "rebuilds = %ld\n# final energy per grain: translational %.6g, rotational %.6g\n",
                     sim.dt(), o.skin, pairs.size(), fast.contact_count(),
-                    2.0 * fast.contact_count() / o.grains, fast.list().builds(),
-                    e.kinetic / o.grains, e.rotational / o.grains);
+                    2.0 * fast.contact_count() / o.grains, fast.list().builds(), e.kinetic / o.grains,
+                    e.rotational / o.grains);
       table << line
             << "threads  particle-steps/s  wall[s]  force[s]  neigh[s]  integ[s]  force%  neigh%  integ%\n";
     }
     const double tot = t.total();
     std::snprintf(line, sizeof line, "%7d  %16.4g  %7.2f  %8.2f  %8.2f  %8.2f  %5.1f%%  %5.1f%%  %5.1f%%\n",
-                  threads, static_cast<double>(o.grains) * o.steps / wall, wall,
-                  t.seconds(Phase::Force), t.seconds(Phase::Neighbor), t.seconds(Phase::Integrate),
+                  threads, static_cast<double>(o.grains) * o.steps / wall, wall, t.seconds(Phase::Force),
+                  t.seconds(Phase::Neighbor), t.seconds(Phase::Integrate),
                   100 * t.seconds(Phase::Force) / tot, 100 * t.seconds(Phase::Neighbor) / tot,
                   100 * t.seconds(Phase::Integrate) / tot);
     table << line;
@@ -85,7 +85,6 @@ void run_bench(const BenchOptions& o) {
     table.str("");
     table.clear();
   }
-
 }
 
 }  // namespace granudrag

@@ -32,16 +32,17 @@ void PourSpec::validate() const {
   require(grains <= 200 * lx * ly * 1000, "grains", static_cast<double>(grains),
           "more than a 1000 d tall bed in this box; use a wider box or fewer grains");
   require(grains >= 1, "grains", static_cast<double>(grains), "it must be >= 1");
-  require(intruder_diameter >= 0 && std::isfinite(intruder_diameter), "intruder_diameter",
-          intruder_diameter, "it must be >= 0 (0: no intruder)");
+  require(intruder_diameter >= 0 && std::isfinite(intruder_diameter), "intruder_diameter", intruder_diameter,
+          "it must be >= 0 (0: no intruder)");
   if (intruder_diameter > 0) {
     require(intruder_x >= 0 && intruder_x < lx, "intruder_x", intruder_x,
             "the intruder must be inside the box: 0 <= intruder_x < lx = " + std::to_string(lx));
     require(intruder_y >= 0 && intruder_y < ly, "intruder_y", intruder_y,
             "the intruder must be inside the box: 0 <= intruder_y < ly = " + std::to_string(ly));
     if (std::isnan(depth) == std::isnan(intruder_z))
-      throw Error("give exactly one of 'depth' (below the free surface) and 'intruder_z' (height of "
-                  "the intruder centre above the wall)");
+      throw Error(
+          "give exactly one of 'depth' (below the free surface) and 'intruder_z' (height of "
+          "the intruder centre above the wall)");
     if (!std::isnan(depth)) require(depth > 0, "depth", depth, "it must be > 0 (in d)");
   }
   if (!std::isnan(packing_estimate))
@@ -86,8 +87,8 @@ double intruder_height_for_depth(const PourSpec& s) {
   const double z = height - s.depth;
   if (z - R < s.base_height + 0.5) {
     std::ostringstream msg;
-    msg << "'depth' = " << s.depth << " is deeper than the bed: " << s.grains << " grains in "
-        << s.lx << " x " << s.ly << " make a bed about " << height
+    msg << "'depth' = " << s.depth << " is deeper than the bed: " << s.grains << " grains in " << s.lx
+        << " x " << s.ly << " make a bed about " << height
         << " d high, so the intruder (D = " << s.intruder_diameter
         << ") fits above the base for depth <= " << height - R - s.base_height - 0.5
         << "; use fewer d of depth or more grains";
@@ -168,13 +169,14 @@ Bed pour(const PourSpec& s, bool show_progress) {
   double z0 = NAN;
   if (has_intruder) z0 = std::isnan(s.depth) ? s.intruder_z : intruder_height_for_depth(s);
   if (has_intruder && !(z0 - 0.5 * s.intruder_diameter >= s.base_height))
-    throw Error("'intruder_z' = " + std::to_string(z0) + " puts the intruder into the base; it " +
-                "must be >= D/2 + base_height = " + std::to_string(0.5 * s.intruder_diameter + s.base_height));
+    throw Error(
+        "'intruder_z' = " + std::to_string(z0) + " puts the intruder into the base; it " +
+        "must be >= D/2 + base_height = " + std::to_string(0.5 * s.intruder_diameter + s.base_height));
   double column_top = 0;
   Particles p = place_grains(s, has_intruder ? z0 : 0.0, &column_top);
   if (has_intruder) {
-    bed.intruder = static_cast<int>(p.add(Vec3(s.intruder_x, s.intruder_y, z0),
-                                          0.5 * s.intruder_diameter, Species::Intruder));
+    bed.intruder = static_cast<int>(
+        p.add(Vec3(s.intruder_x, s.intruder_y, z0), 0.5 * s.intruder_diameter, Species::Intruder));
   }
   Settings settings;
   settings.dt = s.dt;
@@ -234,9 +236,11 @@ Bed pour(const PourSpec& s, bool show_progress) {
   if (has_intruder) {
     bed.depth = bed.surface_height - bed.state.particles.x[bed.intruder].z();
     if (!std::isnan(s.depth) && std::abs(bed.depth - s.depth) > 1.0)
-      std::fprintf(stderr, "pour: warning: the intruder ended at depth %.3f d, %.2f d from the requested %.3f d "
-                           "(bulk packing fraction %.3f, packing_estimate %.3f)\n",
-                   bed.depth, bed.depth - s.depth, s.depth, bed.profile.bulk_packing_fraction, assumed_packing(s));
+      std::fprintf(stderr,
+                   "pour: warning: the intruder ended at depth %.3f d, %.2f d from the requested %.3f d "
+                   "(bulk packing fraction %.3f, packing_estimate %.3f)\n",
+                   bed.depth, bed.depth - s.depth, s.depth, bed.profile.bulk_packing_fraction,
+                   assumed_packing(s));
     if (bed.depth < 0.5 * s.intruder_diameter)
       std::fprintf(stderr, "pour: warning: the intruder is not buried (depth %.3f d < D/2)\n", bed.depth);
   }

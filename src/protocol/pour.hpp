@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "protocol/bed_profile.hpp"
 #include "contact/contact_loop.hpp"
 #include "contact/contact_params.hpp"
 #include "engine/simulation.hpp"
+#include "protocol/bed_profile.hpp"
 
 namespace granudrag {
 
@@ -29,10 +29,10 @@ struct PourSpec {
   ContactParams contact;
   double dt = 0;  // 0: from the Hertz collision time
   double skin = 0.2;
-  double ke_threshold = 1e-7;   // mean kinetic energy per grain, rho g d^4
-  double max_settle_time = 100; // sqrt(d/g)
-  double check_interval = 0.5;  // sqrt(d/g) between kinetic-energy checks
-  double base_height = 0.6;     // grains below are frozen into the rough base
+  double ke_threshold = 1e-7;    // mean kinetic energy per grain, rho g d^4
+  double max_settle_time = 100;  // sqrt(d/g)
+  double check_interval = 0.5;   // sqrt(d/g) between kinetic-energy checks
+  double base_height = 0.6;      // grains below are frozen into the rough base
   std::uint64_t seed = 1;
 
   void validate() const;  // throws Error naming the key and the allowed range
@@ -48,7 +48,7 @@ struct Bed {
   double surface_height = 0;
   double depth = NAN;  // surface height - intruder centre height
   double requested_depth = NAN;
-  std::string stop_reason;  // "threshold" or "max_time"
+  std::string stop_reason;    // "threshold" or "max_time"
   double kinetic_energy = 0;  // per grain, when the pour stopped
   double settle_time = 0;
   std::string sanity;  // the end-of-run report: grains lost, overlaps, energy, throughput

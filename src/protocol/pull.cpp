@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "core/error.hpp"
-#include "protocol/observables.hpp"
 #include "core/progress.hpp"
+#include "protocol/observables.hpp"
 
 namespace granudrag {
 
@@ -70,8 +70,7 @@ Pull::Pull(const Bed& bed, const PullSpec& spec)
   record_.total_steps = (steps + k - 1) / k * k;
   const Energy e = sim_.energy();
   record_.energy_start = e.total();
-  if (spec_.transient >= 0 && spec_.transient >= distance)
-  {
+  if (spec_.transient >= 0 && spec_.transient >= distance) {
     std::ostringstream msg;
     msg << "'transient' = " << spec_.transient << " d leaves nothing of a pull of " << distance
         << " d to average; it must be shorter than 'distance'";
@@ -151,8 +150,8 @@ void Pull::end_of_interval() {
   if (!std::isfinite(ke) || ke > 100.0 * std::max(1.0, spec_.speed * spec_.speed)) {
     std::ostringstream msg;
     msg << "the run blew up at t = " << sim_.time() << ": kinetic energy per grain " << ke
-        << " (rho g d^4). The time step dt = " << sim_.dt() << " is too large for kn = "
-        << bed_.contact.kn << ", or the bed was overlapping; the last good checkpoint, if any, is kept";
+        << " (rho g d^4). The time step dt = " << sim_.dt() << " is too large for kn = " << bed_.contact.kn
+        << ", or the bed was overlapping; the last good checkpoint, if any, is kept";
     throw Error(msg.str());
   }
 
@@ -170,8 +169,7 @@ void Pull::end_of_interval() {
   const long done = static_cast<long>(record_.snapshots.size());
   const double t_end = record_.total_steps * sim_.dt();
   const double t_start = transient_distance() / spec_.speed;
-  if (done < spec_.snapshots &&
-      sim_.time() >= t_start + (t_end - t_start) * (done + 0.5) / spec_.snapshots) {
+  if (done < spec_.snapshots && sim_.time() >= t_start + (t_end - t_start) * (done + 0.5) / spec_.snapshots) {
     Snapshot s;
     s.time = sim_.time();
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -241,9 +239,9 @@ std::string Pull::sanity_report(double wall_seconds) const {
   const double grains = static_cast<double>(sim_.particles().size());
   std::ostringstream s;
   s << "sanity: grains lost " << grains_lost() << " of " << sim_.particles().count(Species::Mobile)
-    << "; largest overlap " << record_.max_overlap << " d; energy of the grains "
-    << record_.energy_start << " -> " << e.total() << ", work by the intruder " << record_.work
-    << ", dissipated " << record_.work - (e.total() - record_.energy_start) << " (rho g d^4); "
+    << "; largest overlap " << record_.max_overlap << " d; energy of the grains " << record_.energy_start
+    << " -> " << e.total() << ", work by the intruder " << record_.work << ", dissipated "
+    << record_.work - (e.total() - record_.energy_start) << " (rho g d^4); "
     << grains * sim_.steps_done() / std::max(wall_seconds, 1e-9) << " particle-steps/s\n";
   return s.str();
 }

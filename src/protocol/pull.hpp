@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "protocol/pour.hpp"
 #include "engine/simulation.hpp"
+#include "protocol/pour.hpp"
 
 namespace granudrag {
 
@@ -65,10 +65,10 @@ struct PullResult {
   std::vector<double> cumulative_drag;  // running mean of -F_x over all samples (Fig. 4)
   double coordination = NAN;            // n: mean number of grains touching the intruder
   double theta = NAN, theta_error = NAN;
-  double bulk_coordination = NAN;       // Z
-  std::vector<double> z_distribution;   // P(Z)
-  double kappa = NAN;                   // (Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8
-  double froude = NAN;                  // 2V sqrt(2D/g)/(D+d), paper Eq. 4
+  double bulk_coordination = NAN;      // Z
+  std::vector<double> z_distribution;  // P(Z)
+  double kappa = NAN;                  // (Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8
+  double froude = NAN;                 // 2V sqrt(2D/g)/(D+d), paper Eq. 4
 };
 
 double froude_number(double speed, double diameter);

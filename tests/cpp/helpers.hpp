@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "core/error.hpp"
-#include "protocol/lattice_bed.hpp"
 #include "engine/simulation.hpp"
+#include "protocol/lattice_bed.hpp"
 
 namespace granudrag::support {
 

@@ -20,10 +20,9 @@ struct ScalarResult {
 
 // Reference written against the LAMMPS algorithm with plain arrays, deliberately not sharing
 // any code (or Eigen) with contact_law.hpp.
-ScalarResult scalar_reference(const ContactParams& p, const double del[3], double radi,
-                              double radj, double meff, const double vi[3], const double vj[3],
-                              const double wi[3], const double wj[3], double dt,
-                              const double shear_in[3]) {
+ScalarResult scalar_reference(const ContactParams& p, const double del[3], double radi, double radj,
+                              double meff, const double vi[3], const double vj[3], const double wi[3],
+                              const double wj[3], double dt, const double shear_in[3]) {
   ScalarResult out{};
   double s[3] = {shear_in[0], shear_in[1], shear_in[2]};
   const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
@@ -70,8 +69,13 @@ ScalarResult scalar_reference(const ContactParams& p, const double del[3], doubl
 TEST(ContactLaw, StaticOverlapGivesHertzForce) {
   ContactParams p;  // paper values
   const double ri = 0.5, rj = 0.45, delta = 1e-3;
-  ContactGeometry g{Vec3(0, 0, ri + rj - delta), ri + rj - delta, ri + rj, ri * rj / (ri + rj),
-                    0.1, Vec3::Zero(), Vec3::Zero()};
+  ContactGeometry g{Vec3(0, 0, ri + rj - delta),
+                    ri + rj - delta,
+                    ri + rj,
+                    ri * rj / (ri + rj),
+                    0.1,
+                    Vec3::Zero(),
+                    Vec3::Zero()};
   Vec3 shear = Vec3::Zero();
   const PairForce cf = hertz_history(p, g, 1e-5, shear);
   const double expected = p.kn * std::sqrt(g.reff * delta) * delta;  // paper Eq. 1, v_n = 0
@@ -113,8 +117,8 @@ TEST(ContactLaw, AgreesWithScalarTranscriptionOfLammps) {
     ContactGeometry g{del, r, ri + rj, ri * rj / (ri + rj), meff, vi - vj, ri * wi + rj * wj};
     Vec3 shear = shear0;
     const PairForce cf = hertz_history(p, g, dt, shear);
-    const ScalarResult ref = scalar_reference(p, del.data(), ri, rj, meff, vi.data(), vj.data(),
-                                              wi.data(), wj.data(), dt, shear0.data());
+    const ScalarResult ref = scalar_reference(p, del.data(), ri, rj, meff, vi.data(), vj.data(), wi.data(),
+                                              wj.data(), dt, shear0.data());
     const double fscale = Vec3(ref.f[0], ref.f[1], ref.f[2]).norm() + 1e-300;
     for (int k = 0; k < 3; ++k) {
       ASSERT_NEAR(cf.force[k], ref.f[k], 1e-10 * fscale) << "trial " << trial;

@@ -91,8 +91,8 @@ TEST(H5File, RoundTripsEveryTypeAndShape) {
   const std::string path = dir.file("types.h5");
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1e3, 1e3);
-  for (std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{17}, std::size_t{5000},
-                        std::size_t{100000}}) {
+  for (std::size_t n :
+       {std::size_t{0}, std::size_t{1}, std::size_t{17}, std::size_t{5000}, std::size_t{100000}}) {
     SCOPED_TRACE("n = " + std::to_string(n));
     std::vector<double> d(n);
     std::vector<std::int64_t> l(n);
@@ -170,8 +170,8 @@ TEST(H5File, WritesLargeArraysQuickly) {
   f.write_rows("/particles/all/position/value", x);
   f.commit();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("  200000 x 3 random doubles written and committed in %.3f s (%.1f MB on disk)\n",
-              seconds, fs::file_size(dir.file("big.h5")) / 1e6);
+  std::printf("  200000 x 3 random doubles written and committed in %.3f s (%.1f MB on disk)\n", seconds,
+              fs::file_size(dir.file("big.h5")) / 1e6);
   EXPECT_LT(seconds, 5.0);  // gzip level 1: about 0.1 s here; level 9 would take seconds
 }
 
@@ -213,8 +213,7 @@ TEST(H5File, AttributesOnGroupsAndDatasets) {
     f.set_attr("/parameters", "empty", std::string());
     f.set_attr("/parameters", "note", "first");  // a literal works too
     f.set_attr("/parameters", "note", std::string("replaced, \xC3\xA9t\xC3\xA9"));
-    f.set_attr("/particles/all/box", "boundary",
-               std::vector<std::string>{"periodic", "periodic", "none"});
+    f.set_attr("/particles/all/box", "boundary", std::vector<std::string>{"periodic", "periodic", "none"});
     f.set_attr("/particles/all/box", "dimension", 3);
     f.set_attr("/", "root_attr", -1.5);
     f.commit();
@@ -244,8 +243,7 @@ TEST(H5File, AttributesOnGroupsAndDatasets) {
   EXPECT_MENTIONS(wrong_type, "'dt'");
   EXPECT_MENTIONS(wrong_type, "64-bit floats");
   EXPECT_MENTIONS(error_of([&] { f.get_attr_double("/parameters", "note"); }), "strings");
-  EXPECT_MENTIONS(error_of([&] { f.get_attr_string("/particles/all/box", "boundary"); }),
-                  "get_attr_strings");
+  EXPECT_MENTIONS(error_of([&] { f.get_attr_string("/particles/all/box", "boundary"); }), "get_attr_strings");
   EXPECT_MENTIONS(error_of([&] { f.get_attr_string("/parameters", "steps"); }), "not strings");
 }
 
@@ -279,11 +277,10 @@ TEST(H5Series, ThousandRowsAppendedOneByOneReadBack) {
     EXPECT_EQ(drag.rows(), static_cast<std::size_t>(n));
     EXPECT_EQ(drag.columns(), 3u);
     f.commit();
-    EXPECT_MENTIONS(error_of([&] { drag.append(n * 100, 1.0, std::vector<double>{1, 2, 3}); }),
-                    "committed");
+    EXPECT_MENTIONS(error_of([&] { drag.append(n * 100, 1.0, std::vector<double>{1, 2, 3}); }), "committed");
   }
-  std::printf("  %d rows appended to 2 series in %.1f ms (%.1f us per append)\n", n,
-              1e3 * seconds, 1e6 * seconds / (2 * n));
+  std::printf("  %d rows appended to 2 series in %.1f ms (%.1f us per append)\n", n, 1e3 * seconds,
+              1e6 * seconds / (2 * n));
   EXPECT_LT(seconds, 2.0);
 
   const h5::File f = h5::File::open(path);
@@ -315,8 +312,7 @@ TEST(H5Series, RefusesBadRowsAndRepeatedSteps) {
   const std::string repeated = error_of([&] { s.append(10, 0.2, std::vector<double>{1, 2}); });
   EXPECT_MENTIONS(repeated, "/observables/drag");
   EXPECT_MENTIONS(repeated, "steps must increase");
-  EXPECT_MENTIONS(error_of([&] { s.append(11, 0.2, std::vector<double>{1, 2, 3}); }),
-                  "2 columns");
+  EXPECT_MENTIONS(error_of([&] { s.append(11, 0.2, std::vector<double>{1, 2, 3}); }), "2 columns");
   EXPECT_MENTIONS(error_of([&] { f.series("/observables/drag", 2); }), "already exists");
   EXPECT_MENTIONS(error_of([&] { f.series("/observables/none", 0); }), "at least one column");
   s.append(11, 0.2, std::vector<double>{3, 4});  // still usable after refused appends
@@ -495,7 +491,8 @@ bool tags_balanced(const std::string& xml, std::string& why) {
     const std::string tag = xml.substr(i + 1, end - i - 1);
     if (tag.empty() || tag[0] == '?' || tag[0] == '!') continue;
     if (tag[0] == '/') {
-      if (open.empty() || open.back() != tag.substr(1)) return why = "unexpected </" + tag.substr(1) + ">", false;
+      if (open.empty() || open.back() != tag.substr(1))
+        return why = "unexpected </" + tag.substr(1) + ">", false;
       open.pop_back();
     } else if (tag.back() != '/') {
       open.push_back(tag.substr(0, tag.find(' ')));
@@ -534,7 +531,8 @@ TEST(Xdmf, PointsAtDatasetsThatExistWithTheDeclaredShapes) {
   std::string why;
   EXPECT_TRUE(tags_balanced(xml, why)) << why << "\n" << xml;
   // Explicit vertex i = point i: without it ParaView's Xdmf3 readers load points but no cells.
-  const std::size_t conn = xml.find("<DataItem Dimensions=\"250\" NumberType=\"Int\" Precision=\"8\" Format=\"XML\">");
+  const std::size_t conn =
+      xml.find("<DataItem Dimensions=\"250\" NumberType=\"Int\" Precision=\"8\" Format=\"XML\">");
   ASSERT_NE(conn, std::string::npos) << xml;
   std::istringstream indices(xml.substr(xml.find('>', conn) + 1));
   for (std::size_t i = 0; i < n; ++i) {
@@ -559,9 +557,9 @@ TEST(Xdmf, PointsAtDatasetsThatExistWithTheDeclaredShapes) {
       EXPECT_EQ(f.read_doubles(dataset).size(), n) << dataset;
     }
   }
-  EXPECT_EQ(datasets, (std::vector<std::string>{"/particles/all/position/value",
-                                                "/particles/all/radius/value",
-                                                "/particles/all/velocity/value"}));
+  EXPECT_EQ(datasets,
+            (std::vector<std::string>{"/particles/all/position/value", "/particles/all/radius/value",
+                                      "/particles/all/velocity/value"}));
 }
 
 TEST(Xdmf, RefusesWhatParaViewCouldNotRead) {

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "contact/contact_history.hpp"
+#include "contact/neighbor_list.hpp"
 #include "contact/verlet_contacts.hpp"
 #include "helpers.hpp"
-#include "contact/neighbor_list.hpp"
 
 using namespace granudrag;
 using granudrag::support::ThreadCount;
@@ -119,8 +119,8 @@ TEST(Oracle, TrajectoriesAgreeForDifferentSkins) {
   const Box& box = scene.box;
   double worst = 0;
   for (std::size_t i = 0; i < thin.size(); ++i)
-    worst = std::max(worst, box.min_image(thin.x[i] - thick.x[i]).norm() +
-                                (thin.omega[i] - thick.omega[i]).norm() * 1e-3);
+    worst = std::max(
+        worst, box.min_image(thin.x[i] - thick.x[i]).norm() + (thin.omega[i] - thick.omega[i]).norm() * 1e-3);
   EXPECT_LT(worst, 1e-9);
 }
 

@@ -48,9 +48,8 @@ class TempFile {
  public:
   explicit TempFile(const std::string& content, const std::string& stem = "pour") {
     static std::atomic<int> counter{0};
-    path_ = (std::filesystem::temp_directory_path() /
-             ("granudrag_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) +
-              "_" + stem + ".yaml"))
+    path_ = (std::filesystem::temp_directory_path() / ("granudrag_test_" + std::to_string(::getpid()) + "_" +
+                                                       std::to_string(counter++) + "_" + stem + ".yaml"))
                 .string();
     std::ofstream(path_) << content;
   }
@@ -101,16 +100,16 @@ TEST(Parameters, Defaults) {
 TEST(Parameters, YamlLoad) {
   TempFile f(
       "# a pour\n"
-      "grains: 1e5\n"          // integers may be written in exponent form
-      "friction: \"0.3\"\n"    // numbers may be quoted
+      "grains: 1e5\n"        // integers may be written in exponent form
+      "friction: \"0.3\"\n"  // numbers may be quoted
       "dt: 2.5e-6\n"
       "output: bed.h5\n"
-      "label: 42\n"            // text stays text
+      "label: 42\n"  // text stays text
       "speeds: [0.5, 2]\n"
       "quiet: yes\n"
-      "poisson: ~\n"           // null: not given, the default stays
+      "poisson: ~\n"  // null: not given, the default stays
       "contact:\n"
-      "  kn: 2e5\n");          // nested mapping = dotted key
+      "  kn: 2e5\n");  // nested mapping = dotted key
   Parameters p = pour();
   p.load_yaml(f.path());
   EXPECT_EQ(p.integer("grains"), 100000);
@@ -172,8 +171,8 @@ TEST(Parameters, ConfigFilesApplyInOrder) {
 
 TEST(Parameters, CliForms) {
   Parameters p = pour();
-  p.apply_cli({"--quiet", "--poisson", "-0.2", "--speeds", "1, 2,3", "--output", "x.h5",
-               "--contact.kn", "2e5"});
+  p.apply_cli(
+      {"--quiet", "--poisson", "-0.2", "--speeds", "1, 2,3", "--output", "x.h5", "--contact.kn", "2e5"});
   EXPECT_TRUE(p.flag("quiet"));
   EXPECT_EQ(p.number("poisson"), -0.2);
   EXPECT_EQ(p.numbers("speeds"), (std::vector<double>{1, 2, 3}));
@@ -236,13 +235,19 @@ TEST(Parameters, YamlErrorsNameFileAndKey) {
 
 TEST(Parameters, CliErrorsNameOptionAndSuggest) {
   Parameters p = pour();
-  expect_error([&] { p.apply_cli({"--frition", "0.3"}); },
-               {"'--frition'", "did you mean '--friction'?", "--help"});
+  expect_error(
+      [&] {
+        p.apply_cli({"--frition", "0.3"});
+      },
+      {"'--frition'", "did you mean '--friction'?", "--help"});
   expect_error([&] { p.apply_cli({"--contact-kn", "1"}); }, {"did you mean '--contact.kn'?"});
   expect_error([&] { p.apply_cli({"--grains"}); }, {"'--grains'", "needs a value"});
   expect_error([&] { p.apply_cli({"--grains", "--quiet"}); }, {"'--grains'", "needs a value"});
-  expect_error([&] { p.apply_cli({"--grains", "many"}); },
-               {"'grains' must be an integer, got 'many'", "command line"});
+  expect_error(
+      [&] {
+        p.apply_cli({"--grains", "many"});
+      },
+      {"'grains' must be an integer, got 'many'", "command line"});
   expect_error([&] { p.apply_cli({"--friction", "inf"}); }, {"'friction'", "a number"});
   expect_error([&] { p.apply_cli({"--quiet", "maybe"}); }, {"'quiet'", "true or false"});
   expect_error([&] { p.apply_cli({"--speeds", "1,,2"}); }, {"'speeds'", "list of numbers"});
@@ -252,8 +257,11 @@ TEST(Parameters, CliErrorsNameOptionAndSuggest) {
 
   // A bad --config file is reported, and nothing is applied.
   TempFile typo("frition: 0.3\n", "typo");
-  expect_error([&] { p.apply_cli({"--grains", "7", "--config", typo.path()}); },
-               {typo.path(), "'frition'", "did you mean 'friction'?"});
+  expect_error(
+      [&] {
+        p.apply_cli({"--grains", "7", "--config", typo.path()});
+      },
+      {typo.path(), "'frition'", "did you mean 'friction'?"});
   EXPECT_EQ(p.integer("grains"), 20000);
 }
 
@@ -267,9 +275,12 @@ TEST(Parameters, RangeChecksAtBothBounds) {
   };
   // Inclusive minimum: 0 is allowed, just below is not.
   EXPECT_NO_THROW(check({"--friction", "0"}));
-  expect_error([&] { check({"--friction", "-0.1"}); },
-               {"'friction' = -0.1 is out of range: it must be >= 0", "friction coefficient",
-                "--friction on the command line"});
+  expect_error(
+      [&] {
+        check({"--friction", "-0.1"});
+      },
+      {"'friction' = -0.1 is out of range: it must be >= 0", "friction coefficient",
+       "--friction on the command line"});
   // Exclusive minimum: 0 is refused, the smallest positive double is not.
   EXPECT_NO_THROW(check({"--dt", "5e-324"}));
   expect_error([&] { check({"--dt", "0"}); }, {"'dt' = 0 √(d/g)", "> 0 √(d/g)"});
@@ -295,8 +306,8 @@ TEST(Parameters, AccessorsGuardTheirUse) {
   const Parameters p = pour();
   EXPECT_THROW(p.number("no_such_key"), std::logic_error);
   EXPECT_THROW(p.is_set("no_such_key"), std::logic_error);
-  EXPECT_THROW(p.number("grains"), std::logic_error);   // an integer
-  EXPECT_THROW(p.integer("friction"), std::logic_error);  // a number
+  EXPECT_THROW(p.number("grains"), std::logic_error);                 // an integer
+  EXPECT_THROW(p.integer("friction"), std::logic_error);              // a number
   expect_error([&] { p.text("output"); }, {"'output'", "--output"});  // declared, no value
 }
 
@@ -316,17 +327,18 @@ TEST(Parameters, SpecBugsAreLogicErrors) {
 
 TEST(Parameters, ToYamlRoundTripsExactly) {
   Parameters p = pour();
-  p.apply_cli({"--friction", "0.1", "--contact.kn", "0.3333333333333333",
-               "--speeds", "5e-324,1e-300,2e8,0.1,1,12345.678901234567",
-               "--output", "a \"quoted\": path\\ with # hash\nand a newline, é", "--label", "true",
-               "--quiet", "--grains", "123456789"});
+  p.apply_cli({"--friction", "0.1", "--contact.kn", "0.3333333333333333", "--speeds",
+               "5e-324,1e-300,2e8,0.1,1,12345.678901234567", "--output",
+               "a \"quoted\": path\\ with # hash\nand a newline, é", "--label", "true", "--quiet", "--grains",
+               "123456789"});
   const std::string dumped = p.to_yaml();
   // Every key, in spec order, the unset one as null.
   std::size_t at = 0;
   for (const auto& s : p.specs()) {
     const auto found = dumped.find("\n" + s.key + ": ", at == 0 ? 0 : at - 1);
     ASSERT_TRUE(dumped.rfind(s.key + ": ", 0) == 0 || found != std::string::npos)
-        << s.key << " missing or out of order in:\n" << dumped;
+        << s.key << " missing or out of order in:\n"
+        << dumped;
     at = dumped.find(s.key + ": ", at) + 1;
   }
   EXPECT_NE(dumped.find("dt: ~\n"), std::string::npos) << dumped;
@@ -379,9 +391,9 @@ TEST(Parameters, ToYamlRoundTripsRandomDoublesAndAwkwardText) {
     std::memcpy(&v, &bits, sizeof v);
     if (std::isfinite(v)) values.push_back(v);
   }
-  for (const std::string& text : {std::string(""), std::string("~"), std::string("null"),
-                                  std::string("- item"), std::string("[1, 2]"),
-                                  std::string("  padded  "), std::string("'single'")}) {
+  for (const std::string& text :
+       {std::string(""), std::string("~"), std::string("null"), std::string("- item"), std::string("[1, 2]"),
+        std::string("  padded  "), std::string("'single'")}) {
     Parameters p = pour();
     p.apply_cli({"--label", text});
     TempFile f(p.to_yaml(), "text");

@@ -2,9 +2,9 @@
 // and a real pour that must settle to a random close packing at the requested depth.
 #include <gtest/gtest.h>
 
-#include "protocol/bed_profile.hpp"
 #include "core/error.hpp"
 #include "helpers.hpp"
+#include "protocol/bed_profile.hpp"
 #include "protocol/pour.hpp"
 
 using namespace granudrag;
@@ -26,7 +26,7 @@ TEST(BedProfile, SurfaceOfAnIdealSlabIsItsTop) {
       for (int iy = 0; iy < 8; ++iy) p.add(Vec3(ix + 0.5, iy + 0.5, iz + 0.5), 0.5, Species::Mobile);
   const BedProfile prof = measure_bed(p, Box{8, 8, true});
   EXPECT_NEAR(prof.bulk_packing_fraction, M_PI / 6, 0.08);  // the slab average oscillates
-  EXPECT_NEAR(prof.surface_height, 11.5, 0.5);  // half-density point inside the top layer
+  EXPECT_NEAR(prof.surface_height, 11.5, 0.5);              // half-density point inside the top layer
 }
 
 TEST(BedProfile, AGrainInFlightDoesNotMoveTheSurface) {

@@ -57,9 +57,7 @@ TEST(Observables, CumulativeAverage) {
   EXPECT_DOUBLE_EQ(c[2], 4);
 }
 
-TEST(Pull, FroudeNumberIsPaperEq4) {
-  EXPECT_DOUBLE_EQ(froude_number(1.0, 4.0), 2.0 * std::sqrt(8.0) / 5.0);
-}
+TEST(Pull, FroudeNumberIsPaperEq4) { EXPECT_DOUBLE_EQ(froude_number(1.0, 4.0), 2.0 * std::sqrt(8.0) / 5.0); }
 
 TEST(Pull, MeasuresDragAndContactsOfAMovingIntruder) {
   PullSpec spec;
@@ -127,7 +125,8 @@ TEST(Pull, ABlowUpStopsTheRunWithAMessage) {
     FAIL() << "a NaN velocity ran to the end";
   } catch (const Error& e) {
     const std::string msg = e.what();
-    EXPECT_TRUE(msg.find("blew up") != std::string::npos || msg.find("non-finite") != std::string::npos) << msg;
+    EXPECT_TRUE(msg.find("blew up") != std::string::npos || msg.find("non-finite") != std::string::npos)
+        << msg;
   }
   EXPECT_EQ(checkpoints, 0);  // nothing bad was checkpointed
 }
