@@ -9,18 +9,17 @@ it (Figs. 14, 18, 20). A figure without the data it needs raises NoData.
 """
 from pathlib import Path
 
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.patches import Circle
+from matplotlib.ticker import FormatStrFormatter
 
-from . import paper  # noqa: E402
-from .fits import (evaluate, fit_alpha, fit_kappa, fit_phi, fit_regimes,  # noqa: E402
-                   fit_saturation, fit_theta)
-from matplotlib.patches import Circle  # noqa: E402
-from matplotlib.ticker import FormatStrFormatter  # noqa: E402
+from . import paper
+from .fits import evaluate, fit_alpha, fit_kappa, fit_phi, fit_regimes, fit_saturation, fit_theta
+from .physics import gamman_ratio
+from .table import YIELD_SPEED, reference_params, select, yield_rows
 
-from .table import YIELD_SPEED, reference_params, select, yield_rows  # noqa: E402
+plt.switch_backend("Agg")  # files only, no display
 
 F_LABEL = r"$F^*_{\rm drag} = F_{\rm drag}/(\rho d^3 g)$"
 FY_LABEL = r"$F^*_Y = F_Y/(\rho d^3 g)$"
@@ -41,14 +40,38 @@ def _subplots(*args, **kw):
     return plt.subplots(*args, layout="constrained", **kw)
 
 
-def _save(fig, outdir, name):
+def _save(fig, outdir, name, png_metadata=None):
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     paths = [outdir / f"{name}.png", outdir / f"{name}.pdf"]
-    fig.savefig(paths[0], dpi=150)
+    fig.savefig(paths[0], dpi=150, metadata=png_metadata)
     fig.savefig(paths[1])
     plt.close(fig)
     return paths
+
+
+# PNG text key of a figure drawn in place of one without data (the workflow's figure rules
+# always write their files); its value says why.
+NOT_DRAWN = "granudrag-not-drawn"
+
+
+def draw_not_drawn(outdir, name, caption, reason):
+    """<name>.png and .pdf saying that the figure was not drawn, and why (tagged NOT_DRAWN)."""
+    fig, ax = _subplots(figsize=(5, 1.6))
+    ax.axis("off")
+    ax.text(0.5, 0.5, f"{caption}\nnot drawn: {reason}", ha="center", va="center", wrap=True, fontsize=9)
+    return _save(fig, outdir, name, png_metadata={NOT_DRAWN: reason})
+
+
+def not_drawn_reason(png):
+    """Why the figure file png was not drawn (None if it is a real figure or is missing)."""
+    from PIL import Image
+
+    try:
+        with Image.open(png) as im:
+            return im.info.get(NOT_DRAWN)
+    except FileNotFoundError:
+        return None
 
 
 def _reference(df):
@@ -460,8 +483,8 @@ def fig20_kn_gamman(df, outdir, mu=0.5):
     kn0, gn0 = reference_params(df)
     rows = select(df, mu=mu)
     rows = rows[rows.system == "II"] if (rows.system == "II").any() else rows
-    ratio = rows.gamman / rows.kn ** 0.6
-    same_e = rows[np.isclose(ratio, gn0 / kn0 ** 0.6, rtol=1e-6)]
+    ratio = gamman_ratio(rows.kn, rows.gamman)
+    same_e = rows[np.isclose(ratio, gamman_ratio(kn0, gn0), rtol=1e-6)]
     same_k = rows[np.isclose(rows.kn, kn0, rtol=1e-9)]
     varied = rows[(~np.isclose(rows.kn, kn0)) | (~np.isclose(rows.gamman, gn0))]
     if same_e.kn.nunique() < 2 and same_k.gamman.nunique() < 2:

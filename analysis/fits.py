@@ -23,7 +23,7 @@ from scipy.optimize import curve_fit
 
 from .regimes import RegimeFitter, fit_regimes, regime_curve
 from .result import Fit, Param
-from .table import froude, reference_params, select, yield_rows, YIELD_SPEED
+from .table import YIELD_SPEED, froude, reference_params, select, yield_rows
 
 __all__ = ["Fit", "Param", "fit_regimes", "regime_curve", "fit_theta", "fit_kappa",
            "fit_linear", "fit_power_law", "fit_saturation", "fit_phi", "fit_alpha",
@@ -324,16 +324,18 @@ class FitFile:
     laws: list
     fits: dict
     tables: dict
+    notes: list = field(default_factory=list)
 
 
-def save_fits(path, laws=(), fits=None, tables=None):
+def save_fits(path, laws=(), fits=None, tables=None, notes=()):
     """Write a JSON fit file:
 
         {"format": "granudrag-fits", "version": 1,
          "laws":   [ScalingLaw: mu, kn, gamman, alpha, phi, regimes, ranges],
          "fits":   {name: Fit: model, params {name: {value, err}}, method,
                     n_points, x_range, meta, [replicates]},
-         "tables": {name: [row objects]}}
+         "tables": {name: [row objects]},
+         "notes":  [fits that could not be made, in words]}
 
     Errors are one standard error; null stands for "not estimable".
     """
@@ -341,7 +343,8 @@ def save_fits(path, laws=(), fits=None, tables=None):
            "units": "lengths in d, speeds in sqrt(g d), forces in rho d^3 g",
            "laws": [law.to_dict() for law in laws],
            "fits": {k: f.to_dict() for k, f in (fits or {}).items()},
-           "tables": {k: json.loads(t.to_json(orient="records")) for k, t in (tables or {}).items()}}
+           "tables": {k: json.loads(t.to_json(orient="records")) for k, t in (tables or {}).items()},
+           "notes": [str(n) for n in notes]}
     Path(path).write_text(json.dumps(doc, indent=1, allow_nan=False))
 
 
@@ -362,6 +365,7 @@ def load_fits(path):
     try:
         return FitFile(laws=[ScalingLaw.from_dict(d) for d in doc.get("laws", [])],
                        fits={k: Fit.from_dict(d) for k, d in doc.get("fits", {}).items()},
-                       tables={k: pd.DataFrame(v) for k, v in doc.get("tables", {}).items()})
+                       tables={k: pd.DataFrame(v) for k, v in doc.get("tables", {}).items()},
+                       notes=[str(n) for n in doc.get("notes", [])])
     except (KeyError, TypeError, ValueError) as exc:
         raise FitFileError(f"{path}: damaged fit file ({type(exc).__name__}: {exc})") from None

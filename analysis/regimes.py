@@ -26,6 +26,7 @@ points too quiet in the refits and the crossover errors ~30 % too small on
 a 14-point series like the pull table's (tests/python/calibrate_regimes.py).
 """
 import numpy as np
+
 from .result import Fit, Param
 
 MIN_POINTS = {"I": 2, "I_power": 4, "II": 3, "III": 3}

@@ -8,79 +8,21 @@ bars, so only ours count):
 """
 import html
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from . import figures as F
 from . import paper
-from .fits import (fit_alpha, fit_kappa, fit_phi, fit_regimes, fit_saturation,
-                   fit_scaling_law, fit_theta, save_fits, sum_rule)
+from .figure_list import FIGURES, NAMES, Inputs, draw
+from .figures import not_drawn_reason
+from .fitset import Results, load_results, run_fits, save_results
 from .result import Param, format_pm
-from .table import YIELD_SPEED, reference_params, select, validate_table, yield_rows
+from .table import reference_params
+
+__all__ = ["Results", "build_report", "comparisons", "run_fits", "verdict", "write_report"]
 
 SIGMAS, REL_TOL = 2.0, 0.25
-
-
-@dataclass
-class Results:
-    regimes: dict = field(default_factory=dict)     # (label, mu, key) -> Fit
-    theta: object = None
-    kappa: object = None
-    phi: object = None
-    alpha: object = None
-    sums: object = None
-    saturation: dict = field(default_factory=dict)  # D -> Fit
-    laws: list = field(default_factory=list)
-    notes: list = field(default_factory=list)       # fits that could not be made
-
-    def by(self, label, mu):
-        return {k[2]: f for k, f in self.regimes.items() if k[:2] == (label, mu)}
-
-
-def _try(results, what, fn, *args, **kw):
-    try:
-        return fn(*args, **kw)
-    except (ValueError, RuntimeError) as exc:
-        results.notes.append(f"{what}: not fitted ({exc})")
-        return None
-
-
-def run_fits(df, n_boot=200, seed=0):
-    """Every fit of the report, on the reference contact law where it applies."""
-    validate_table(df)
-    r = Results()
-    kn, gn = reference_params(df)
-    ref = select(df, kn=kn, gamman=gn)
-    for label, system, by, mus in (("D", "I", "D", (0.5, 0.0)), ("h", "II", "h", (0.5,))):
-        for mu in mus:
-            for key, g in select(ref, mu=mu, system=system).groupby(by):
-                if (~np.isclose(g.V, YIELD_SPEED)).sum() == 0:
-                    continue        # yield pulls only: no drag-vs-Fr series here
-                fit = _try(r, f"regimes at mu={mu:g}, {by}={key:g}", fit_regimes, g.Fr, g.drag,
-                           g.drag_err, regime1="power" if mu == 0 else "constant",
-                           n_boot=n_boot, seed=seed)
-                if fit is not None:
-                    r.regimes[(label, mu, key)] = fit
-    obs = select(ref, mu=0.5, system="I")
-    th = obs.dropna(subset=["theta"])
-    r.theta = _try(r, "theta(Fr)", fit_theta, th.Fr, th.theta) if len(th) else None
-    ka = obs.dropna(subset=["kappa"])
-    r.kappa = _try(r, "kappa(Fr)", fit_kappa, ka) if len(ka) else None
-    r.phi, r.alpha = fit_phi(df), fit_alpha(df)
-    r.sums = sum_rule(r.phi, r.alpha)
-    for D, g in yield_rows(ref).query("system == 'I'").groupby("D"):
-        if g.mu.nunique() >= 4:
-            fit = _try(r, f"F_Y(mu) saturation at D={D:g}", fit_saturation, g.mu, g.drag)
-            if fit is not None:
-                r.saturation[D] = fit
-    for mu in sorted(set(r.sums.mu[np.isclose(r.sums.kn, kn) & np.isclose(r.sums.gamman, gn)])):
-        law = _try(r, f"scaling law at mu={mu:g}", fit_scaling_law, df, r.phi, r.alpha,
-                   mu=mu, kn=kn, gamman=gn, n_boot=n_boot, seed=seed)
-        if law is not None:
-            r.laws.append(law)
-    return r
 
 
 # --- comparisons ---------------------------------------------------------
@@ -164,61 +106,6 @@ def _saturation_row(D, fit):
 
 
 # --- document ------------------------------------------------------------
-
-def _figures(df, r, outdir, restitution, trace, coordination=None, flow=None):
-    """Draw every figure; returns [(caption, png path or None, note)]."""
-    jobs = [
-        ("Fig. 5: drag vs Fr, μ = 0.5", F.fig05_drag_vs_Fr, dict(fits=r.by("D", 0.5))),
-        ("Fig. 6: contact angle θ vs Fr", F.fig06_theta, dict(fit=r.theta)),
-        ("Fig. 8: κ vs Fr", F.fig08_kappa, dict(fit=r.kappa)),
-        ("Fig. 10: drag vs Fr, μ = 0", F.fig10_drag_vs_Fr_mu0, dict(fits=r.by("D", 0.0))),
-        ("Table I: μ = 0 regime-I coefficients", F.table1, dict(fits=r.by("D", 0.0))),
-        ("Fig. 11: quasistatic drag for small μ, D = 2d", F.fig11_quasistatic_mu,
-         dict(fit_mu0=r.by("D", 0.0).get(2.0))),
-        ("Fig. 12: yield force vs μ", F.fig12_yield_vs_mu, dict(saturation=r.saturation)),
-        ("Fig. 13: yield force vs D*+1, collapse, f(μ)", F.fig13_yield_vs_D, dict(phi=r.phi)),
-        ("Fig. 14: φ_μ vs μ", F.fig14_phi_vs_mu, dict(phi=r.phi)),
-        ("Fig. 15: drag scaled by (D*+1)^φ_μ", F.fig15_scaled_drag_D, dict(phi=r.phi)),
-        ("Fig. 16: drag vs Fr at several depths", F.fig16_drag_vs_Fr_depth, dict(fits=r.by("h", 0.5))),
-        ("Fig. 17: yield force vs h, collapse, g(μ)", F.fig17_yield_vs_h, dict(alpha=r.alpha)),
-        ("Fig. 18: α_μ and the sum rule", F.fig18_alpha, dict(phi=r.phi, alpha=r.alpha)),
-        ("Fig. 19: drag scaled by h^α_μ", F.fig19_scaled_drag_h, dict(alpha=r.alpha)),
-        ("Fig. 20: K_n and γ_n variations", F.fig20_kn_gamman, {}),
-    ]
-    out = []
-    if restitution is not None:
-        v, e, tv, te, *label = restitution
-        out.append(("Fig. 2: restitution coefficient",
-                    F.fig02_restitution(v, e, tv, te, outdir, *label)[0], ""))
-    else:
-        out.append(("Fig. 2: restitution coefficient", None, "no restitution data given"))
-    if trace is not None:
-        t, force, *transient = trace
-        out.append(("Fig. 4: force trace", F.fig04_force_trace(t, force, outdir, *transient)[0], ""))
-    else:
-        out.append(("Fig. 4: force trace", None, "no force trace given"))
-    for caption, fn, kw in jobs:
-        try:
-            out.append((caption, fn(df, outdir, **kw)[0], ""))
-        except F.NoData as exc:
-            out.append((caption, None, str(exc)))
-    extra = [("Fig. 7: distribution of the bulk coordination number", F.fig07_coordination,
-              coordination, "no P(Z) data given"),
-             ("Fig. 9: velocity field around the intruder", F.fig09_flow_field, flow,
-              "no velocity-field snapshots given")]
-    for caption, fn, data, missing in extra:
-        try:
-            out.append((caption, fn(data, outdir)[0], "") if data is not None else (caption, None, missing))
-        except F.NoData as exc:
-            out.append((caption, None, str(exc)))
-    return sorted(out, key=lambda c: _figure_number(c[0]))
-
-
-def _figure_number(caption):
-    """Paper order: Fig. 2, 4, ..., 20, with Table I after Fig. 10 as in the paper."""
-    head = caption.split(":")[0]
-    return 10.5 if head.startswith("Table") else float(head.split()[-1])
-
 
 def _blocks(df, r, figs, n_boot, seed):
     kn, gn = reference_params(df)
@@ -335,9 +222,29 @@ def _html(blocks):
     return "\n".join(out + ["</body></html>"])
 
 
-def build_report(df, outdir, n_boot=200, seed=0, restitution=None, trace=None, coordination=None,
-                 flow=None):
-    """Fit, draw and write report.md, report.html and fits.json into outdir.
+def figure_entries(outdir):
+    """[(caption, png path or None, why not drawn)] of every figure in outdir, paper order."""
+    out = []
+    for fig in FIGURES:
+        png = Path(outdir) / f"{fig.name}.png"
+        why = not_drawn_reason(png) if png.is_file() else "no figure file"
+        out.append((fig.caption, None if why else png, why or ""))
+    return out
+
+
+def write_report(df, r, outdir, n_boot, seed):
+    """report.md and report.html in outdir, from the table, the fits (Results, as read from
+    fits.json) and the figure files already in outdir. Returns the path of report.md."""
+    outdir = Path(outdir)
+    blocks = _blocks(df, r, figure_entries(outdir), n_boot, seed)
+    (outdir / "report.md").write_text(_markdown(blocks))
+    (outdir / "report.html").write_text(_html(blocks))
+    return outdir / "report.md"
+
+
+def build_report(df, outdir, n_boot=200, seed=0, restitution=None, trace=None, coordination=None, flow=None):
+    """Fit, draw and write fits.json, every figure, report.md and report.html into outdir (what
+    the workflow's fits, figure and report rules do one step at a time).
 
     restitution: optional (v_n, e, theory_v, theory_e[, label of e]) for Fig. 2;
     trace: optional (t, force[, transient]) for Fig. 4.
@@ -347,14 +254,9 @@ def build_report(df, outdir, n_boot=200, seed=0, restitution=None, trace=None, c
     """
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
-    r = run_fits(df, n_boot=n_boot, seed=seed)
-    figs = _figures(df, r, outdir, restitution, trace, coordination, flow)
-    fits = {f"regimes_mu{mu:g}_{lab}{key:g}": f for (lab, mu, key), f in r.regimes.items()}
-    fits.update({k: v for k, v in (("theta", r.theta), ("kappa", r.kappa)) if v is not None})
-    fits.update({f"saturation_D{D:g}": f for D, f in r.saturation.items()})
-    save_fits(outdir / "fits.json", laws=r.laws, fits=fits,
-              tables={"phi": r.phi, "alpha": r.alpha, "sum_rule": r.sums})
-    blocks = _blocks(df, r, figs, n_boot, seed)
-    (outdir / "report.md").write_text(_markdown(blocks))
-    (outdir / "report.html").write_text(_html(blocks))
-    return outdir / "report.md"
+    save_results(outdir / "fits.json", run_fits(df, n_boot=n_boot, seed=seed))
+    r = load_results(outdir / "fits.json")
+    inputs = Inputs(table=df, restitution=restitution, trace=trace, coordination=coordination, flow=flow)
+    for name in NAMES:
+        draw(name, inputs, r, outdir)
+    return write_report(df, r, outdir, n_boot, seed)

@@ -29,15 +29,17 @@ import math
 
 import numpy as np
 
+from .physics import PAPER_GAMMAN, PAPER_KN, PAPER_RATIO, gamman_ratio
+
+__all__ = ["PAPER_GAMMAN", "PAPER_KN", "PAPER_RATIO", "beta", "contact_law", "kuwabara_kono"]
+
 C = (1.15344, 0.79826, 0.52288, 0.34870)
-PAPER_KN, PAPER_GAMMAN = 2e8, 5e4
-PAPER_RATIO = PAPER_GAMMAN / PAPER_KN ** 0.6     # gamma_n / K_n^0.6 of the paper
 GRAIN_R, GRAIN_M = 0.5, math.pi / 6.0            # mean grain, dimensionless units
 
 
 def beta(kn, gamman, R=GRAIN_R, m=GRAIN_M):
     """The series variable's prefactor: x = beta v_n^(1/5)."""
-    return gamman / kn ** 0.6 * R ** 0.2 * m ** 0.6
+    return gamman_ratio(kn, gamman) * R ** 0.2 * m ** 0.6
 
 
 def kuwabara_kono(v, kn, gamman, R=GRAIN_R, m=GRAIN_M):

@@ -1,4 +1,4 @@
-"""The tidy pull table: schema, Froude number, validation and CSV loading.
+"""The tidy pull table: schema, validation and CSV loading (the Froude number: analysis.physics).
 
 One row per pull. All quantities are dimensionless in grain density rho,
 mean grain diameter d and gravity g (SPEC section 1).
@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+
+from .physics import froude
 
 # name -> (kind, meaning). "text" columns identify; "number" columns are data.
 COLUMNS = {
@@ -39,12 +41,6 @@ YIELD_SPEED = 0.01
 
 class TableError(ValueError):
     """A file or frame that is not a usable pull table."""
-
-
-def froude(V, D, d=1.0, g=1.0):
-    """Froude number of paper Eq. 4: t2/t1 = 2 V sqrt(2 D / g) / (D + d)."""
-    V, D = np.asarray(V, dtype=float), np.asarray(D, dtype=float)
-    return 2.0 * V * np.sqrt(2.0 * D / g) / (D + d)
 
 
 def validate_table(df):

@@ -20,20 +20,14 @@ slow); run it by hand under nice. With N sets the ratios are uncertain by
 ~1/sqrt(2N) or more (the deviations have heavy tails).
 """
 import argparse
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
+import synth  # tests/python/synth.py, beside this script
 
-HERE = Path(__file__).resolve().parent
-for p in (HERE.parents[1], HERE):
-    if str(p) not in sys.path:
-        sys.path.insert(0, str(p))
-
-import synth  # noqa: E402
-from analysis.regimes import fit_regimes, regime_curve  # noqa: E402
-from analysis.table import YIELD_SPEED, froude  # noqa: E402
+from analysis.physics import froude
+from analysis.regimes import fit_regimes, regime_curve
+from analysis.table import YIELD_SPEED
 
 GRIDS = {
     # The grid of test_regimes.py: dense in regime I, uniform above.

@@ -1,16 +1,7 @@
-import sys
-from pathlib import Path
-
+# `analysis` is the installed package (tools/install-deps.sh); pytest puts this directory on
+# the import path for `synth`.
 import pytest
-
-# Import `analysis` from the repository root and `synth` from here, without
-# installing anything.
-ROOT = Path(__file__).resolve().parents[2]
-for p in (ROOT, Path(__file__).resolve().parent):
-    if str(p) not in sys.path:
-        sys.path.insert(0, str(p))
-
-import synth  # noqa: E402
+import synth
 
 
 @pytest.fixture(scope="session")
@@ -22,6 +13,7 @@ def table():
 def report_dir(table, tmp_path_factory):
     """One report build shared by the report and predictor tests (it is slow)."""
     import numpy as np
+
     from analysis.report import build_report
     out = tmp_path_factory.mktemp("report")
     v = np.geomspace(1e-3, 1.0, 10)

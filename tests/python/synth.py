@@ -7,8 +7,9 @@ size `noise`. theta and kappa follow Eq. 7 and the Fig. 8 line.
 import numpy as np
 import pandas as pd
 
+from analysis.physics import froude, gamman_for, gamman_ratio
 from analysis.regimes import regime_curve
-from analysis.table import YIELD_SPEED, froude
+from analysis.table import YIELD_SPEED
 
 KN, GAMMAN = 2e5, 500.0          # a softer reference law, as a reduced config would use
 H_SYSTEM_I = 25.0
@@ -94,7 +95,7 @@ def make_table(seed=0, noise=0.02, mus=(0.0, 0.1, 0.3, 0.5, 0.9), kn_variants=Tr
     if kn_variants:                                  # Fig. 20 at h = 45
         for kn in (2e6, 2e7):
             for Fr in FR_GRID[::2]:
-                add("II", 4, 45, 0.5, speed_for(Fr, 4), kn=kn, gamman=GAMMAN * (kn / KN) ** 0.6)
+                add("II", 4, 45, 0.5, speed_for(Fr, 4), kn=kn, gamman=gamman_for(kn, gamman_ratio(KN, GAMMAN)))
         for gn in (GAMMAN / 4, GAMMAN * 4):
             for Fr in FR_GRID[::2]:
                 add("II", 4, 45, 0.5, speed_for(Fr, 4), gamman=gn)

@@ -1,10 +1,9 @@
 """Every figure function writes a PNG and a PDF from a small synthetic table."""
 import numpy as np
 import pytest
+import synth
 
 from analysis import figures as F
-
-import synth
 
 TABLE_FIGURES = [
     (F.fig05_drag_vs_Fr, "fig05_drag_vs_Fr_mu0.5"),

@@ -3,12 +3,24 @@ import json
 
 import numpy as np
 import pytest
-
 import synth
+
 from analysis import paper
-from analysis.fits import (FitFileError, ScalingLaw, evaluate, fit_alpha, fit_kappa,
-                           fit_phi, fit_power_law, fit_saturation, fit_scaling_law,
-                           fit_theta, load_fits, save_fits, sum_rule)
+from analysis.fits import (
+    FitFileError,
+    ScalingLaw,
+    evaluate,
+    fit_alpha,
+    fit_kappa,
+    fit_phi,
+    fit_power_law,
+    fit_saturation,
+    fit_scaling_law,
+    fit_theta,
+    load_fits,
+    save_fits,
+    sum_rule,
+)
 from analysis.table import select, yield_rows
 
 

@@ -4,8 +4,8 @@ import subprocess
 import sys
 
 import pytest
-
 import synth
+
 from analysis.fits import load_fits
 from analysis.predict import predict
 from analysis.table import froude

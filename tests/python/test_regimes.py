@@ -1,8 +1,8 @@
 """Three-regime fits recover known crossovers from noisy synthetic drag."""
 import numpy as np
 import pytest
-
 import synth
+
 from analysis.regimes import RegimeFitter, fit_regimes, regime_curve
 
 FR = np.concatenate([np.geomspace(0.02, 0.8, 8), np.linspace(1.0, 10.0, 19)])

@@ -2,8 +2,8 @@
 import math
 
 import numpy as np
-
 import synth
+
 from analysis.report import comparisons, run_fits, verdict
 from analysis.result import Param
 

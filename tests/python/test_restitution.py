@@ -2,7 +2,8 @@
 import numpy as np
 import pytest
 
-from analysis.restitution import PAPER_GAMMAN, PAPER_KN, beta, contact_law, kuwabara_kono
+from analysis.physics import PAPER_GAMMAN, PAPER_KN, PAPER_RATIO, gamman_for
+from analysis.restitution import beta, contact_law, kuwabara_kono
 
 
 def test_series_matches_the_integrated_contact_law_where_it_converges():
@@ -22,11 +23,10 @@ def test_leading_coefficient_for_weak_damping():
 
 def test_curve_depends_only_on_gamman_over_kn_to_the_0_6():
     v = np.array([0.01, 0.3, 5.0])
-    ratio = PAPER_GAMMAN / PAPER_KN ** 0.6
     for kn in (2e4, 2e6):
-        assert np.allclose(contact_law(v, kn, ratio * kn ** 0.6),
+        assert np.allclose(contact_law(v, kn, gamman_for(kn, PAPER_RATIO)),
                            contact_law(v, PAPER_KN, PAPER_GAMMAN), rtol=1e-6)
-        assert np.allclose(kuwabara_kono(v, kn, ratio * kn ** 0.6),
+        assert np.allclose(kuwabara_kono(v, kn, gamman_for(kn, PAPER_RATIO)),
                            kuwabara_kono(v, PAPER_KN, PAPER_GAMMAN), rtol=1e-12)
 
 

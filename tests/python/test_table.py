@@ -2,8 +2,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.table import (COLUMNS, TableError, froude, load_csv, reference_params,
-                            save_csv, validate_table, yield_rows)
+from analysis.table import COLUMNS, TableError, froude, load_csv, reference_params, save_csv, validate_table, yield_rows
 
 
 def test_froude_is_paper_eq4():
@@ -97,6 +96,7 @@ def test_helpers(table):
 
 def test_write_csv_is_atomic(tmp_path):
     import pandas as pd
+
     from analysis.table import write_csv
     path = tmp_path / "out.csv"
     write_csv(pd.DataFrame({"a": [1.5, 2.0]}), path)

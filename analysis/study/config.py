@@ -1,0 +1,41 @@
+"""A study config: its JSON schema check, with messages that name the bad key."""
+
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+SCHEMA = REPO / "workflow" / "schemas" / "config.schema.yaml"
+
+
+class ConfigError(ValueError):
+    """A config that names no valid study; the message names the key."""
+
+
+def validate_config(config, schema_path=SCHEMA):
+    """Check config against the JSON schema; raise ConfigError naming the bad key.
+
+    (The workflow then runs snakemake.utils.validate, which also fills in the schema's
+    defaults; this check comes first for its shorter message.)
+    """
+    import jsonschema
+    import yaml
+
+    with open(schema_path) as fh:
+        schema = yaml.safe_load(fh)
+    validator = jsonschema.Draft7Validator(schema)
+    errors = sorted(validator.iter_errors(config), key=lambda e: list(map(str, e.absolute_path)))
+    if not errors:
+        return
+    lines = []
+    for err in errors:
+        best = jsonschema.exceptions.best_match([err])
+        where = ""
+        for part in best.absolute_path:
+            where += f"[{part}]" if isinstance(part, int) else (f".{part}" if where else str(part))
+        lines.append(f"config key '{where or '(top level)'}': {best.message}")
+    raise ConfigError("invalid config:\n  " + "\n  ".join(lines))
+
+
+def resolve_binary(config, repo=REPO):
+    """The config's `granudrag`, relative to the repository unless absolute."""
+    path = Path(str(config["granudrag"]))
+    return path if path.is_absolute() else (Path(repo) / path)

@@ -1,0 +1,126 @@
+"""Job count and estimated cost of a study config, from measured throughput.
+
+    /usr/bin/python3 -m analysis.study.estimate config/paper.yaml [--throughput PS] [--cores N] [--by-sweep]
+        [--measure [--grains G] [--binary build/granudrag]]
+
+Cost model (analysis.study.cost): a pull costs grains x travel / (V dt)
+particle-steps, a pour at most grains x max_settle_time / dt (pours that reach
+the kinetic-energy threshold stop earlier, so the bed figures are upper
+bounds). dt is the config's, or granudrag's default (analysis.physics.default_dt,
+proportional to K_n^-0.4). Core-hours = particle-steps / throughput x threads, where
+throughput is the particle-steps per second of one job on `threads` threads
+(the config's `throughput`, measured with `granudrag pull`, which prints it).
+Wall time on N cores assumes N / threads jobs at a time, perfectly packed.
+
+--measure replaces the config's throughput by one measured here: `granudrag bench` on G
+grains (default: the smallest system's, at most 70,000) collapsed with soft contacts into a
+bed-like packing (~4 contacts per grain; the cost of a step depends on the contacts, not on
+K_n), timed on min(threads, cores here) threads. For a job with more threads than this
+machine has, the measured per-core rate is scaled by the threads at PARALLEL_EFFICIENCY
+(an assumption, stated in the output; measure on the cluster's nodes to replace it).
+"""
+
+import argparse
+import os
+import re
+import subprocess
+import sys
+from collections import defaultdict
+from pathlib import Path
+
+import yaml
+
+from .. import study
+
+# Assumed efficiency of a job's OpenMP threads beyond those measured here (2 threads: 0.93).
+PARALLEL_EFFICIENCY = 0.8
+
+
+def measure_throughput(binary, grains, threads):
+    """(particle-steps/s of one job on `threads` threads, how it was obtained), from a bench run."""
+    here = min(threads, os.cpu_count() or 1)
+    cmd = [str(binary), "bench", "--grains", str(grains), "--kn", "2e4", "--steps", "300",
+           "--settle", "6000", "--threads", str(here)]
+    print(f"measuring: {' '.join(cmd)}", file=sys.stderr)
+    try:
+        out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
+    except FileNotFoundError:
+        sys.exit(f"estimate_cost: no granudrag at {binary}: build it (cmake --build build) or pass --binary")
+    except subprocess.CalledProcessError as exc:
+        sys.exit(f"estimate_cost: {' '.join(cmd)} failed:\n{exc.stderr.strip()}")
+    rows = [ln.split() for ln in out.splitlines() if re.match(r"\s*\d+\s+[\d.e+]+\s", ln)]
+    contacts = re.search(r"\(([\d.]+) per grain\)", out)
+    if not rows:
+        sys.exit(f"estimate_cost: could not read the throughput from:\n{out}")
+    measured = float(rows[-1][1])
+    how = (f"measured here: {measured:.3g} particle-steps/s on {here} thread(s), {grains} grains, "
+           f"{contacts.group(1) if contacts else '?'} contacts per grain")
+    if here == threads:
+        return measured, how
+    scaled = measured / here * threads * PARALLEL_EFFICIENCY
+    return scaled, (how + f"; x {threads}/{here} threads x {PARALLEL_EFFICIENCY} assumed parallel "
+                          f"efficiency = {scaled:.3g} for a {threads}-thread job")
+
+
+def hours(seconds):
+    h = seconds / 3600.0
+    return f"{h:.3g} h" if h >= 1 else f"{seconds / 60.0:.3g} min"
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("config", help="study config (YAML)")
+    ap.add_argument("--throughput", type=float, help="particle-steps/s of one job (default: the config's)")
+    ap.add_argument("--cores", type=int, default=2, help="cores for the wall-time estimate (default 2)")
+    ap.add_argument("--by-sweep", action="store_true", help="break the cost down by sweep")
+    ap.add_argument("--measure", action="store_true",
+                    help="measure the throughput on this machine with `granudrag bench` (about a minute)")
+    ap.add_argument("--grains", type=int, help="grains of the --measure bench (default: smallest system's, <= 70000)")
+    ap.add_argument("--binary", help="granudrag for --measure (default: the config's `granudrag`)")
+    args = ap.parse_args(argv)
+    with open(args.config) as fh:
+        config = yaml.safe_load(fh)
+    try:
+        study.validate_config(config)
+        config.setdefault("threads", 2)
+        config.setdefault("throughput", 1.0e7)
+        if args.throughput:
+            config["throughput"] = args.throughput
+        plan = study.plan(config)
+    except study.ConfigError as exc:
+        sys.exit(f"{args.config}: {exc}")
+    how = "the config's `throughput`"
+    if args.measure:
+        binary = Path(args.binary) if args.binary else study.resolve_binary(config)
+        grains = args.grains or min(70000, min(int(s["grains"]) for s in config["systems"].values()))
+        config["throughput"], how = measure_throughput(binary, grains, int(config["threads"]))
+        plan = study.plan(config)
+    s = study.summary(plan)
+    tp, threads = float(config["throughput"]), s["threads"]
+    total = s["bed_particle_steps"] + s["pull_particle_steps"]
+    parallel = max(1, args.cores // threads)
+    print(f"{args.config}: {s['beds']} beds + {s['pulls']} pulls = {s['beds'] + s['pulls']} "
+          f"simulation jobs (+ table, restitution, force trace, report)")
+    print(f"  particle-steps: beds <= {s['bed_particle_steps']:.3g}, pulls {s['pull_particle_steps']:.3g}")
+    print(f"  throughput {tp:.3g} particle-steps/s per job on {threads} thread(s) ({how})")
+    print(f"  cost: {s['core_hours']:.3g} core-hours "
+          f"(beds <= {s['bed_particle_steps'] / tp * threads / 3600:.3g}, "
+          f"pulls {s['pull_particle_steps'] / tp * threads / 3600:.3g})")
+    print(f"  wall time on {args.cores} cores ({parallel} job(s) at a time): "
+          f"<= {hours(total / tp / parallel)}")
+    longest = max(plan.pulls.values(), key=lambda p: study.pull_cost(p, config))
+    print(f"  longest pull: {longest.key} ({hours(study.job_seconds(study.pull_cost(longest, config), config))})")
+    if args.by_sweep:
+        cost = defaultdict(float)
+        count = defaultdict(int)
+        for p in plan.pulls.values():
+            cost[p.sweep] += study.pull_cost(p, config)
+            count[p.sweep] += 1
+        print("  pulls by sweep (particle-steps, share of all pulls):")
+        for name, c in sorted(cost.items(), key=lambda kv: -kv[1]):
+            print(f"    {name:24s} {count[name]:5d} pulls {c:10.3g} {c / s['pull_particle_steps']:6.1%}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
