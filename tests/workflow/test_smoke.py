@@ -10,18 +10,17 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pandas as pd
 import pytest
 import yaml
 
+from analysis import study
+
 ROOT = Path(__file__).resolve().parents[2]
-SNAKEMAKE = "/usr/bin/snakemake"   # Debian's, run by Debian's /usr/bin/python3
+SNAKEMAKE = "/usr/bin/snakemake"  # Debian's, run by Debian's /usr/bin/python3
 BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag")).resolve()
-sys.path.insert(0, str(ROOT / "workflow" / "scripts"))
-import study  # noqa: E402
 
 pytestmark = [
     pytest.mark.skipif(not Path(SNAKEMAKE).exists(), reason="Debian's snakemake is not installed"),
@@ -128,6 +127,25 @@ def test_snakemake_report_has_every_figure(smoke):
         assert f"{name}.png" in html, name
 
 
+def test_one_figure_reruns_alone(smoke):
+    """Redrawing one figure family re-runs its rule and the report's assembly, not the fits
+    (their bootstraps) nor the other figures."""
+    workdir, configfile, _ = smoke
+    r = snakemake(workdir, configfile, "--dry-run", "--quiet", "--forcerun", "figures_yield")
+    assert job_counts(r.stdout + r.stderr) == {"figures_yield": 1, "report": 1, "all": 1}
+
+
+def test_figure_without_data_is_a_note_in_the_report(smoke):
+    # The smoke study has one yield pull per D at a single mu: no phi_mu fit, no Fig. 14.
+    from analysis.figures import not_drawn_reason
+
+    workdir, _, config = smoke
+    report = workdir / config["results"] / "report"
+    why = not_drawn_reason(report / "fig14_phi_vs_mu.png")
+    assert why and f"Fig. 14: φ_μ vs μ: not drawn — {why}." in (report / "report.md").read_text()
+    assert not_drawn_reason(report / "fig12_yield_vs_mu.png") is None
+
+
 def test_bad_config_names_the_key(smoke, tmp_path):
     _, _, config = smoke
     bad = dict(config, sweeps=[dict(config["sweeps"][0], D="two")] + config["sweeps"][1:])
@@ -150,7 +168,8 @@ def test_extending_a_grid_reruns_only_the_new_pulls(smoke):
     assert counts.get("pull") == 2, counts
     assert "bed" not in counts, counts
     # flow_field: a new pull may be nearer to a Fig. 9 panel's (D, V) than the old choice.
-    assert set(counts) <= {"pull", "table", "flow_field", "report", "all"}, counts
+    analysis = {"table", "flow_field", "fits", "report", "all"} | {r for r in counts if r.startswith("figure")}
+    assert set(counts) <= {"pull"} | analysis, counts
 
     snakemake(workdir, configfile, "--cores", "2")
     assert {p: p.stat().st_mtime_ns for p in (results / "beds").rglob("bed.h5")} == beds

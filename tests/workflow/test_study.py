@@ -1,16 +1,15 @@
-"""workflow/scripts/study.py: the plan of beds and pulls, paths, arguments, cost."""
+"""analysis.study, the workflow's library: the plan of beds and pulls, paths, arguments, cost."""
 import copy
 import math
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 import yaml
 
+from analysis import physics, study
+
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "workflow" / "scripts"))
-import study  # noqa: E402
 
 SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 
@@ -35,7 +34,7 @@ BASE = {
 def test_fmt_is_short_and_exact_enough():
     assert [study.fmt(x) for x in (2, 0.5, 1.0, 10, 2e4, 2e8, 2.45e8, 0.01, 1e-4)] == \
         ["2", "0.5", "1", "10", "2e4", "2e8", "2.45e8", "0.01", "1e-4"]
-    g = study.gamman_for(2e4)
+    g = physics.gamman_for(2e4)
     assert abs(float(study.fmt(g)) / g - 1) < 1e-7
 
 
@@ -44,7 +43,7 @@ def test_beds_are_shared_and_pulls_are_bed_times_speed():
     # D = 1, 2 at mu = 0.5 and D = 2 at mu = 0: the yield sweep reuses the D = 2, mu = 0.5 bed.
     assert len(plan.beds) == 3
     assert len(plan.pulls) == 2 * 2 + 2
-    gn = study.fmt(study.gamman_for(2e4))
+    gn = study.fmt(physics.gamman_for(2e4))
     key = f"system~I/D~2/h~4/mu~0.5/kn~2e4/gn~{gn}/seed~1"
     assert key in plan.beds
     assert {p.speed for p in plan.pulls.values() if p.bed.key == key} == {"Fr~0.5", "Fr~1", "V~0.01"}
@@ -122,15 +121,21 @@ def test_shipped_configs_are_valid(name):
 def test_default_config_keeps_the_paper_restitution_curve():
     config = load("config.yaml")
     plan = study.plan(config)
-    ratios = {round(float(b.gn) / float(b.kn) ** 0.6, 6) for b in plan.beds.values()}
-    assert round(study.PAPER_RATIO, 6) in ratios
+    ratios = {round(physics.gamman_ratio(float(b.kn), float(b.gn)), 6) for b in plan.beds.values()}
+    assert round(physics.PAPER_RATIO, 6) in ratios
 
 
-def test_time_step_and_froude_speed():
-    assert study.hertz_dt(2e4) == pytest.approx(4.196e-4, rel=1e-3)
-    assert study.hertz_dt(2e8) == pytest.approx(1.054e-5, rel=1e-3)
-    assert study.froude_speed(1.0, 2.0) == pytest.approx(0.75)
-    assert math.isclose(study.PAPER_RATIO, 5e4 / 2e8 ** 0.6)
+def test_costs_use_the_engine_time_step_and_froude_speed():
+    # The formulas themselves are checked against the binary in tests/python/test_physics.py.
+    plan = study.plan(copy.deepcopy(BASE))
+    pull = plan.pulls[next(k for k in plan.pulls if k.endswith("/Fr~1"))]
+    assert study.bed_dt(pull.bed, plan.config) == physics.default_dt(2e4)
+    assert pull.V == physics.froude_speed(1.0, float(pull.bed.D))
+    assert study.pull_cost(pull, plan.config) == pytest.approx(800 * 2 / (pull.V * physics.default_dt(2e4)))
+    config = copy.deepcopy(BASE)
+    config["systems"]["I"]["pour"] = {"dt": 1e-4}
+    assert study.bed_dt(pull.bed, config) == 1e-4
+    assert math.isclose(physics.PAPER_RATIO, 5e4 / 2e8**0.6)
 
 
 def test_estimate_cost_prints_jobs_and_core_hours():

@@ -1,4 +1,5 @@
-# From run files to the report: tidy table and P(Z), Fig. 2, 4 and 9 data, fits, figures.
+# From run files to the data of the figures: tidy table and P(Z), the Fig. 2, 4 and 9 data,
+# and every fit (fits.json, bootstraps included: the figures and the report only read it).
 
 
 rule table:
@@ -10,12 +11,11 @@ rule table:
         coordination=f"{RESULTS}/coordination.csv",
     log:
         f"{LOGS}/table.log",
-    params:
-        repo=str(REPO),
-        root=lambda wildcards, output: Path(output.table).parent,
-        allow_failed=config["table"]["allow_failed"],
     conda:
         "../envs/analysis.yaml"
+    params:
+        root=lambda wildcards, output: Path(output.table).parent,
+        allow_failed=config["table"]["allow_failed"],
     script:
         "../scripts/make_table.py"
 
@@ -27,12 +27,12 @@ rule restitution:
         f"{RESULTS}/restitution/engine.csv",
     log:
         f"{LOGS}/restitution.log",
+    conda:
+        "../envs/granudrag.yaml"
     params:
         speeds=",".join(study.fmt(v) for v in RESTITUTION_SPEEDS),
         kn=REFERENCE_LAW[0],
         gamman=REFERENCE_LAW[1],
-    conda:
-        "../envs/granudrag.yaml"
     shell:
         "{input.granudrag} restitution --output {output} --speeds {params.speeds}"
         " --kn {params.kn} --gamman {params.gamman} --threads 1 > {log} 2>&1"
@@ -43,14 +43,13 @@ rule restitution_theory:
         f"{RESULTS}/restitution/theory.csv",
     log:
         f"{LOGS}/restitution_theory.log",
+    conda:
+        "../envs/analysis.yaml"
     params:
-        repo=str(REPO),
         kn=REFERENCE_LAW[0],
         gamman=REFERENCE_LAW[1],
         v_min=config["restitution"]["v_min"],
         v_max=config["restitution"]["v_max"],
-    conda:
-        "../envs/analysis.yaml"
     script:
         "../scripts/restitution_theory.py"
 
@@ -62,8 +61,6 @@ rule force_trace:
         f"{RESULTS}/trace.csv",
     log:
         f"{LOGS}/force_trace.log",
-    params:
-        repo=str(REPO),
     conda:
         "../envs/analysis.yaml"
     script:
@@ -72,41 +69,35 @@ rule force_trace:
 
 rule flow_field:
     input:
-        [run_file(p.key) for p in study.flow_pulls(PLAN)],
+        FLOW_RUNS,
     output:
         f"{RESULTS}/flow_field.csv",
     log:
         f"{LOGS}/flow_field.log",
-    params:
-        repo=str(REPO),
     conda:
         "../envs/analysis.yaml"
     script:
         "../scripts/flow_field.py"
 
 
-rule report:
+# Every fit of the report, once: the regime fits with their wild bootstrap (report.n_boot
+# refits), theta(Fr), kappa(Fr), phi_mu, alpha_mu, the sum rule, F_Y(mu) saturation, and
+# the lambdas of Eq. 12.
+rule fits:
     input:
-        table=f"{RESULTS}/table.csv",
-        restitution=f"{RESULTS}/restitution/engine.csv",
-        theory=f"{RESULTS}/restitution/theory.csv",
-        trace=f"{RESULTS}/trace.csv",
-        coordination=f"{RESULTS}/coordination.csv",
-        flow=f"{RESULTS}/flow_field.csv",
+        f"{RESULTS}/table.csv",
     output:
         report(
-            directory(f"{RESULTS}/report"),
-            patterns=["{name}.png"],
-            caption="../report/figures.rst",
-            category="Figures",
+            f"{REPORT}/fits.json",
+            caption="../report/fits.rst",
+            category="Fits and report",
         ),
     log:
-        f"{LOGS}/report.log",
-    params:
-        repo=str(REPO),
-        n_boot=config["report"]["n_boot"],
-        seed=config["report"]["seed"],
+        f"{LOGS}/fits.log",
     conda:
         "../envs/analysis.yaml"
+    params:
+        n_boot=config["report"]["n_boot"],
+        seed=config["report"]["seed"],
     script:
-        "../scripts/make_report.py"
+        "../scripts/fits.py"

@@ -1,16 +1,14 @@
-# Config validation, the study's plan (beds and pulls) and helpers of the rules.
+# Config validation, the study's plan (beds and pulls) and helpers of the rules. The
+# library behind them is analysis.study (plain Python, tested on its own).
 
-import sys
-from collections import Counter
 from pathlib import Path
 
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
-REPO = Path(workflow.basedir).parent
-sys.path.insert(0, str(REPO / "workflow" / "scripts"))
+from analysis import figure_list, study
 
-import study  # noqa: E402  (workflow/scripts/study.py)
+REPO = Path(workflow.basedir).parent
 
 try:
     # First our check, whose messages name the bad key in one line ...
@@ -27,9 +25,10 @@ except study.ConfigError as exc:
 
 RESULTS = config["results"].rstrip("/")
 LOGS = config["logs"].rstrip("/")
+REPORT = f"{RESULTS}/report"
 GRANUDRAG = str(study.resolve_binary(config, REPO))
 THREADS = config["threads"]
-PULL_RETRIES = study.pull_retries(PLAN)   # None: the profile's restart-times
+PULL_RETRIES = study.pull_retries(PLAN)  # None: the profile's restart-times
 
 
 wildcard_constraints:
@@ -38,22 +37,37 @@ wildcard_constraints:
 
 
 def bed_file(key):
-    return f"{RESULTS}/beds/{key}/bed.h5"
+    return study.bed_file(RESULTS, key)
 
 
 def run_file(key):
-    return f"{RESULTS}/pulls/{key}/run.h5"
+    return study.run_file(RESULTS, key)
 
 
 ALL_BEDS = [bed_file(k) for k in PLAN.beds]
 ALL_RUNS = [run_file(k) for k in PLAN.pulls]
 TRACE_RUN = run_file(study.trace_pull(PLAN).key)
+FLOW_RUNS = [run_file(p.key) for p in study.flow_pulls(PLAN)]
 
 # The contact law with the most pulls: the study's reference (Fig. 2 uses it).
-REFERENCE_LAW = Counter((p.bed.kn, p.bed.gn) for p in PLAN.pulls.values()).most_common(1)[0][0]
+REFERENCE_LAW = study.reference_law(PLAN)
 RESTITUTION_SPEEDS = study.log_grid(
-    config["restitution"]["v_min"], config["restitution"]["v_max"], config["restitution"]["points"]
+    config["restitution"]["v_min"],
+    config["restitution"]["v_max"],
+    config["restitution"]["points"],
 )
+
+
+def figure(name, subcategory):
+    """A figure's PNG in the report directory, in Snakemake's report with its own caption
+    (workflow/report/<name>.rst)."""
+    assert name in figure_list.NAMES, name
+    return report(
+        f"{REPORT}/{name}.png",
+        caption=f"../report/{name}.rst",
+        category="Figures",
+        subcategory=subcategory,
+    )
 
 
 def _bed(wildcards):
@@ -73,7 +87,8 @@ def _grains(wildcards):
 
 
 def bed_mem_mb(wildcards):
-    return study.job_resources(study.bed_cost(_bed(wildcards), config), _grains(wildcards), config)[0]
+    cost = study.bed_cost(_bed(wildcards), config)
+    return study.job_resources(cost, _grains(wildcards), config)[0]
 
 
 def bed_runtime(wildcards, attempt):
@@ -84,11 +99,14 @@ def bed_runtime(wildcards, attempt):
 
 def _pull(wildcards):
     bed = _bed(wildcards)
-    return PLAN.pulls.get(f"{bed.key}/{wildcards.speed}") or study.Pull(bed, wildcards.speed)
+    return PLAN.pulls.get(f"{bed.key}/{wildcards.speed}") or study.Pull(
+        bed, wildcards.speed
+    )
 
 
 def pull_mem_mb(wildcards):
-    return study.job_resources(study.pull_cost(_pull(wildcards), config), _grains(wildcards), config)[0]
+    cost = study.pull_cost(_pull(wildcards), config)
+    return study.job_resources(cost, _grains(wildcards), config)[0]
 
 
 def pull_runtime(wildcards, attempt):
@@ -100,4 +118,17 @@ def pull_runtime(wildcards, attempt):
 
 onsuccess:
     results = Path(RESULTS).resolve()
-    print(f"granudrag: report at {results}/report/report.html (and report.md), table at {results}/table.csv")
+    print(
+        f"granudrag: report at {results}/report/report.html (and report.md), table at {results}/table.csv"
+    )
+
+
+def figure_files(subcategory, *names):
+    """Output files of figures: each one's PNG (in Snakemake's report) and PDF, and Table I's
+    Markdown."""
+    files = []
+    for name in names:
+        files += [figure(name, subcategory), f"{REPORT}/{name}.pdf"]
+        if figure_list.BY_NAME[name].markdown:
+            files.append(f"{REPORT}/{name}.md")
+    return files

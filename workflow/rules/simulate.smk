@@ -8,12 +8,12 @@ rule build_granudrag:
         GRANUDRAG,
     log:
         f"{LOGS}/build_granudrag.log",
+    conda:
+        "../envs/granudrag.yaml"
+    threads: workflow.cores
     params:
         source=REPO,
         build=lambda wildcards, output: Path(output[0]).parent,
-    threads: workflow.cores
-    conda:
-        "../envs/granudrag.yaml"
     shell:
         "(cmake -S {params.source} -B {params.build} -DCMAKE_BUILD_TYPE=Release"
         " && cmake --build {params.build} -j {threads} --target granudrag) > {log} 2>&1"
@@ -28,14 +28,14 @@ rule bed:
         f"{LOGS}/beds/{{bed}}.log",
     benchmark:
         f"{RESULTS}/benchmarks/beds/{{bed}}.tsv"
-    params:
-        args=pour_args,
+    conda:
+        "../envs/granudrag.yaml"
     threads: THREADS
     resources:
         mem_mb=bed_mem_mb,
         runtime=bed_runtime,
-    conda:
-        "../envs/granudrag.yaml"
+    params:
+        args=pour_args,
     shell:
         "{input.granudrag} pour --output {output} --threads {threads} {params.args} > {log} 2>&1"
 
@@ -55,15 +55,15 @@ rule pull:
         f"{LOGS}/pulls/{{bed}}/{{speed}}.log",
     benchmark:
         f"{RESULTS}/benchmarks/pulls/{{bed}}/{{speed}}.tsv"
-    params:
-        args=pull_args,
-    threads: THREADS
     retries: PULL_RETRIES
+    conda:
+        "../envs/granudrag.yaml"
+    threads: THREADS
     resources:
         mem_mb=pull_mem_mb,
         runtime=pull_runtime,
-    conda:
-        "../envs/granudrag.yaml"
+    params:
+        args=pull_args,
     shell:
         """
         ckpt={output}.checkpoint.h5
@@ -71,8 +71,8 @@ rule pull:
         if [ -e "$ckpt" ] && {{ ! [ "$ckpt" -nt {input.bed} ] || [ "$(cat "$ckpt.args" 2>/dev/null)" != "$args" ]; }}; then
             rm -f "$ckpt"
         fi
-        echo "$args" > "$ckpt.args"
-        {input.granudrag} pull --bed {input.bed} --output {output} --threads {threads} --resume $args > {log} 2>&1
+        echo "$args" >"$ckpt.args"
+        {input.granudrag} pull --bed {input.bed} --output {output} --threads {threads} --resume $args >{log} 2>&1
         rm -f "$ckpt.args"
         """
 

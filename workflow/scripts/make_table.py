@@ -1,38 +1,42 @@
-"""Rule table: every run file of the study -> results/table.csv (analysis.runs)."""
+"""Rule table: every run file of the study -> results/table.csv (analysis.runs), and the P(Z)
+of every pull in it (Fig. 7)."""
+
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(snakemake.scriptdir)))  # noqa: F821  (set by Snakemake)
-from _setup import start  # noqa: E402
+import pandas as pd
 
-log = start(snakemake)  # noqa: F821
-import pandas as pd  # noqa: E402
-from analysis.runs import load_runs, read_coordination_distribution  # noqa: E402
-from analysis.table import save_csv, write_csv  # noqa: E402
+from analysis.runs import load_runs, read_coordination_distribution
+from analysis.study.script import start
+from analysis.table import save_csv, write_csv
 
-sm = snakemake  # noqa: F821
+sm = snakemake
+log = start(sm)
 df, problems = load_runs(list(sm.input), root=sm.params.root, errors="collect")
 Path(sm.output.problems).write_text("".join(p + "\n" for p in problems))
 for p in problems:
     log.error(p)
 if problems and not sm.params.allow_failed:
-    sys.exit(f"table: {len(problems)} of {len(sm.input)} run files unusable (listed in "
-             f"{sm.output.problems} and {sm.log[0]}); set table.allow_failed: true to leave them out")
+    sys.exit(
+        f"table: {len(problems)} of {len(sm.input)} run files unusable (listed in "
+        f"{sm.output.problems} and {sm.log[0]}); set table.allow_failed: true to leave them out"
+    )
 if df.empty:
     sys.exit("table: no usable run files")
 off = (df.h_requested - df.h).dropna()
 log.info(f"table: {len(df)} pulls, {df.system.nunique()} systems")
 if len(off):
     worst = df.loc[off.abs().idxmax()]
-    log.info(f"depth: measured minus requested from {-off.max():.3f} to {-off.min():.3f} d "
-             f"(largest: requested {worst.h_requested:g}, measured {worst.h:.3f}, {worst.run})")
+    log.info(
+        f"depth: measured minus requested from {-off.max():.3f} to {-off.min():.3f} d "
+        f"(largest: requested {worst.h_requested:g}, measured {worst.h:.3f}, {worst.run})"
+    )
 save_csv(df, sm.output.table)
 
 # P(Z) of every pull in the table (Fig. 7), long format: one row per run and Z.
 parts = []
 for row in df.itertuples(index=False):
     z, p = read_coordination_distribution(row.path)
-    parts.append(pd.DataFrame({"run": row.run, "system": row.system, "D": row.D, "mu": row.mu,
-                               "kn": row.kn, "gamman": row.gamman, "V": row.V, "Fr": row.Fr,
-                               "Z": z, "P": p}))
+    keys = {k: getattr(row, k) for k in ("run", "system", "D", "mu", "kn", "gamman", "V", "Fr")}
+    parts.append(pd.DataFrame({**keys, "Z": z, "P": p}))
 write_csv(pd.concat(parts, ignore_index=True), sm.output.coordination)

@@ -1,0 +1,8 @@
+"""Rules figure_*: draw the figures the rule's PNG outputs name (analysis.figure_list)."""
+
+from analysis.figure_list import draw_files
+from analysis.study.script import start
+
+log = start(snakemake)
+for line in draw_files(snakemake.input.items(), snakemake.output):
+    log.info(line)
