@@ -189,6 +189,19 @@ def test_slurm_profile_parses(smoke):
     assert "pull" in job_counts(r.stdout + r.stderr)
 
 
+def test_test_directory_holds_the_smoke_config(tmp_path):
+    """The catalog's convention: `--directory .test` runs .test/config/config.yaml, without
+    --configfile; config/smoke.yaml is that file."""
+    assert (ROOT / "config" / "smoke.yaml").resolve() == (ROOT / ".test" / "config" / "config.yaml").resolve()
+    shutil.copytree(ROOT / ".test", tmp_path / ".test")
+    cmd = [SNAKEMAKE, "--snakefile", str(ROOT / "workflow" / "Snakefile"), "--directory", str(tmp_path / ".test"),
+           "--dry-run", "--quiet", "--config", f"granudrag={BINARY}"]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-3000:]
+    counts = job_counts(r.stdout + r.stderr)
+    assert (counts.get("bed"), counts.get("pull")) == (5, 12), counts
+
+
 @pytest.mark.parametrize("name", ["smoke.yaml", "config.yaml", "paper.yaml"])
 def test_lint_is_clean(name, tmp_path):
     """`snakemake --lint` finds nothing to improve (it exits non-zero when it does)."""
