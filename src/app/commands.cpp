@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/parameters.hpp"
+#include "io/atomic_file.hpp"
 #include "io/lammps_io.hpp"
 #include "io/run_files.hpp"
 #include "protocol/restitution.hpp"
