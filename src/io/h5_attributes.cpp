@@ -26,7 +26,7 @@ void write_attr(hid_t file, const std::string& file_name, const std::string& raw
   if (H5Aexists(object.get(), name.c_str()) > 0 && H5Adelete(object.get(), name.c_str()) < 0)
     throw Error("cannot replace " + attr_where(name, path, file_name) + hdf5_reason());
   Handle attr(H5Acreate2(object.get(), name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  if (!attr.ok() || H5Awrite(attr.get(), mem_type, data) < 0)
+  if (!attr.ok() || (data != nullptr && H5Awrite(attr.get(), mem_type, data) < 0))  // nullptr: no elements
     throw Error("cannot write " + attr_where(name, path, file_name) + hdf5_reason());
 }
 
