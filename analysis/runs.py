@@ -1,11 +1,18 @@
 """Loading granudrag run files (HDF5, written by `granudrag pull`) into the tidy table.
 
 A run file holds one pull: attributes on /run (D, depth, speed, froude, mu,
-kn, gamman, dt, steps) and the observables under /observables (drag with its
+kn, gamman, dt, steps), the observables under /observables (drag with its
 block-averaging error, intruder coordination n, contact angle theta, bulk
-coordination Z, kappa, the force series). `read_run` turns one file into a
-row of `analysis.table.COLUMNS`; `load_runs` reads many and says by name
-which files it could not use.
+coordination Z, kappa, the force series) and the resolved parameters of the
+pull and of its bed, one typed attribute per key under /parameters/pull and
+/parameters/pour (`read_parameters`). `read_run` turns one file into a row of
+`analysis.table.COLUMNS`; `load_runs` reads many and says by name which files
+it could not use.
+
+Format versions: 2 stores the parameters by key. Version 1 (granudrag 0.1)
+stored them as one YAML text, /parameters attribute `yaml`; its run files are
+still read, the box and grain count through `_legacy_scale_v1`, the only code
+that looks at that text. `read_parameters` refuses version 1 by name.
 
 The table's `h` is the depth measured after settling (free surface at half
 the bulk packing fraction, see `granudrag pour`), the depth the intruder
@@ -27,7 +34,7 @@ import pandas as pd
 from .table import COLUMNS, froude, validate_table
 
 RUN_FORMAT = "granudrag-run"
-RUN_VERSIONS = (1,)
+RUN_VERSIONS = (1, 2)   # 1: parameters as YAML text (legacy path), 2: parameters by key
 
 # Extra columns after the schema's: what a reader of the table may want to
 # check (requested depth, time step, how much of the pull was discarded) and
@@ -108,6 +115,7 @@ def _check_header(f, path):
     if version not in RUN_VERSIONS:
         raise RunFileError(f"{path}: run file version {version} is not supported "
                            f"(this reader knows {', '.join(map(str, RUN_VERSIONS))})")
+    return version
 
 
 def read_run(path, system=None, root=None):
@@ -122,7 +130,7 @@ def read_run(path, system=None, root=None):
     params = path_parameters(path)
     f = _open(path)
     try:
-        _check_header(f, path)
+        version = _check_header(f, path)
         run = _group(f, "run", path)
         obs = _group(f, "observables", path)
         get = {k: _number(run, k, path, "/run")
@@ -136,8 +144,8 @@ def read_run(path, system=None, root=None):
         n = observable("coordination")
         theta, theta_err = observable("theta"), observable("theta", "error")
         Z, kappa = observable("bulk_coordination"), observable("kappa")
-        scale = _scale(f)
-    except (KeyError, OSError, RuntimeError) as exc:
+        scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
+    except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
         raise RunFileError(f"{path}: damaged run file: {exc}") from None
     finally:
         f.close()
@@ -181,10 +189,71 @@ def read_run(path, system=None, root=None):
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "path": str(path)}
 
 
-def _scale(f):
-    """Box and grain count of the bed a run was pulled through, from the resolved parameters
-    granudrag stores (/parameters attribute yaml: the pull's keys, then its bed's); NaN when
-    absent. Read line by line: the two documents share keys, and only the bed has these."""
+def _value(value):
+    """An attribute as a plain Python value: str, bool, int, float or a list of floats."""
+    if isinstance(value, bytes):
+        return value.decode("utf-8")
+    if isinstance(value, np.ndarray):
+        return [float(v) for v in value] if value.ndim else _value(value[()])
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.floating):
+        return float(value)
+    return value
+
+
+def _parameters(f, path):
+    """{'pour': {key: value}, 'pull': {...}} from /parameters/<command> (format version 2)."""
+    import h5py
+    group = f.get("parameters")
+    if not isinstance(group, h5py.Group):
+        raise RunFileError(f"{path}: damaged run file: no group /parameters")
+    return {command: {key: _value(v) for key, v in g.attrs.items()}
+            for command, g in group.items() if isinstance(g, h5py.Group)}
+
+
+def read_parameters(path):
+    """The resolved parameters a run file records: {'pull': {...}, 'pour': {...}}, one dict
+    per command, key -> value (str, bool, int, float or list of floats). A key without a value
+    is absent; 'pour' is absent when the bed did not record its parameters by key (a bed of
+    format version 1, or one made by `granudrag import-lammps`: then 'import-lammps').
+    Raises RunFileError for files that are not run files of format version 2."""
+    f = _open(path)
+    try:
+        version = _check_header(f, path)
+        if version < 2:
+            raise RunFileError(f"{path}: run file version {version} records its parameters as "
+                               f"text, not by key; re-run the pull with this granudrag to read them")
+        params = _parameters(f, path)
+    except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
+        raise RunFileError(f"{path}: damaged run file: {exc}") from None
+    finally:
+        f.close()
+    if "pull" not in params:
+        raise RunFileError(f"{path}: damaged run file: no /parameters/pull")
+    return params
+
+
+def _scale(f, path):
+    """Box and grain count of the bed a run was pulled through, from its bed's parameters
+    (/parameters/pour); NaN when the file does not record them."""
+    pour = _parameters(f, path).get("pour", {}) if "parameters" in f else {}
+    out = {}
+    for key in SCALE_KEYS:
+        value = pour.get(key, math.nan)
+        if isinstance(value, (bool, str, list)):
+            raise RunFileError(f"{path}: damaged run file: /parameters/pour attribute '{key}' "
+                               f"is not a number ({value!r})")
+        out[key] = float(value)
+    return out
+
+
+def _legacy_scale_v1(f):
+    """As _scale, for format version 1, which stored the resolved parameters as one text
+    (/parameters attribute yaml: the pull's keys, then its bed's). Read line by line: the two
+    documents share keys, and only the bed has these. Legacy: no newer file is read this way."""
     out = dict.fromkeys(SCALE_KEYS, math.nan)
     group = f.get("parameters")
     text = group.attrs.get("yaml") if group is not None else None

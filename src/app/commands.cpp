@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/parameters.hpp"
+#include "io/atomic_file.hpp"
 #include "io/lammps_io.hpp"
 #include "io/run_files.hpp"
 #include "protocol/restitution.hpp"
@@ -152,7 +153,7 @@ int pour_command(const std::vector<std::string>& args) {
 
   const double t0 = omp_get_wtime();
   const Bed bed = pour(s, !par.flag("quiet"));
-  save_bed(out, bed, par.to_yaml());
+  save_bed(out, bed, par);
   write_bed_xdmf(out, bed.state.particles.size());
   std::printf("bed: %s\n  grains %ld (%zu frozen in the base), box %g x %g, dt %.4g\n", out.c_str(), s.grains,
               bed.state.particles.count(Species::Frozen), s.lx, s.ly, bed.dt);
@@ -208,8 +209,8 @@ int pull_command(const std::vector<std::string>& args) {
   set_threads(par);
   const std::string bed_path = par.text("bed"), out = par.text("output");
   check_output_dir(out, "output");
-  std::string bed_yaml;
-  const Bed bed = load_bed(bed_path, &bed_yaml);
+  ParameterRecord bed_parameters;
+  const Bed bed = load_bed(bed_path, &bed_parameters);
   if (bed.intruder < 0) throw Error("bed '" + bed_path + "' has no intruder to pull");
   PullSpec spec;
   const double D = 2 * bed.state.particles.radius[bed.intruder];
@@ -231,31 +232,14 @@ int pull_command(const std::vector<std::string>& args) {
         par.number("checkpoint_interval") > 0 ? par.number("checkpoint_interval") : total_time / 10;
     spec.checkpoint_every = std::max(1L, std::lround(interval / bed.dt));
   }
-  const std::string yaml = "# pull\n" + par.to_yaml() + "# bed " + bed_path + "\n" + bed_yaml;
   const std::string checkpoint = out + ".checkpoint.h5";
-  // What a resumed pull must match: every option but the run controls, and the bed itself.
-  std::string identity;
-  {
-    std::istringstream lines(par.to_yaml());
-    for (std::string line; std::getline(lines, line);)
-      if (line.rfind("resume:", 0) && line.rfind("quiet:", 0) && line.rfind("threads:", 0))
-        identity += line + "\n";
-    identity += "bed_fingerprint: " + bed_fingerprint(bed) + "\n";
-  }
 
   const double t0 = omp_get_wtime();
-  auto save = [&](const Pull& p) { save_checkpoint(checkpoint, p, yaml, identity); };
+  auto save = [&](const Pull& p) { save_checkpoint(checkpoint, p, par, bed_parameters); };
   std::unique_ptr<Pull> pull;
   if (par.flag("resume") && std::filesystem::exists(checkpoint)) {
-    Checkpoint c = load_checkpoint(checkpoint, bed);
-    if (c.identity != identity) {
-      std::string differs;
-      std::istringstream a(c.identity), b(identity);
-      for (std::string la, lb; std::getline(a, la) && std::getline(b, lb);)
-        if (la != lb) differs += "\n  checkpoint: " + la + "\n  now:        " + lb;
-      throw Error("checkpoint '" + checkpoint + "' was written by a pull with other options or another bed:" +
-                  differs + "\nrerun with the same options, or delete the checkpoint to start over");
-    }
+    // A resumed pull must match every option but the run controls, and the bed itself.
+    Checkpoint c = load_checkpoint(checkpoint, bed, par, {"resume", "quiet", "threads"});
     pull = std::make_unique<Pull>(bed, spec, c.state, std::move(c.record));
     std::fprintf(stderr, "pull: resuming from %s at step %ld\n", checkpoint.c_str(),
                  pull->simulation().steps_done());
@@ -265,7 +249,7 @@ int pull_command(const std::vector<std::string>& args) {
   pull->run(!par.flag("quiet"), save);
   const double wall = omp_get_wtime() - t0;
   const std::string sanity = pull->sanity_report(wall);
-  save_run(out, *pull, yaml, sanity);
+  save_run(out, *pull, par, bed_parameters, sanity);
   std::filesystem::remove(checkpoint);
   const PullResult r = pull->result();
   std::printf("run: %s\n  D = %g, depth %.3f d, V = %.4g sqrt(gd), Fr = %.4g, mu = %g, kn = %g\n",
@@ -371,7 +355,7 @@ int import_lammps_command(const std::vector<std::string>& args) {
   bed.surface_height = bed.profile.surface_height;
   if (bed.intruder >= 0) bed.depth = bed.surface_height - bed.state.particles.x[bed.intruder].z();
   bed.stop_reason = "imported";
-  save_bed(out, bed, par.to_yaml());
+  save_bed(out, bed, par);
   write_bed_xdmf(out, bed.state.particles.size());
   std::printf("bed: %s from %s\n  %zu particles (%zu frozen, %zu intruder), surface %.3f d, depth %.3f d\n",
               out.c_str(), par.text("data").c_str(), bed.state.particles.size(),

@@ -89,6 +89,8 @@ class File {
   bool writable() const { return writable_; }
   // True when a group or dataset exists at `path` ("/" always does).
   bool exists(const std::string& path) const;
+  // Makes a group at `path` (and groups on the way) unless one is there already.
+  void create_group(const std::string& path);
 
   // Whole 1-D datasets. Arrays of 4096 elements or more are chunked and compressed
   // (shuffle + gzip level 1: most of the gain for little time).
@@ -113,6 +115,10 @@ class File {
   void set_attr(const std::string& path, const std::string& name, const std::string& value);
   void set_attr(const std::string& path, const std::string& name, const std::vector<std::int64_t>& values);
   void set_attr(const std::string& path, const std::string& name, const std::vector<std::string>& values);
+  void set_attr(const std::string& path, const std::string& name, const std::vector<double>& values);
+  // A flag, stored as h5py stores a numpy bool (which it reads back as one): an 8-bit enum
+  // {FALSE = 0, TRUE = 1}. Not an overload of set_attr: a string literal would convert to bool.
+  void set_flag_attr(const std::string& path, const std::string& name, bool value);
   // Any other integer (int, std::size_t, ...) is stored as int64, so that
   // set_attr(p, "count", v.size()) compiles without a cast. bool is refused at compile time.
   template <class T, std::enable_if_t<std::is_integral_v<T> && !std::is_same_v<T, bool> &&
@@ -130,6 +136,19 @@ class File {
   std::string get_attr_string(const std::string& path, const std::string& name) const;
   std::vector<std::int64_t> get_attr_int64s(const std::string& path, const std::string& name) const;
   std::vector<std::string> get_attr_strings(const std::string& path, const std::string& name) const;
+  std::vector<double> get_attr_doubles(const std::string& path, const std::string& name) const;
+  bool get_attr_flag(const std::string& path, const std::string& name) const;
+
+  // For attributes whose type is not known in advance (a record of parameters, say): the names
+  // on a group or dataset (in name order), and what one holds.
+  enum class AttrType { Float, Integer, String, Flag, Other };
+  struct AttrShape {
+    AttrType type = AttrType::Other;
+    bool scalar = true;     // a scalar, or else a 1-D (or larger) array
+    std::size_t count = 1;  // number of elements
+  };
+  std::vector<std::string> attr_names(const std::string& path) const;
+  AttrShape attr_shape(const std::string& path, const std::string& name) const;
 
   // Starts an H5MD time-dependent element at `group` (e.g. "/observables/drag"); see Series.
   Series series(const std::string& group, std::size_t columns);

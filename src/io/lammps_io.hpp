@@ -45,7 +45,4 @@ struct LammpsData {
 };
 LammpsData read_lammps_data(const std::string& path, int frozen_type, int intruder_type);
 
-// Writes to path + ".tmp" and renames, so a reader never sees half a file.
-void write_file_atomically(const std::string& path, const std::string& content);
-
 }  // namespace granudrag

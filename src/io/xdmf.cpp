@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
-#include "io/lammps_io.hpp"  // write_file_atomically
+#include "io/atomic_file.hpp"
 
 namespace granudrag {
 

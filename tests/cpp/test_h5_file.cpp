@@ -1,6 +1,5 @@
-// Run files: every type and shape round trips, attributes, series, atomic commit, clear errors
-// on bad files and bad reads, h5dump accepts the result, and the XDMF sidecar points at
-// datasets that exist.
+// HDF5 files: every type and shape round trips, attributes, series, atomic commit, clear errors
+// on bad files and bad reads, and h5dump accepts the result.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -16,57 +15,13 @@
 
 #include "core/error.hpp"
 #include "io/h5_file.hpp"
-#include "io/xdmf.hpp"
+#include "io_test_support.hpp"
 
 using namespace granudrag;
+using namespace granudrag::support;
 namespace fs = std::filesystem;
 
 namespace {
-
-// A fresh directory under the system temp dir, removed with everything in it.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ = fs::temp_directory_path() /
-            ("granudrag-h5-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// Runs `body` and returns the granudrag::Error message it throws; fails the test otherwise.
-template <class F>
-std::string error_of(F&& body) {
-  try {
-    body();
-  } catch (const Error& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "threw a non-granudrag exception: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "did not throw";
-  return {};
-}
-
-#define EXPECT_MENTIONS(message, part) \
-  EXPECT_NE((message).find(part), std::string::npos) << "message: " << (message)
 
 std::vector<double> ramp(std::size_t n) {
   std::vector<double> v(n);
@@ -197,54 +152,6 @@ TEST(H5File, GroupsAreCreatedOnDemandAndExistsSeesThem) {
                   "is a dataset, not a group");
   EXPECT_MENTIONS(error_of([&] { f.series("/particles/all/radius/value/x", 1); }),
                   "is a dataset, not a group");
-}
-
-TEST(H5File, AttributesOnGroupsAndDatasets) {
-  TempDir dir;
-  const std::string path = dir.file("attrs.h5");
-  {
-    h5::File f = h5::File::create(path);
-    f.write("/particles/all/radius/value", ramp(5));
-    f.set_attr("/particles/all/radius/value", "unit", std::string("d"));
-    f.set_attr("/parameters", "dt", 1.05e-5);  // creates the group
-    f.set_attr("/parameters", "steps", std::int64_t{1} << 40);
-    f.set_attr("/parameters", "grains", std::size_t{20000});  // any integer type
-    f.set_attr("/parameters", "threads", 2);
-    f.set_attr("/parameters", "empty", std::string());
-    f.set_attr("/parameters", "note", "first");  // a literal works too
-    f.set_attr("/parameters", "note", std::string("replaced, \xC3\xA9t\xC3\xA9"));
-    f.set_attr("/particles/all/box", "boundary", std::vector<std::string>{"periodic", "periodic", "none"});
-    f.set_attr("/particles/all/box", "dimension", 3);
-    f.set_attr("/", "root_attr", -1.5);
-    f.commit();
-  }
-  const h5::File f = h5::File::open(path);
-  EXPECT_EQ(f.get_attr_string("/particles/all/radius/value", "unit"), "d");
-  EXPECT_EQ(f.get_attr_double("/parameters", "dt"), 1.05e-5);
-  EXPECT_EQ(f.get_attr_int64("/parameters", "steps"), std::int64_t{1} << 40);
-  EXPECT_EQ(f.get_attr_int64("/parameters", "grains"), 20000);
-  EXPECT_EQ(f.get_attr_int64("/parameters", "threads"), 2);
-  EXPECT_EQ(f.get_attr_string("/parameters", "empty"), "");
-  EXPECT_EQ(f.get_attr_string("/parameters", "note"), "replaced, \xC3\xA9t\xC3\xA9");
-  EXPECT_EQ(f.get_attr_strings("/particles/all/box", "boundary"),
-            (std::vector<std::string>{"periodic", "periodic", "none"}));
-  EXPECT_EQ(f.get_attr_double("/", "root_attr"), -1.5);
-  EXPECT_TRUE(f.has_attr("/parameters", "dt"));
-  EXPECT_FALSE(f.has_attr("/parameters", "mu"));
-  EXPECT_FALSE(f.has_attr("/nowhere", "dt"));
-
-  const std::string missing = error_of([&] { f.get_attr_double("/parameters", "mu"); });
-  EXPECT_MENTIONS(missing, "'mu'");
-  EXPECT_MENTIONS(missing, "/parameters");
-  EXPECT_MENTIONS(missing, path);
-  const std::string no_object = error_of([&] { f.get_attr_double("/nowhere", "dt"); });
-  EXPECT_MENTIONS(no_object, "/nowhere");
-  const std::string wrong_type = error_of([&] { f.get_attr_int64("/parameters", "dt"); });
-  EXPECT_MENTIONS(wrong_type, "'dt'");
-  EXPECT_MENTIONS(wrong_type, "64-bit floats");
-  EXPECT_MENTIONS(error_of([&] { f.get_attr_double("/parameters", "note"); }), "strings");
-  EXPECT_MENTIONS(error_of([&] { f.get_attr_string("/particles/all/box", "boundary"); }), "get_attr_strings");
-  EXPECT_MENTIONS(error_of([&] { f.get_attr_string("/parameters", "steps"); }), "not strings");
 }
 
 TEST(H5File, ReadOnlyFilesRefuseWrites) {
@@ -475,101 +382,4 @@ TEST(H5File, H5mdHeaderAndH5dumpReadsTheFile) {
   EXPECT_MENTIONS(dump, "DATASET \"value\"");
   EXPECT_MENTIONS(dump, "( 100, 3 )");
   EXPECT_MENTIONS(dump, "H5T_IEEE_F64LE");
-}
-
-// ---- XDMF
-
-namespace {
-
-// Checks that every element opened is closed in order: enough to catch a broken writer
-// without an XML parser.
-bool tags_balanced(const std::string& xml, std::string& why) {
-  std::vector<std::string> open;
-  for (std::size_t i = xml.find('<'); i != std::string::npos; i = xml.find('<', i + 1)) {
-    const std::size_t end = xml.find('>', i);
-    if (end == std::string::npos) return why = "unterminated tag", false;
-    const std::string tag = xml.substr(i + 1, end - i - 1);
-    if (tag.empty() || tag[0] == '?' || tag[0] == '!') continue;
-    if (tag[0] == '/') {
-      if (open.empty() || open.back() != tag.substr(1))
-        return why = "unexpected </" + tag.substr(1) + ">", false;
-      open.pop_back();
-    } else if (tag.back() != '/') {
-      open.push_back(tag.substr(0, tag.find(' ')));
-    }
-  }
-  if (!open.empty()) return why = "<" + open.back() + "> never closed", false;
-  return true;
-}
-
-}  // namespace
-
-TEST(Xdmf, PointsAtDatasetsThatExistWithTheDeclaredShapes) {
-  TempDir dir;
-  const std::size_t n = 250;
-  const std::string h5_path = dir.file("bed.h5");
-  {
-    h5::File f = h5::File::create(h5_path);
-    h5::write_h5md_header(f, "0.1.0", "Test Author");
-    f.write_rows("/particles/all/position/value", std::vector<Vec3>(n, Vec3(1, 2, 3)));
-    f.write_rows("/particles/all/velocity/value", std::vector<Vec3>(n, Vec3(0, 0, -1)));
-    f.write("/particles/all/radius/value", std::vector<double>(n, 0.5));
-    f.commit();
-  }
-  const std::string xdmf_path = dir.file("bed.xdmf");
-  write_xdmf(xdmf_path, "bed.h5", "all", n, {"radius"}, {"velocity"});
-  EXPECT_FALSE(fs::exists(xdmf_path + ".tmp"));
-  const std::string xml = read_text(xdmf_path);
-
-  EXPECT_EQ(xml.rfind("<?xml version=\"1.0\" ?>", 0), 0u);
-  EXPECT_MENTIONS(xml, "<Xdmf Version=\"3.0\">");
-  EXPECT_MENTIONS(xml, "<Grid Name=\"all\" GridType=\"Uniform\">");
-  EXPECT_MENTIONS(xml, "TopologyType=\"Polyvertex\" NumberOfElements=\"250\"");
-  EXPECT_MENTIONS(xml, "<Geometry GeometryType=\"XYZ\">");
-  EXPECT_MENTIONS(xml, "<Attribute Name=\"radius\" AttributeType=\"Scalar\" Center=\"Node\">");
-  EXPECT_MENTIONS(xml, "<Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">");
-  std::string why;
-  EXPECT_TRUE(tags_balanced(xml, why)) << why << "\n" << xml;
-  // Explicit vertex i = point i: without it ParaView's Xdmf3 readers load points but no cells.
-  const std::size_t conn =
-      xml.find("<DataItem Dimensions=\"250\" NumberType=\"Int\" Precision=\"8\" Format=\"XML\">");
-  ASSERT_NE(conn, std::string::npos) << xml;
-  std::istringstream indices(xml.substr(xml.find('>', conn) + 1));
-  for (std::size_t i = 0; i < n; ++i) {
-    std::size_t k = n;
-    indices >> k;
-    ASSERT_EQ(k, i);
-  }
-
-  // Every DataItem names bed.h5 and a dataset in it of exactly the declared dimensions.
-  const std::regex item("<DataItem Dimensions=\"([0-9 ]+)\"[^>]*Format=\"HDF\">([^:<]+):([^<]+)</DataItem>");
-  const h5::File f = h5::File::open(h5_path);
-  std::vector<std::string> datasets;
-  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), item); it != std::sregex_iterator(); ++it) {
-    const std::string dims = (*it)[1], file = (*it)[2], dataset = (*it)[3];
-    datasets.push_back(dataset);
-    EXPECT_EQ(file, "bed.h5");
-    EXPECT_TRUE(f.exists(dataset)) << dataset;
-    if (dims == "250 3") {
-      EXPECT_EQ(f.read_vec3(dataset).size(), n) << dataset;
-    } else {
-      EXPECT_EQ(dims, "250");
-      EXPECT_EQ(f.read_doubles(dataset).size(), n) << dataset;
-    }
-  }
-  EXPECT_EQ(datasets,
-            (std::vector<std::string>{"/particles/all/position/value", "/particles/all/radius/value",
-                                      "/particles/all/velocity/value"}));
-}
-
-TEST(Xdmf, RefusesWhatParaViewCouldNotRead) {
-  TempDir dir;
-  const std::string x = dir.file("bad.xdmf");
-  EXPECT_MENTIONS(error_of([&] { write_xdmf(x, "a:b.h5", "all", 10, {}, {}); }), "':'");
-  EXPECT_MENTIONS(error_of([&] { write_xdmf(x, "b.h5", "all", 0, {}, {}); }), "no particles");
-  EXPECT_MENTIONS(error_of([&] { write_xdmf(x, "b.h5", "", 10, {}, {}); }), "particle group");
-  EXPECT_MENTIONS(error_of([&] { write_xdmf(x, "b.h5", "all", 10, {"a/b"}, {}); }), "'a/b'");
-  EXPECT_FALSE(fs::exists(x));
-  const std::string no_dir = dir.file("no/such/dir/bed.xdmf");
-  EXPECT_MENTIONS(error_of([&] { write_xdmf(no_dir, "b.h5", "all", 10, {}, {}); }), no_dir);
 }

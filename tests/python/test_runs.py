@@ -1,29 +1,54 @@
 """analysis.runs: run files (HDF5, the layout `granudrag pull` writes) into the tidy table."""
 import math
+import os
+import subprocess
+from pathlib import Path
 
 import h5py
 import numpy as np
 import pytest
 
 from analysis.runs import (RunFileError, load_runs, path_parameters, read_coordination_distribution,
-                           read_force_trace, read_run, read_snapshots)
+                           read_force_trace, read_parameters, read_run, read_snapshots)
 from analysis.table import froude, validate_table
 
 BED = "system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.05359/seed~1"
+# The engine, for the test that reads what it writes: $GRANUDRAG, else build/granudrag.
+BINARY = Path(os.environ.get("GRANUDRAG", Path(__file__).resolve().parents[2] / "build" / "granudrag"))
+
+
+def write_parameters_v2(f):
+    """/parameters as src/io/parameter_record.cpp writes it: one typed attribute per key with a
+    value (strings fixed-length, flags h5py's bool enum, lists float64 arrays), units beside."""
+    pour = f.create_group("parameters/pour")
+    for key, value in {"output": np.bytes_(b"b.h5"), "lx": 10.0, "ly": 8.0, "grains": np.int64(1500),
+                       "skin": 0.2, "quiet": np.bool_(True)}.items():
+        pour.attrs[key] = value
+    pour.create_group("units").attrs["lx"] = np.bytes_(b"d")
+    pull = f.create_group("parameters/pull")
+    for key, value in {"bed": np.bytes_(b"b.h5"), "output": np.bytes_(b"run.h5"), "speed": 1.0,
+                       "distance": 2.7, "skin": 0.2, "snapshots": np.int64(3),
+                       "resume": np.bool_(False)}.items():
+        pull.attrs[key] = value
+
+
+def write_parameters_v1(f):
+    """/parameters as format version 1 wrote it: the pull's keys, then its bed's, as one YAML
+    text (both have 'output' and 'skin')."""
+    f.create_group("parameters").attrs["yaml"] = (
+        "# pull\noutput: \"run.h5\"\nspeed: 1\ndistance: 2.7\nskin: 0.2\n"
+        "# bed b.h5\noutput: \"b.h5\"\nlx: 10.0\nly: 8.0\ngrains: 1500\nintruder_x: ~\nskin: 0.2\n")
 
 
 def write_run(path, D=2.0, depth=9.87, speed=0.75, mu=0.5, kn=2e4, gamman=199.05359,
-              drag=111.1, fmt="granudrag-run", version=1, skip=None, n_samples=50):
-    """A run file with the attributes and datasets of src/run_files.cpp save_run."""
+              drag=111.1, fmt="granudrag-run", version=2, skip=None, n_samples=50):
+    """A run file with the attributes and datasets of src/io/run_file.cpp save_run."""
     path.parent.mkdir(parents=True, exist_ok=True)
     with h5py.File(path, "w") as f:
         g = f.create_group("granudrag")
         g.attrs["format"] = fmt
         g.attrs["version"] = np.int64(version)
-        # As granudrag writes it: the pull's keys, then its bed's (both have 'output', 'skin').
-        f.create_group("parameters").attrs["yaml"] = (
-            "# pull\noutput: \"run.h5\"\nspeed: 1\ndistance: 2.7\nskin: 0.2\n"
-            "# bed b.h5\noutput: \"b.h5\"\nlx: 10.0\nly: 8.0\ngrains: 1500\nintruder_x: ~\nskin: 0.2\n")
+        (write_parameters_v1 if version == 1 else write_parameters_v2)(f)
         r = f.create_group("run")
         for k, v in dict(D=D, depth=depth, speed=speed, froude=float(froude(speed, D)), mu=mu,
                          kn=kn, gamman=gamman, dt=4.2e-4).items():
@@ -73,12 +98,101 @@ def test_reads_one_run_with_path_parameters(tmp_path):
     assert row["distance"] == pytest.approx(0.75 * 6384 * 4.2e-4)
 
 
-def test_scale_is_nan_when_the_file_does_not_record_it(tmp_path):
-    p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5")
+@pytest.mark.parametrize("version", [1, 2])
+def test_scale_is_nan_when_the_file_does_not_record_it(tmp_path, version):
+    p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5", version=version)
     with h5py.File(p, "a") as f:
         del f["parameters"]
     row = read_run(p)
     assert all(np.isnan(row[k]) for k in ("lx", "ly", "grains")) and row["drag"] > 0
+    # A bed of format version 1, or imported: the run has no /parameters/pour.
+    q = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5", speed=1.5)
+    with h5py.File(q, "a") as f:
+        del f["parameters/pour"]
+        f["parameters"].attrs["pour_yaml_v1"] = "lx: 10.0\n"   # for people only: not read
+    row = read_run(q)
+    assert all(np.isnan(row[k]) for k in ("lx", "ly", "grains")) and row["drag"] > 0
+
+
+def test_parameters_are_read_by_key_with_their_types(tmp_path):
+    p = write_run(tmp_path / "system~I" / "run.h5")
+    params = read_parameters(p)
+    assert set(params) == {"pour", "pull"}
+    assert params["pour"] == {"output": "b.h5", "lx": 10.0, "ly": 8.0, "grains": 1500, "skin": 0.2,
+                              "quiet": True}
+    assert params["pull"]["speed"] == 1.0 and params["pull"]["bed"] == "b.h5"
+    assert params["pull"]["resume"] is False and params["pull"]["snapshots"] == 3
+    assert type(params["pour"]["grains"]) is int
+    with h5py.File(p, "a") as f:
+        f["parameters/pull"].attrs["speeds"] = np.array([0.1, 1.0])
+    assert read_parameters(p)["pull"]["speeds"] == [0.1, 1.0]
+
+
+def test_old_version_run_files_are_read_through_the_legacy_path(tmp_path):
+    p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5", version=1)
+    row = read_run(p, root=tmp_path)
+    assert (row["lx"], row["ly"], row["grains"]) == (10.0, 8.0, 1500.0)
+    assert row["drag"] == pytest.approx(111.1)
+    assert load_runs([p]).drag.tolist() == [pytest.approx(111.1)]
+    with pytest.raises(RunFileError, match="version 1 records its parameters as text.*re-run the pull"):
+        read_parameters(p)
+    # A version 2 file is never read through the text, even if one is there.
+    q = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5", speed=1.5)
+    with h5py.File(q, "a") as f:
+        f["parameters"].attrs["yaml"] = "lx: 99.0\n"
+    assert read_run(q)["lx"] == 10.0
+
+
+def test_bad_parameters_are_refused_by_name(tmp_path):
+    p = write_run(tmp_path / "system~I" / "run.h5")
+    with h5py.File(p, "a") as f:
+        f["parameters/pour"].attrs["lx"] = np.bytes_(b"wide")
+    with pytest.raises(RunFileError, match="/parameters/pour attribute 'lx' is not a number"):
+        read_run(p)
+    with h5py.File(p, "a") as f:
+        del f["parameters/pull"]
+    with pytest.raises(RunFileError, match="no /parameters/pull"):
+        read_parameters(p)
+    with h5py.File(p, "a") as f:
+        del f["parameters"]
+    with pytest.raises(RunFileError, match="no group /parameters"):
+        read_parameters(p)
+
+
+@pytest.mark.parametrize("content, message", [
+    (b"system,D\nI,2\n", "not an HDF5 file"),
+    (b"\x89HDF\r\n\x1a\n" + b"\x00" * 40, "unreadable HDF5 file"),
+])
+def test_read_parameters_refuses_foreign_and_corrupt_files(tmp_path, content, message):
+    p = tmp_path / "run.h5"
+    p.write_bytes(content)
+    with pytest.raises(RunFileError, match=message):
+        read_parameters(p)
+    bed = write_run(tmp_path / "bed.h5", fmt="granudrag-bed")
+    with pytest.raises(RunFileError, match="'granudrag-bed' file"):
+        read_parameters(bed)
+    newer = write_run(tmp_path / "new.h5", version=7)
+    with pytest.raises(RunFileError, match="version 7 is not supported"):
+        read_parameters(newer)
+
+
+def test_the_engine_writes_what_the_reader_reads(tmp_path):
+    """A real pour and pull: every key comes back with its type, and the table's scale."""
+    subprocess.run([str(BINARY), "pour", "--output", str(tmp_path / "bed.h5"), "--grains", "150",
+                    "--lx", "5", "--ly", "4.5", "--intruder_diameter", "1.5", "--depth", "1.5",
+                    "--kn", "2e4", "--max_settle_time", "0.5", "--quiet"],
+                   check=True, capture_output=True)
+    run = tmp_path / "system~I" / "run.h5"
+    run.parent.mkdir()
+    subprocess.run([str(BINARY), "pull", "--bed", str(tmp_path / "bed.h5"), "--output", str(run),
+                    "--distance", "0.1", "--quiet"], check=True, capture_output=True)
+    params = read_parameters(run)
+    assert params["pour"]["grains"] == 150 and params["pour"]["lx"] == 5.0
+    assert params["pour"]["quiet"] is True and "intruder_z" not in params["pour"]   # unset: absent
+    assert params["pull"]["bed"] == str(tmp_path / "bed.h5") and params["pull"]["distance"] == 0.1
+    assert params["pull"]["resume"] is False and params["pull"]["snapshots"] == 3
+    row = read_run(run)
+    assert (row["lx"], row["ly"], row["grains"]) == (5.0, 4.5, 150.0)
 
 
 def test_load_runs_gives_a_valid_table(tmp_path):

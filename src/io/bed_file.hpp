@@ -1,0 +1,35 @@
+#pragma once
+// The bed file (`granudrag pour`, `granudrag import-lammps`): a settled bed, complete enough to
+// pull from it bit for bit as the pour left it.
+//   /particles, /contacts   the state with its contact histories (io/particle_data.hpp)
+//   /box                    lx, ly, wall
+//   /contact                kn, kt, gamman, gammat, mu, dt
+//   /bed                    intruder (index, -1: none), surface_height, depth, requested_depth,
+//                           bulk_packing_fraction, stop_reason, kinetic_energy_per_grain,
+//                           settle_time, sanity; /bed/profile/{z,packing_fraction}
+//   /parameters/<command>   the resolved parameters of the command that made it, pour or
+//                           import-lammps (io/parameter_record.hpp)
+#include <string>
+
+#include "io/h5_file.hpp"
+#include "io/parameter_record.hpp"
+#include "protocol/pour.hpp"
+
+namespace granudrag {
+
+// `parameters`: the resolved parameters of the command that made the bed.
+void save_bed(const std::string& path, const Bed& bed, const Parameters& parameters);
+// Throws Error naming the file when it is missing, truncated, not a bed file, or of a version
+// this granudrag cannot read. Reads format versions 1 and 2; the bed's recorded parameters are
+// returned through `parameters` when given (for version 1: a record holding only the old text).
+Bed load_bed(const std::string& path, ParameterRecord* parameters = nullptr);
+
+// An XDMF sidecar (path with .xdmf) so ParaView opens the bed's particles.
+void write_bed_xdmf(const std::string& bed_path, std::size_t particles);
+
+// The bed's groups (/particles, /contacts, /box, /contact, /bed), which a checkpoint holds too.
+void write_bed_groups(h5::File& file, const Bed& bed);
+// Throws Error (without the file name) for values no bed can have.
+Bed read_bed_groups(const h5::File& file);
+
+}  // namespace granudrag

@@ -1,0 +1,127 @@
+#include "io/checkpoint_file.hpp"
+
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "io/bed_file.hpp"
+#include "io/file_header.hpp"
+#include "io/particle_data.hpp"
+
+namespace granudrag {
+
+namespace {
+
+const char* kFormat = "granudrag-checkpoint";
+
+void write_pull_record(h5::File& f, const PullRecord& r) {
+  f.set_attr("/pull", "samples_per_interval", static_cast<std::int64_t>(r.samples_per_interval));
+  f.set_attr("/pull", "total_steps", static_cast<std::int64_t>(r.total_steps));
+  f.write("/pull/time", r.time);
+  f.write("/pull/fx", r.fx);
+  f.write("/pull/fy", r.fy);
+  f.write("/pull/fz", r.fz);
+  f.write("/pull/contacts", r.contacts);
+  f.write("/pull/theta_sums", std::vector<double>{r.theta_sum, r.theta_sq_sum});
+  f.set_attr("/pull", "theta_count", static_cast<std::int64_t>(r.theta_count));
+  f.write("/pull/theta_histogram",
+          std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
+  f.write("/pull/z_histogram", std::vector<std::int64_t>(r.z_histogram.begin(), r.z_histogram.end()));
+  f.write("/pull/energy", std::vector<double>{r.work, r.max_overlap, r.energy_start, r.contact_sum});
+  f.write_rows("/pull/force_sum", std::vector<Vec3>{r.force_sum});
+  f.set_attr("/pull", "snapshots", static_cast<std::int64_t>(r.snapshots.size()));
+  write_snapshots(f, "/pull/snapshot_", r.snapshots);
+}
+
+PullRecord read_pull_record(const h5::File& f) {
+  PullRecord r;
+  r.samples_per_interval = f.get_attr_int64("/pull", "samples_per_interval");
+  if (r.samples_per_interval < 1) throw Error("samples_per_interval < 1 under /pull");
+  r.total_steps = f.get_attr_int64("/pull", "total_steps");
+  r.time = f.read_doubles("/pull/time");
+  r.fx = f.read_doubles("/pull/fx");
+  r.fy = f.read_doubles("/pull/fy");
+  r.fz = f.read_doubles("/pull/fz");
+  r.contacts = f.read_doubles("/pull/contacts");
+  const auto theta = f.read_doubles("/pull/theta_sums");
+  r.theta_sum = theta.at(0);
+  r.theta_sq_sum = theta.at(1);
+  r.theta_count = f.get_attr_int64("/pull", "theta_count");
+  const auto th = f.read_int64("/pull/theta_histogram");
+  r.theta_histogram.assign(th.begin(), th.end());
+  const auto zh = f.read_int64("/pull/z_histogram");
+  r.z_histogram.assign(zh.begin(), zh.end());
+  const auto en = f.read_doubles("/pull/energy");
+  r.work = en.at(0);
+  r.max_overlap = en.at(1);
+  r.energy_start = en.at(2);
+  r.contact_sum = en.at(3);
+  r.force_sum = f.read_vec3("/pull/force_sum").at(0);
+  const std::int64_t ns = f.get_attr_int64("/pull", "snapshots");
+  if (ns < 0) throw Error("negative snapshot count under /pull");
+  r.snapshots = read_snapshots(f, "/pull/snapshot_", static_cast<std::size_t>(ns));
+  return r;
+}
+
+}  // namespace
+
+std::string bed_fingerprint(const Bed& bed) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the bytes
+  auto mix = [&h](const void* data, std::size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < bytes; ++k) h = (h ^ b[k]) * 1099511628211ull;
+  };
+  const Particles& p = bed.state.particles;
+  mix(p.x.data(), p.x.size() * sizeof(Vec3));
+  mix(p.radius.data(), p.radius.size() * sizeof(double));
+  mix(p.species.data(), p.species.size() * sizeof(Species));
+  char text[32];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
+void save_checkpoint(const std::string& path, const Pull& pull, const Parameters& pull_parameters,
+                     const ParameterRecord& bed_parameters) {
+  h5::File f = h5::File::create(path);
+  write_file_header(f, kFormat);
+  write_parameters(f, bed_parameters);
+  write_parameters(f, ParameterRecord::of(pull_parameters));
+  f.set_attr("/pull", "bed_fingerprint", bed_fingerprint(pull.bed()));
+  Bed bed = pull.bed();
+  bed.state = pull.state();
+  write_bed_groups(f, bed);
+  write_pull_record(f, pull.record());
+  f.commit();
+}
+
+Checkpoint load_checkpoint(const std::string& path, const Bed& bed, const Parameters& now,
+                           const std::vector<std::string>& run_controls) {
+  const h5::File f = h5::File::open(path);
+  check_file_header(f, kFormat, kFileVersion, "delete it to start the pull over");
+  Checkpoint c;
+  std::string differences;
+  try {
+    const Bed saved = read_bed_groups(f);
+    if (saved.state.particles.size() != bed.state.particles.size() || saved.box.lx != bed.box.lx ||
+        saved.contact.kn != bed.contact.kn || saved.dt != bed.dt)
+      throw Error("it belongs to another bed (particle count, box, stiffness or time step differ)");
+    c.state = saved.state;
+    c.record = read_pull_record(f);
+    const ParameterRecord then = read_parameters(f, "pull");
+    differences = describe_differences(then, ParameterRecord::of(now), run_controls, "checkpoint", "now");
+    const std::string saved_bed = f.get_attr_string("/pull", "bed_fingerprint");
+    const std::string this_bed = bed_fingerprint(bed);
+    if (saved_bed != this_bed)
+      differences +=
+          "\n  checkpoint: bed_fingerprint: " + saved_bed + "\n  now:        bed_fingerprint: " + this_bed;
+  } catch (const Error& e) {
+    throw Error("checkpoint '" + path + "' cannot be used: " + e.what());
+  } catch (const std::out_of_range&) {
+    throw Error("checkpoint '" + path + "' is damaged (short arrays under /pull)");
+  }
+  if (!differences.empty())
+    throw Error("checkpoint '" + path + "' was written by a pull with other options or another bed:" +
+                differences + "\nrerun with the same options, or delete the checkpoint to start over");
+  return c;
+}
+
+}  // namespace granudrag

@@ -1,0 +1,33 @@
+#include "io/file_header.hpp"
+
+#include "core/error.hpp"
+
+namespace granudrag {
+
+void write_file_header(h5::File& file, const std::string& format) {
+  h5::write_h5md_header(file, std::string(GRANUDRAG_VERSION) + " (" + GRANUDRAG_COMMIT + ")");
+  file.set_attr("/granudrag", "format", format);
+  file.set_attr("/granudrag", "version", kFileVersion);
+  file.set_attr("/granudrag", "code_version", std::string(GRANUDRAG_VERSION));
+  file.set_attr("/granudrag", "commit", std::string(GRANUDRAG_COMMIT));
+}
+
+std::int64_t check_file_header(const h5::File& file, const std::string& format, std::int64_t oldest,
+                               const std::string& remedy) {
+  const std::string& path = file.path();
+  if (!file.has_attr("/granudrag", "format"))
+    throw Error("'" + path + "' is not a granudrag file (no /granudrag format attribute)");
+  const std::string got = file.get_attr_string("/granudrag", "format");
+  if (got != format) throw Error("'" + path + "' is a " + got + " file, not a " + format + " file");
+  const std::int64_t version = file.get_attr_int64("/granudrag", "version");
+  if (version < oldest || version > kFileVersion) {
+    const std::string readable =
+        oldest == kFileVersion ? "version " + std::to_string(kFileVersion)
+                               : "versions " + std::to_string(oldest) + " to " + std::to_string(kFileVersion);
+    throw Error("'" + path + "' has format version " + std::to_string(version) + "; this granudrag reads " +
+                readable + " of " + format + " files: " + remedy);
+  }
+  return version;
+}
+
+}  // namespace granudrag

@@ -1,0 +1,25 @@
+#pragma once
+// What every granudrag file starts with: the H5MD header (/h5md: version, author, creator) and
+// /granudrag attributes `format` ("granudrag-bed", "granudrag-run", "granudrag-checkpoint"),
+// `version` (kFileVersion), `code_version` and `commit` of the binary that wrote it.
+#include <cstdint>
+#include <string>
+
+#include "io/h5_file.hpp"
+
+namespace granudrag {
+
+// The layout's version, one for all three kinds of file:
+//   1  the resolved parameters as one YAML text (/parameters attribute `yaml`)
+//   2  the parameters by key: /parameters/pour, /parameters/pull (io/parameter_record.hpp)
+constexpr std::int64_t kFileVersion = 2;
+
+void write_file_header(h5::File& file, const std::string& format);
+
+// The file's version, when `file` is a `format` file of a version from `oldest` to kFileVersion.
+// Otherwise an Error naming the file, what it is, and `remedy` (what to do about an old or new
+// version: "re-create it with this granudrag", say).
+std::int64_t check_file_header(const h5::File& file, const std::string& format, std::int64_t oldest,
+                               const std::string& remedy);
+
+}  // namespace granudrag

@@ -1,0 +1,74 @@
+#include "io/run_file.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "io/file_header.hpp"
+#include "io/particle_data.hpp"
+
+namespace granudrag {
+
+void save_run(const std::string& path, const Pull& pull, const Parameters& pull_parameters,
+              const ParameterRecord& bed_parameters, const std::string& sanity) {
+  const PullRecord& r = pull.record();
+  const PullResult res = pull.result();
+  const Bed& bed = pull.bed();
+  h5::File f = h5::File::create(path);
+  write_file_header(f, "granudrag-run");
+  write_parameters(f, bed_parameters);
+  write_parameters(f, ParameterRecord::of(pull_parameters));
+  const Particles& p0 = bed.state.particles;
+  const double D = 2 * p0.radius[bed.intruder];
+  f.set_attr("/run", "D", D);
+  f.set_attr("/run", "depth", bed.depth);
+  f.set_attr("/run", "speed", pull.spec().speed);
+  f.set_attr("/run", "froude", res.froude);
+  f.set_attr("/run", "mu", bed.contact.mu);
+  f.set_attr("/run", "kn", bed.contact.kn);
+  f.set_attr("/run", "gamman", bed.contact.gamman);
+  f.set_attr("/run", "dt", bed.dt);
+  f.set_attr("/run", "steps", static_cast<std::int64_t>(r.total_steps));
+  // Force on the intruder, averaged over each sample interval, as an H5MD time series.
+  std::vector<std::int64_t> steps(r.time.size());
+  std::vector<Vec3> force(r.time.size());
+  for (std::size_t k = 0; k < r.time.size(); ++k) {
+    steps[k] = static_cast<std::int64_t>((k + 1) * r.samples_per_interval);
+    force[k] = Vec3(r.fx[k], r.fy[k], r.fz[k]);
+  }
+  f.write("/observables/intruder_force/step", steps);
+  f.write("/observables/intruder_force/time", r.time);
+  f.write_rows("/observables/intruder_force/value", force);
+  f.set_attr("/observables/intruder_force", "meaning",
+             std::string("force on the intruder (rho d^3 g), mean over each interval ending at time"));
+  f.write("/observables/intruder_contacts/step", steps);
+  f.write("/observables/intruder_contacts/time", r.time);
+  f.write("/observables/intruder_contacts/value", r.contacts);
+  f.write("/observables/cumulative_drag/value", res.cumulative_drag);
+  auto scalar = [&](const std::string& name, double value, double error, const std::string& meaning) {
+    f.set_attr("/observables/" + name, "value", value);
+    f.set_attr("/observables/" + name, "error", error);
+    f.set_attr("/observables/" + name, "meaning", meaning);
+  };
+  scalar("drag", res.drag, res.drag_error,
+         "-<F_x> after the transient (rho d^3 g); error by block averaging (Flyvbjerg-Petersen)");
+  f.set_attr("/observables/drag", "transient_distance", res.transient_distance);
+  f.set_attr("/observables/drag", "transient_samples", static_cast<std::int64_t>(res.transient_samples));
+  scalar("coordination", res.coordination, NAN, "n: mean number of grains touching the intruder");
+  scalar(
+      "theta", res.theta, res.theta_error,
+      "mean angle between the intruder velocity and the intruder-to-grain line at contact formation (rad)");
+  f.write("/observables/theta/histogram",
+          std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
+  scalar("bulk_coordination", res.bulk_coordination, NAN,
+         "Z of mobile grains with centre within R + shell of the intruder");
+  f.set_attr("/observables/bulk_coordination", "shell", pull.spec().shell);
+  f.write("/observables/bulk_coordination/distribution", res.z_distribution);
+  scalar("kappa", res.kappa, NAN, "(Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8");
+  write_snapshots(f, "/snapshots/", r.snapshots);
+  f.set_attr("/sanity", "report", sanity);
+  f.set_attr("/sanity", "max_overlap", r.max_overlap);
+  f.set_attr("/sanity", "work", r.work);
+  f.commit();
+}
+
+}  // namespace granudrag

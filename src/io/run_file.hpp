@@ -1,0 +1,23 @@
+#pragma once
+// The run file (`granudrag pull`): one pull's results.
+//   /run                      D, depth, speed, froude, mu, kn, gamman, dt, steps
+//   /observables              intruder_force and intruder_contacts (H5MD series per sample
+//                             interval), cumulative_drag, and drag, coordination (n), theta,
+//                             bulk_coordination (Z, with P(Z)), kappa: value, error, meaning
+//   /snapshots/<k>            velocity snapshots of the slab through the intruder
+//   /sanity                   the sanity report, max_overlap, work
+//   /parameters/pull          the pull's resolved parameters; /parameters/pour: its bed's,
+//                             copied from the bed file (io/parameter_record.hpp)
+#include <string>
+
+#include "core/parameters.hpp"
+#include "io/parameter_record.hpp"
+#include "protocol/pull.hpp"
+
+namespace granudrag {
+
+// `pull_parameters`: the pull's resolved parameters; `bed_parameters`: its bed's (load_bed).
+void save_run(const std::string& path, const Pull& pull, const Parameters& pull_parameters,
+              const ParameterRecord& bed_parameters, const std::string& sanity);
+
+}  // namespace granudrag
