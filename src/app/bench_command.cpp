@@ -1,5 +1,6 @@
 // granudrag bench: settle an fcc-packed bed and time it, per thread count.
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "app/command.hpp"
@@ -59,9 +60,11 @@ int bench_command(const std::vector<std::string>& args) {
   o.settle_steps = par->integer("settle");
   o.threads.clear();
   for (const double t : par->numbers("threads")) {
-    if (t != std::floor(t))
-      throw Error("'threads' must be whole numbers of threads, got " + std::to_string(t) +
-                  " (e.g. --threads 1,2)");
+    if (t != std::floor(t)) {
+      std::ostringstream msg;
+      msg << "'threads' must be whole numbers of threads, got " << t << " (e.g. --threads 1,2)";
+      throw Error(msg.str());
+    }
     o.threads.push_back(static_cast<int>(t));
   }
   if (o.threads.empty())
