@@ -6,42 +6,16 @@
 // Precedence: command line > YAML file > default, whatever the order of the calls or of the
 // arguments (a later YAML file overrides an earlier one). Type errors are raised when a value is
 // read; range errors and missing required keys by validate(), all at once.
-#include <limits>
+//
+// Files: parameters.cpp (values, validation, YAML dump), parameters_yaml.cpp (reading YAML),
+// parameters_cli.cpp (reading the command line), parameters_help.cpp (--help, --schema).
 #include <string>
 #include <vector>
 
+#include "core/parameter_spec.hpp"
+#include "core/parameter_values.hpp"
+
 namespace granudrag {
-
-struct ParameterSpec {
-  enum class Type { Number, Integer, Text, Flag, NumberList };
-  static constexpr double unbounded = std::numeric_limits<double>::infinity();
-
-  std::string key{};  // letters, digits, '_', '-', '.'; must start with a letter
-  Type type = Type::Number;
-  std::string unit{};           // "" for dimensionless
-  std::string default_value{};  // as it would be written on the command line; "" = none
-  double min = -unbounded;      // inclusive unless min_exclusive; Number, Integer, NumberList items
-  double max = unbounded;       // inclusive unless max_exclusive
-  bool min_exclusive = false;
-  std::string help{};
-  bool required = false;       // no default allowed: the user must give it
-  bool max_exclusive = false;  // last, so that positional initialisers above stay valid
-};
-
-namespace detail {
-// One key's value, as parsed for its type.
-struct ParameterValue {
-  bool set = false;
-  int level = 0;             // 0 default, 1 YAML, 2 command line: a lower level never overrides a higher
-  double number = 0;         // Number
-  long integer = 0;          // Integer
-  std::string text;          // Text
-  bool flag = false;         // Flag
-  std::vector<double> list;  // NumberList
-  std::string raw;           // as written, for messages
-  std::string source;        // where it came from, for messages
-};
-}  // namespace detail
 
 class Parameters {
  public:
@@ -78,6 +52,8 @@ class Parameters {
   std::string to_yaml() const;
   // A table: key, type, unit, default, range, help.
   std::string help_text() const;
+  // A JSON Schema (draft-07) object of the keys: type, range, default, description with unit.
+  std::string schema_json() const;
 
   const std::string& command() const { return command_; }
   const std::vector<ParameterSpec>& specs() const { return specs_; }

@@ -15,48 +15,9 @@ namespace {
 
 constexpr double kMeanCubeDiameter = 1.01;  // E[d^3] for d uniform in [0.9, 1.1]
 
-void require(bool ok, const std::string& key, double value, const std::string& rule) {
-  if (ok) return;
-  std::ostringstream msg;
-  msg << "'" << key << "' = " << value << " is out of range: " << rule;
-  throw Error(msg.str());
-}
-
 double grain_volume_estimate(long n) { return n * M_PI / 6.0 * kMeanCubeDiameter; }
 
 }  // namespace
-
-void PourSpec::validate() const {
-  require(lx >= 4 && std::isfinite(lx), "lx", lx, "the box length must be >= 4 d (periodic cells)");
-  require(ly >= 4 && std::isfinite(ly), "ly", ly, "the box width must be >= 4 d (periodic cells)");
-  require(grains <= 200 * lx * ly * 1000, "grains", static_cast<double>(grains),
-          "more than a 1000 d tall bed in this box; use a wider box or fewer grains");
-  require(grains >= 1, "grains", static_cast<double>(grains), "it must be >= 1");
-  require(intruder_diameter >= 0 && std::isfinite(intruder_diameter), "intruder_diameter", intruder_diameter,
-          "it must be >= 0 (0: no intruder)");
-  if (intruder_diameter > 0) {
-    require(intruder_x >= 0 && intruder_x < lx, "intruder_x", intruder_x,
-            "the intruder must be inside the box: 0 <= intruder_x < lx = " + std::to_string(lx));
-    require(intruder_y >= 0 && intruder_y < ly, "intruder_y", intruder_y,
-            "the intruder must be inside the box: 0 <= intruder_y < ly = " + std::to_string(ly));
-    if (std::isnan(depth) == std::isnan(intruder_z))
-      throw Error(
-          "give exactly one of 'depth' (below the free surface) and 'intruder_z' (height of "
-          "the intruder centre above the wall)");
-    if (!std::isnan(depth)) require(depth > 0, "depth", depth, "it must be > 0 (in d)");
-  }
-  if (!std::isnan(packing_estimate))
-    require(packing_estimate > 0.3 && packing_estimate < 0.75, "packing_estimate", packing_estimate,
-            "it must lie in (0.3, 0.75)");
-  require(fill_fraction > 0 && fill_fraction <= 0.35, "fill_fraction", fill_fraction,
-          "it must lie in (0, 0.35]: random placement jams above ~0.38");
-  require(skin > 0, "skin", skin, "it must be > 0 (in d)");
-  require(ke_threshold > 0, "ke_threshold", ke_threshold, "it must be > 0 (rho g d^4 per grain)");
-  require(max_settle_time > 0, "max_settle_time", max_settle_time, "it must be > 0 (sqrt(d/g))");
-  require(check_interval > 0, "check_interval", check_interval, "it must be > 0 (sqrt(d/g))");
-  require(base_height >= 0, "base_height", base_height, "it must be >= 0 (in d)");
-  contact.validate();
-}
 
 double bulk_packing_estimate(double mu) {
   static const double table[][2] = {{0.0, 0.657}, {0.1, 0.633}, {0.2, 0.624},

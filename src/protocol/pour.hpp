@@ -10,6 +10,7 @@
 
 #include "contact/contact_loop.hpp"
 #include "contact/contact_params.hpp"
+#include "core/parameter_spec.hpp"
 #include "engine/simulation.hpp"
 #include "protocol/bed_profile.hpp"
 
@@ -35,8 +36,18 @@ struct PourSpec {
   double base_height = 0.6;      // grains below are frozen into the rough base
   std::uint64_t seed = 1;
 
-  void validate() const;  // throws Error naming the key and the allowed range
+  // Every field within its key's range (pour_keys()), and what no single range says: the intruder
+  // inside the box, exactly one of depth and intruder_z, not too many grains for the box, the
+  // contact law. Throws Error naming the key and the allowed range.
+  void validate() const;
 };
+
+// The keys of a pour, one row per PourSpec field (name, unit, default, range, meaning), declared
+// once: `granudrag pour` builds its command line, --help and --schema from them, and
+// PourSpec::validate() checks against them. The defaults are PourSpec's (a test keeps them so).
+const std::vector<ParameterSpec>& pour_keys();
+// The Verlet skin of pours and pulls.
+ParameterSpec skin_key();
 
 struct Bed {
   Simulation::State state;  // particles (intruder last), contact and wall histories

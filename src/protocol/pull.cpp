@@ -13,13 +13,6 @@
 namespace granudrag {
 
 namespace {
-void require(bool ok, const std::string& key, double value, const std::string& rule) {
-  if (ok) return;
-  std::ostringstream msg;
-  msg << "'" << key << "' = " << value << " is out of range: " << rule;
-  throw Error(msg.str());
-}
-
 Settings pull_settings(const Bed& bed, const PullSpec& spec) {
   Settings s;
   s.dt = bed.dt;
@@ -30,19 +23,6 @@ Settings pull_settings(const Bed& bed, const PullSpec& spec) {
 
 double froude_number(double speed, double diameter) {
   return 2.0 * speed * std::sqrt(2.0 * diameter) / (diameter + 1.0);
-}
-
-void PullSpec::validate() const {
-  require(speed > 0 && std::isfinite(speed), "speed", speed, "it must be > 0 (sqrt(g d))");
-  require(distance >= 0 && std::isfinite(distance), "distance", distance,
-          "it must be >= 0 (d; 0 means one box length)");
-  require(sample_interval > 0, "sample_interval", sample_interval, "it must be > 0 (sqrt(d/g))");
-  require(shell > 0, "shell", shell, "it must be > 0 (d)");
-  require(snapshots >= 0, "snapshots", snapshots, "it must be >= 0");
-  require(slab_half_width > 0, "slab_half_width", slab_half_width, "it must be > 0 (d)");
-  require(checkpoint_every >= 0, "checkpoint_every", static_cast<double>(checkpoint_every),
-          "it must be >= 0 (steps; 0: no checkpoints)");
-  require(skin > 0, "skin", skin, "it must be > 0 (d)");
 }
 
 Pull::Pull(const Bed& bed, const PullSpec& spec)

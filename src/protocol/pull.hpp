@@ -26,8 +26,14 @@ struct PullSpec {
   // LAMMPS run starting from a data file does: for like-for-like comparisons.
   bool fresh_start = false;
 
+  // Every field within its key's range (pull_keys(), skin_key()); throws Error naming the key.
   void validate() const;
 };
+
+// The keys of a pull (speed or Froude number, travel, sampling), declared once: `granudrag pull`
+// builds its command line, --help and --schema from them, and PullSpec::validate() checks against
+// them. The defaults are PullSpec's (a test keeps them so).
+const std::vector<ParameterSpec>& pull_keys();
 
 struct Snapshot {
   double time = 0;

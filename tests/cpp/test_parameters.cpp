@@ -29,15 +29,15 @@ constexpr double inf = ParameterSpec::unbounded;
 // characters and a required key, shaped like `granudrag pour`.
 std::vector<ParameterSpec> pour_specs() {
   return {
-      {"grains", Type::Integer, "", "20000", 1, inf, false, "number of grains"},
-      {"friction", Type::Number, "", "0.5", 0, inf, false, "friction coefficient"},
-      {"dt", Type::Number, "√(d/g)", "", 0, inf, true, "time step"},
-      {"poisson", Type::Number, "", "0.3", -1, 0.5, true, "Poisson's ratio", false, true},
-      {"output", Type::Text, "", "", -inf, inf, false, "run file to write", true},
-      {"label", Type::Text, "", "bed", -inf, inf, false, "free text"},
-      {"speeds", Type::NumberList, "√(gd)", "0.1,1,10", 0, inf, true, "pulling speeds"},
-      {"quiet", Type::Flag, "", "", -inf, inf, false, "no progress lines"},
-      {"contact.kn", Type::Number, "ρdg", "2e8", 0, inf, true, "normal stiffness"},
+      Key::integer("grains").default_value("20000").at_least(1).help("number of grains"),
+      Key::number("friction").default_value("0.5").at_least(0).help("friction coefficient"),
+      Key::number("dt").unit("√(d/g)").above(0).help("time step"),
+      Key::number("poisson").default_value("0.3").above(-1).below(0.5).help("Poisson's ratio"),
+      Key::text("output").required().help("run file to write"),
+      Key::text("label").default_value("bed").help("free text"),
+      Key::numbers("speeds").unit("√(gd)").default_value("0.1,1,10").above(0).help("pulling speeds"),
+      Key::flag("quiet").help("no progress lines"),
+      Key::number("contact.kn").unit("ρdg").default_value("2e8").above(0).help("normal stiffness"),
   };
 }
 
@@ -317,12 +317,15 @@ TEST(Parameters, SpecBugsAreLogicErrors) {
     specs.push_back(std::move(extra));
     return Parameters("pour", specs);
   };
-  EXPECT_THROW(with({"grains", Type::Integer, "", "1"}), std::logic_error);  // twice
-  EXPECT_THROW(with({"config", Type::Text}), std::logic_error);              // reserved
-  EXPECT_THROW(with({"bad key", Type::Text}), std::logic_error);
-  EXPECT_THROW(with({"n", Type::Integer, "", "lots"}), std::logic_error);
-  EXPECT_THROW(with({"x", Type::Number, "", "-1", 0, inf}), std::logic_error);  // out of range
-  EXPECT_THROW(with({"y", Type::Number, "", "1", 0, inf, false, "", true}), std::logic_error);
+  EXPECT_THROW(with(Key::integer("grains").default_value("1")), std::logic_error);  // twice
+  EXPECT_THROW(with(Key::text("config")), std::logic_error);                        // reserved
+  EXPECT_THROW(with(Key::text("schema")), std::logic_error);                        // reserved
+  EXPECT_THROW(with(Key::text("bad key")), std::logic_error);
+  EXPECT_THROW(with(Key::integer("n").default_value("lots")), std::logic_error);
+  EXPECT_THROW(with(Key::number("x").default_value("-1").at_least(0)), std::logic_error);  // out of range
+  EXPECT_THROW(with(Key::number("y").default_value("1").required()), std::logic_error);    // required
+  EXPECT_THROW(with(Key::number("z").default_value("1").above(1)), std::logic_error);      // exclusive
+  EXPECT_THROW(with(Key::number("w").default_value("0.5").below(0.5)), std::logic_error);
 }
 
 TEST(Parameters, ToYamlRoundTripsExactly) {
@@ -418,4 +421,59 @@ TEST(Parameters, ToYamlRoundTripsRandomDoublesAndAwkwardText) {
   ASSERT_EQ(b.size(), values.size());
   for (std::size_t i = 0; i < values.size(); ++i)
     ASSERT_TRUE(same_bits(values[i], b[i])) << values[i] << " came back as " << b[i];
+}
+
+TEST(Parameters, BuilderNamesEveryField) {
+  const ParameterSpec s = Key::number("lx").unit("d").default_value("20").above(4).below(100).help("box");
+  EXPECT_EQ(s.key, "lx");
+  EXPECT_EQ(s.type, Type::Number);
+  EXPECT_EQ(s.unit, "d");
+  EXPECT_EQ(s.default_value, "20");
+  EXPECT_EQ(s.min, 4);
+  EXPECT_TRUE(s.min_exclusive);
+  EXPECT_EQ(s.max, 100);
+  EXPECT_TRUE(s.max_exclusive);
+  EXPECT_EQ(s.help, "box");
+  EXPECT_FALSE(s.required);
+  const ParameterSpec t = Key(s).at_least(1).at_most(2).default_value("");
+  EXPECT_FALSE(t.min_exclusive);
+  EXPECT_FALSE(t.max_exclusive);
+  EXPECT_EQ(t.min, 1);
+  EXPECT_EQ(t.unit, "d");  // kept from the row it started from
+  EXPECT_TRUE(ParameterSpec(Key::text("output").required()).required);
+  EXPECT_EQ(ParameterSpec(Key::numbers("v")).type, Type::NumberList);
+  EXPECT_EQ(range_text(s), "(4, 100)");
+  EXPECT_EQ(range_text(t), "[1, 2]");
+}
+
+TEST(Parameters, SchemaJsonStatesTypesRangesAndDefaults) {
+  const std::string json = pour().schema_json();
+  for (const std::string part :
+       {"\"required\": [\"output\"]",
+        "\"grains\": {\"type\": \"integer\", \"minimum\": 1, \"default\": 20000",
+        "\"poisson\": {\"type\": \"number\", \"exclusiveMinimum\": -1, \"exclusiveMaximum\": 0.5, "
+        "\"default\": 0.3",
+        "\"speeds\": {\"type\": \"array\", \"items\": {\"type\": \"number\", \"exclusiveMinimum\": 0}, "
+        "\"default\": [0.1, 1, 10]",
+        "\"quiet\": {\"type\": \"boolean\", \"default\": false",
+        "\"label\": {\"type\": \"string\", \"default\": \"bed\"",
+        "\"dt\": {\"type\": \"number\", \"exclusiveMinimum\": 0, \"description\": \"time step [√(d/g)]\"}"})
+    EXPECT_NE(json.find(part), std::string::npos) << "'" << part << "' missing from:\n" << json;
+}
+
+// Library entry points check a struct against the same rows, with the same messages.
+TEST(Parameters, CheckRangesUsesTheRows) {
+  const auto specs = pour_specs();
+  EXPECT_NO_THROW(check_ranges(specs, {{"grains", 5}, {"poisson", 0.2}}, "test settings"));
+  expect_error(
+      [&] {
+        check_ranges(specs, {{"grains", 0}}, "test settings");
+      },
+      {"'grains' = 0 is out of range: it must be >= 1", "from test settings"});
+  expect_error(
+      [&] {
+        check_ranges(specs, {{"poisson", 0.5}, {"friction", NAN}}, "test settings");
+      },
+      {"2 problems in the test settings", "'poisson'", "(-1, 0.5)", "'friction' = nan", "finite"});
+  EXPECT_THROW(check_ranges(specs, {{"no_such_key", 1}}, "x"), std::logic_error);
 }

@@ -1,0 +1,129 @@
+#include "app/command.hpp"
+
+#include <omp.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+#include "core/error.hpp"
+#include "protocol/pull.hpp"
+
+namespace granudrag {
+
+const std::vector<Command>& commands() {
+  static const std::vector<Command> list = {
+      {"pour", pour_command},
+      {"pull", pull_command},
+      {"export-lammps", export_lammps_command},
+      {"import-lammps", import_lammps_command},
+      {"restitution", restitution_command},
+      {"bench", bench_command},
+      {"info", info_command},
+  };
+  return list;
+}
+
+bool wants_help(const std::vector<std::string>& args) {
+  for (const auto& a : args)
+    if (a == "--help" || a == "-h") return true;
+  return false;
+}
+
+std::optional<Parameters> read_parameters(const std::string& command, std::vector<ParameterSpec> keys,
+                                          const std::string& intro, const std::vector<std::string>& args) {
+  Parameters par(command, std::move(keys));
+  if (wants_help(args)) {
+    std::cout << intro << "\n\n" << par.help_text();
+    return std::nullopt;
+  }
+  for (const auto& a : args)
+    if (a == "--schema") {
+      std::cout << par.schema_json();
+      return std::nullopt;
+    }
+  par.apply_cli(args);
+  par.validate();
+  return par;
+}
+
+ParameterSpec output_key(const std::string& help) { return Key::text("output").required().help(help); }
+
+ParameterSpec threads_key() {
+  return Key::integer("threads").default_value("0").at_least(0).at_most(4096).help(
+      "OpenMP threads (0: OMP_NUM_THREADS or all cores)");
+}
+
+ParameterSpec quiet_key() {
+  return Key::flag("quiet").default_value("false").help("no progress lines on stderr");
+}
+
+std::vector<ParameterSpec> contact_keys() {
+  return {
+      Key::number("kn").unit("rho d g").above(0).help(
+          "normal stiffness K_n (default 2e8, the paper's); K_t, gamma_n, gamma_t default to the paper's "
+          "ratios (K_t/K_n, gamma_t/gamma_n and gamma_n/K_n^0.6 fixed)"),
+      Key::number("kt").unit("rho d g").above(0).help("tangential stiffness K_t (default 1.225 K_n)"),
+      Key::number("gamman")
+          .unit("sqrt(g/d^3)")
+          .at_least(0)
+          .help("normal damping gamma_n (default 5e4 (K_n/2e8)^0.6)"),
+      Key::number("gammat")
+          .unit("sqrt(g/d^3)")
+          .at_least(0)
+          .help("tangential damping gamma_t (default gamma_n)"),
+      Key::number("mu").default_value("0.5").at_least(0).help("friction coefficient"),
+      Key::number("youngs_modulus")
+          .unit("rho d g")
+          .above(0)
+          .help("instead of kn and kt: Young's modulus E (paper Eq. 3)"),
+      Key::number("poisson_ratio")
+          .default_value("0.3")
+          .above(-1)
+          .below(0.5)
+          .help("Poisson ratio nu with youngs_modulus"),
+      Key::number("dt")
+          .unit("sqrt(d/g)")
+          .above(0)
+          .help("time step (default: Hertz collision time of two 0.9 d grains at 10 sqrt(gd), over 64)"),
+  };
+}
+
+ContactParams contact_from(const Parameters& p) {
+  ContactParams c;
+  if (p.is_set("youngs_modulus")) {
+    if (p.is_set("kt") || p.is_set("kn"))
+      throw Error("give either 'youngs_modulus' (with 'poisson_ratio') or 'kn'/'kt', not both");
+    c = ContactParams::from_young(p.number("youngs_modulus"), p.number("poisson_ratio"), 0, 0, 0);
+    const ContactParams paper;
+    c.gamman = paper.gamman * std::pow(c.kn / paper.kn, 0.6);
+  } else {
+    c = ContactParams{}.with_stiffness(p.is_set("kn") ? p.number("kn") : ContactParams{}.kn);
+    if (p.is_set("kt")) c.kt = p.number("kt");
+  }
+  if (p.is_set("gamman")) c.gamman = p.number("gamman");
+  c.gammat = p.is_set("gammat") ? p.number("gammat") : c.gamman;
+  c.mu = p.number("mu");
+  c.validate();
+  return c;
+}
+
+void set_threads(const Parameters& p) {
+  const long t = p.integer("threads");
+  if (t > 0) omp_set_num_threads(static_cast<int>(t));
+}
+
+void check_output_dir(const std::string& path, const std::string& key) {
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  if (!dir.empty() && !std::filesystem::is_directory(dir))
+    throw Error("'" + key + "' = " + path + ": directory " + dir.string() +
+                " does not exist; create it first");
+}
+
+double pull_speed(const Parameters& p, double intruder_diameter) {
+  if (p.is_set("speed") && p.is_set("froude")) throw Error("give either 'speed' or 'froude', not both");
+  if (p.is_set("froude")) return p.number("froude") / froude_number(1.0, intruder_diameter);
+  return p.is_set("speed") ? p.number("speed") : 1.0;
+}
+
+}  // namespace granudrag

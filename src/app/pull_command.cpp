@@ -1,0 +1,110 @@
+// granudrag pull: pull the intruder of a bed at constant speed and record the drag.
+#include <omp.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include "app/command.hpp"
+#include "core/error.hpp"
+#include "io/run_files.hpp"
+#include "protocol/pull.hpp"
+
+namespace granudrag {
+
+namespace {
+
+// The command's keys, in the order a run file records them.
+std::vector<ParameterSpec> pull_command_keys() {
+  std::vector<ParameterSpec> keys = {
+      Key::text("bed").required().help("bed file from granudrag pour"),
+      output_key("run file to write (HDF5)"),
+  };
+  for (const auto& k : pull_keys()) keys.push_back(k);
+  const std::vector<ParameterSpec> run_control = {
+      Key::number("checkpoint_interval")
+          .unit("sqrt(d/g)")
+          .default_value("0")
+          .at_least(0)
+          .help("simulated time between checkpoints (<output>.checkpoint.h5); 0: every tenth of the pull"),
+      Key::flag("resume").default_value("false").help("continue from <output>.checkpoint.h5 if it exists"),
+      skin_key(),
+      Key::flag("fresh_start")
+          .default_value("false")
+          .help(
+              "drop the bed's contact histories and recompute forces first, as LAMMPS does after read_data"),
+      threads_key(),
+      quiet_key(),
+  };
+  keys.insert(keys.end(), run_control.begin(), run_control.end());
+  return keys;
+}
+
+}  // namespace
+
+int pull_command(const std::vector<std::string>& args) {
+  const auto found = read_parameters(
+      "pull", pull_command_keys(),
+      "granudrag pull — pull the intruder of a bed at constant speed and record the drag\n\n"
+      "  granudrag pull --bed bed.h5 --output run.h5 [--speed V | --froude Fr] [--key value ...]\n"
+      "  granudrag pull --schema    (the keys as a JSON Schema)",
+      args);
+  if (!found) return 0;
+  const Parameters& par = *found;
+  set_threads(par);
+  const std::string bed_path = par.text("bed"), out = par.text("output");
+  check_output_dir(out, "output");
+  ParameterRecord bed_parameters;
+  const Bed bed = load_bed(bed_path, &bed_parameters);
+  if (bed.intruder < 0) throw Error("bed '" + bed_path + "' has no intruder to pull");
+  PullSpec spec;
+  const double D = 2 * bed.state.particles.radius[bed.intruder];
+  spec.speed = pull_speed(par, D);
+  spec.distance = par.number("distance");
+  spec.sample_interval = par.number("sample_interval");
+  spec.transient = par.number("transient");
+  spec.shell = par.number("shell");
+  spec.snapshots = static_cast<int>(par.integer("snapshots"));
+  spec.slab_half_width = par.number("slab_half_width");
+  spec.skin = par.number("skin");
+  spec.fresh_start = par.flag("fresh_start");
+  {
+    const double distance = spec.distance > 0 ? spec.distance : bed.box.lx;
+    const double total_time = distance / spec.speed;
+    const double interval =
+        par.number("checkpoint_interval") > 0 ? par.number("checkpoint_interval") : total_time / 10;
+    spec.checkpoint_every = std::max(1L, std::lround(interval / bed.dt));
+  }
+  const std::string checkpoint = out + ".checkpoint.h5";
+
+  const double t0 = omp_get_wtime();
+  auto save = [&](const Pull& p) { save_checkpoint(checkpoint, p, par, bed_parameters); };
+  std::unique_ptr<Pull> pull;
+  if (par.flag("resume") && std::filesystem::exists(checkpoint)) {
+    // A resumed pull must match every option but the run controls, and the bed itself.
+    Checkpoint c = load_checkpoint(checkpoint, bed, par, {"resume", "quiet", "threads"});
+    pull = std::make_unique<Pull>(bed, spec, c.state, std::move(c.record));
+    std::fprintf(stderr, "pull: resuming from %s at step %ld\n", checkpoint.c_str(),
+                 pull->simulation().steps_done());
+  } else {
+    pull = std::make_unique<Pull>(bed, spec);
+  }
+  pull->run(!par.flag("quiet"), save);
+  const double wall = omp_get_wtime() - t0;
+  const std::string sanity = pull->sanity_report(wall);
+  save_run(out, *pull, par, bed_parameters, sanity);
+  std::filesystem::remove(checkpoint);
+  const PullResult r = pull->result();
+  std::printf("run: %s\n  D = %g, depth %.3f d, V = %.4g sqrt(gd), Fr = %.4g, mu = %g, kn = %g\n",
+              out.c_str(), D, bed.depth, spec.speed, r.froude, bed.contact.mu, bed.contact.kn);
+  std::printf("  drag = %.5g +- %.2g rho d^3 g (transient %.3g d discarded: %ld of %zu samples)\n", r.drag,
+              r.drag_error, r.transient_distance, r.transient_samples, pull->record().fx.size());
+  std::printf("  n = %.3f, theta = %.4f +- %.2g rad, Z = %.3f, kappa = %.4f\n", r.coordination, r.theta,
+              r.theta_error, r.bulk_coordination, r.kappa);
+  std::printf("%s", sanity.c_str());
+  return 0;
+}
+
+}  // namespace granudrag

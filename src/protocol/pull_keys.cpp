@@ -1,0 +1,63 @@
+// The keys of a pull, declared once: `granudrag pull` reads them from the command line and YAML,
+// prints them in --help and --schema, and PullSpec::validate() checks a PullSpec against them.
+#include <utility>
+
+#include "core/error.hpp"
+#include "protocol/pull.hpp"
+
+namespace granudrag {
+
+const std::vector<ParameterSpec>& pull_keys() {
+  static const std::vector<ParameterSpec> keys = {
+      Key::number("speed").unit("sqrt(g d)").above(0).help("pulling speed V along +x (default 1)"),
+      Key::number("froude").above(0).help("or: the Froude number 2V sqrt(2D/g)/(D+d), paper Eq. 4"),
+      Key::number("distance")
+          .unit("d")
+          .default_value("0")
+          .at_least(0)
+          .help("travel; 0: one box length (as in the paper)"),
+      Key::number("sample_interval")
+          .unit("sqrt(d/g)")
+          .default_value("0.02")
+          .above(0)
+          .help("forces are averaged over each interval"),
+      Key::number("transient")
+          .unit("d")
+          .default_value("-1")
+          .help("travel discarded before averaging; < 0: min(D + d, distance/4)"),
+      Key::number("shell").unit("d").default_value("2").above(0).help(
+          "Z is measured for grains with centre within D/2 + shell"),
+      Key::integer("snapshots")
+          .default_value("3")
+          .at_least(0)
+          .at_most(1000)
+          .help("velocity snapshots of the slab through the intruder"),
+      Key::number("slab_half_width")
+          .unit("d")
+          .default_value("0.5")
+          .above(0)
+          .help("half width of that slab in y"),
+  };
+  return keys;
+}
+
+void PullSpec::validate() const {
+  std::vector<ParameterSpec> keys = pull_keys();
+  keys.push_back(skin_key());
+  check_ranges(keys,
+               {{"speed", speed},
+                {"distance", distance},
+                {"sample_interval", sample_interval},
+                {"transient", transient},
+                {"shell", shell},
+                {"snapshots", snapshots},
+                {"slab_half_width", slab_half_width},
+                {"skin", skin}},
+               "pull settings");
+  // Not a key: `granudrag pull` derives it from checkpoint_interval.
+  if (checkpoint_every < 0)
+    throw Error("'checkpoint_every' = " + std::to_string(checkpoint_every) +
+                " is out of range: it must be >= 0 (steps between checkpoints; 0: none)");
+}
+
+}  // namespace granudrag

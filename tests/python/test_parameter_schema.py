@@ -1,0 +1,230 @@
+"""The workflow's config schema states every granudrag key it exposes as the binary does.
+
+`granudrag pour --schema` and `granudrag pull --schema` print each key's type, range and
+default from the one table the command line, validation and --help are built from. This test
+compares them with workflow/schemas/config.schema.yaml for every config key that becomes a
+command-line option (see pour_args / pull_args of the workflow's study module) and fails on any
+difference of type, range or default.
+
+Defaults: the schema must not give pour/pull keys a JSON Schema `default` (Snakemake's validate
+fills defaults into every `pour:`/`pull:` block it sees, so a sweep's `pull:` block would reset
+its system's settings to granudrag's defaults); it states them in the description instead, as
+"(default: X)", and that X must be granudrag's.
+
+The engine: $GRANUDRAG if set, else build/granudrag. A missing binary is a failure, not a skip.
+"""
+import json
+import os
+import re
+import subprocess
+from pathlib import Path
+
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
+BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag"))
+
+RANGE_KEYWORDS = ("minimum", "exclusiveMinimum", "maximum", "exclusiveMaximum")
+
+# Config keys that become options, as the workflow passes them: (where in the schema, config key)
+# -> (command, option). Under systems.<name>: lx, ly, grains and the pour/pull blocks; the sweep
+# axes (each a number or a list of numbers) become pour options, a sweep's speeds pull options.
+SYSTEM_KEYS = {"lx": "lx", "ly": "ly", "grains": "grains"}
+AXES = {"D": "intruder_diameter", "depth": "depth", "z": "intruder_z", "mu": "mu", "kn": "kn",
+        "gamman": "gamman", "seed": "seed"}
+SPEEDS = {"Fr": "froude", "V": "speed"}
+# Not an option: the workflow turns it into gamman (gamman_ratio * kn^0.6).
+NOT_OPTIONS = {"gamman_ratio"}
+# Where the study deliberately asks for less than granudrag allows, and why. The test checks
+# that the schema's range lies inside granudrag's and that the difference still exists.
+NARROWER = {
+    "D": "granudrag pours a bed without intruder for D = 0; a study's beds are pulled, so D > 0",
+}
+
+
+def cli_schema(command):
+    if not BINARY.is_file():
+        pytest.fail(f"no granudrag binary at {BINARY}: build it (cmake --build build) or set "
+                    f"$GRANUDRAG to its path")
+    out = subprocess.run([str(BINARY), command, "--schema"], capture_output=True, text=True,
+                         check=True).stdout
+    return json.loads(out)["properties"]
+
+
+@pytest.fixture(scope="module")
+def cli():
+    return {"pour": cli_schema("pour"), "pull": cli_schema("pull")}
+
+
+@pytest.fixture(scope="module")
+def schema():
+    with open(SCHEMA) as fh:
+        return yaml.safe_load(fh)
+
+
+def deref(schema, node):
+    """The node a {"$ref": "#/definitions/x"} names, or the node itself."""
+    ref = node.get("$ref")
+    if ref is None:
+        return node
+    assert ref.startswith("#/"), ref
+    target = schema
+    for part in ref[2:].split("/"):
+        target = target[part]
+    return deref(schema, target)
+
+
+def scalar_branches(schema, node):
+    """The number schemas of a config key: itself, or both branches of 'a number or a list'."""
+    node = deref(schema, node)
+    if "oneOf" not in node:
+        return [node]
+    out = []
+    for branch in node["oneOf"]:
+        out.append(branch["items"] if branch.get("type") == "array" else branch)
+    return out
+
+
+def config_keys(schema):
+    """(label, schema node, command, option, default_rule) of every exposed config key."""
+    defs = schema["definitions"]
+    system = schema["properties"]["systems"]["additionalProperties"]
+    rows = []
+    for key, option in SYSTEM_KEYS.items():
+        # Required in a system: granudrag's default never applies.
+        rows.append((f"systems.*.{key}", system["properties"][key], "pour", option, False))
+    for command in ("pour", "pull"):
+        for key, node in defs[command]["properties"].items():
+            rows.append((f"{command}.{key}", node, command, key, True))
+    for key, node in defs["axes"]["properties"].items():
+        if key in NOT_OPTIONS:
+            continue
+        assert key in AXES, f"axis '{key}' is mapped to no option: add it to AXES or NOT_OPTIONS"
+        # A sweep or 'defaults' must give every axis (study.plan refuses a sweep without it).
+        rows.append((f"axes.{key}", node, "pour", AXES[key], False))
+    sweep = schema["properties"]["sweeps"]["items"]["properties"]
+    for key, option in SPEEDS.items():
+        rows.append((f"sweeps[].{key}", sweep[key], "pull", option, False))
+    return rows
+
+
+def json_type(node):
+    t = node.get("type")
+    types = set(t if isinstance(t, list) else [t])
+    return types - {"null"}  # null is "not given": granudrag's default applies
+
+
+def bounds(node):
+    return {k: float(node[k]) for k in RANGE_KEYWORDS if k in node}
+
+
+def lower(b):
+    """(bound, exclusive) below."""
+    if "exclusiveMinimum" in b:
+        return b["exclusiveMinimum"], True
+    return b.get("minimum", float("-inf")), False
+
+
+def upper(b):
+    """(bound, exclusive) above."""
+    if "exclusiveMaximum" in b:
+        return b["exclusiveMaximum"], True
+    return b.get("maximum", float("inf")), False
+
+
+def within(inner, outer):
+    """Every number allowed by `inner` bounds is allowed by `outer` bounds."""
+    (lo_in, lo_in_x), (lo_out, lo_out_x) = lower(inner), lower(outer)
+    (hi_in, hi_in_x), (hi_out, hi_out_x) = upper(inner), upper(outer)
+    lo_ok = lo_in > lo_out or (lo_in == lo_out and (lo_in_x or not lo_out_x))
+    hi_ok = hi_in < hi_out or (hi_in == hi_out and (hi_in_x or not hi_out_x))
+    return lo_ok and hi_ok
+
+
+DEFAULT_RE = re.compile(r"\(default: ([^)]*)\)")
+
+
+def differences(schema, cli):
+    problems = []
+    for label, node, command, option, default_rule in config_keys(schema):
+        if option not in cli[command]:
+            problems.append(f"{label}: granudrag {command} has no option --{option}")
+            continue
+        want = cli[command][option]
+        for branch in scalar_branches(schema, node):
+            if json_type(branch) != {want["type"]}:
+                problems.append(f"{label}: type {sorted(json_type(branch))} in the schema, "
+                                f"'{want['type']}' in granudrag {command} --{option}")
+            have_b, want_b = bounds(branch), bounds(want)
+            if label.split(".")[-1] in NARROWER:
+                if have_b == want_b:
+                    problems.append(f"{label}: listed in NARROWER but the ranges are now equal; "
+                                    f"remove it from NARROWER")
+                elif not within(have_b, want_b):
+                    problems.append(f"{label}: range {have_b} in the schema is not inside "
+                                    f"granudrag's {want_b}")
+            elif have_b != want_b:
+                problems.append(f"{label}: range {have_b} in the schema, {want_b} in granudrag "
+                                f"{command} --{option}")
+        if not default_rule:
+            continue
+        if "default" in node:
+            problems.append(f"{label}: a JSON Schema 'default' would be filled into every "
+                            f"{command} block; state it in the description as '(default: X)'")
+        stated = DEFAULT_RE.search(node.get("description", ""))
+        if "default" in want:
+            if not stated:
+                problems.append(f"{label}: the description does not state granudrag's default "
+                                f"'(default: {want['default']})'")
+            elif float(stated.group(1)) != float(want["default"]):
+                problems.append(f"{label}: default {stated.group(1)} in the schema, "
+                                f"{want['default']} in granudrag {command} --{option}")
+        elif stated:
+            problems.append(f"{label}: the schema states a default ({stated.group(1)}) but "
+                            f"granudrag {command} --{option} has none")
+    return problems
+
+
+def test_schema_matches_granudrag(schema, cli):
+    problems = differences(schema, cli)
+    assert not problems, "config schema and granudrag differ:\n  " + "\n  ".join(problems)
+
+
+def test_every_exposed_key_is_compared(schema):
+    """Nothing in the pour/pull blocks, the systems or the axes escapes the comparison."""
+    labels = {row[0] for row in config_keys(schema)}
+    defs = schema["definitions"]
+    for command in ("pour", "pull"):
+        for key in defs[command]["properties"]:
+            assert f"{command}.{key}" in labels
+    for key in defs["axes"]["properties"]:
+        assert key in NOT_OPTIONS or f"axes.{key}" in labels
+    assert {"systems.*.lx", "systems.*.ly", "systems.*.grains"} <= labels
+    assert {"sweeps[].Fr", "sweeps[].V"} <= labels
+
+
+def test_a_drifted_range_is_caught(schema, cli):
+    """The comparison is not vacuous: change one range, type or default and it reports it."""
+    drifted = json.loads(json.dumps(cli))
+    drifted["pour"]["fill_fraction"]["maximum"] = 0.4
+    drifted["pull"]["snapshots"]["type"] = "number"
+    drifted["pull"]["shell"]["default"] = 3
+    problems = "\n".join(differences(schema, drifted))
+    assert "pour.fill_fraction: range" in problems
+    assert "pull.snapshots: type" in problems
+    assert "pull.shell: default" in problems
+
+
+def test_schema_output_is_json_schema(cli):
+    """--schema prints a JSON Schema the config validator (jsonschema) accepts as one."""
+    import jsonschema
+    for command in ("pour", "pull"):
+        out = subprocess.run([str(BINARY), command, "--schema"], capture_output=True, text=True,
+                             check=True).stdout
+        doc = json.loads(out)
+        jsonschema.Draft7Validator.check_schema(doc)
+        assert doc["required"] == (["output"] if command == "pour" else ["bed", "output"])
+        for key, prop in doc["properties"].items():
+            assert prop["description"], key
