@@ -1,10 +1,13 @@
 // granudrag bench: settle an fcc-packed bed and time it, per thread count.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <string>
 
 #include "app/command.hpp"
 #include "core/error.hpp"
+#include "io/lammps_io.hpp"
 #include "protocol/bench.hpp"
 #include "protocol/pour.hpp"
 
@@ -74,7 +77,28 @@ int bench_command(const std::vector<std::string>& args) {
   o.dt = par->is_set("dt") ? par->number("dt") : 0.0;
   o.initial_speed = par->number("speed");
   o.seed = static_cast<std::uint64_t>(par->integer("seed"));
-  if (par->is_set("lammps")) o.lammps_prefix = par->text("lammps");
+  if (par->is_set("lammps")) {
+    const std::string prefix = par->text("lammps");
+    o.export_start = [prefix, &o](const Particles& particles, const Box& box, double dt) {
+      double ztop = 0;
+      for (const auto& x : particles.x) ztop = std::max(ztop, x.z() + 1.0);
+      write_lammps_data(prefix + ".data", particles, box, ztop);
+      LammpsRun run;
+      // Relative to the input script: run lmp from the directory that holds both.
+      const std::string data = prefix + ".data";
+      run.data_file = data.substr(data.find_last_of('/') + 1);
+      run.contact = o.contact;
+      run.dt = dt;
+      run.skin = o.skin;
+      run.steps = o.steps;
+      run.thermo_every = o.steps;
+      write_lammps_settle_input(prefix + ".in", run);
+      char line[256];
+      std::snprintf(line, sizeof line, "# LAMMPS input: %s.in (data %s.data), dt = %.6g\n", prefix.c_str(),
+                    prefix.c_str(), dt);
+      return std::string(line);
+    };
+  }
   run_bench(o);
   return 0;
 }

@@ -8,7 +8,6 @@
 
 #include "contact/verlet_contacts.hpp"
 #include "engine/simulation.hpp"
-#include "io/lammps_io.hpp"
 #include "protocol/lattice_bed.hpp"
 
 namespace granudrag {
@@ -32,28 +31,13 @@ void run_bench(const BenchOptions& o) {
                 o.grains, bed.box.lx, bed.box.ly, o.steps, o.contact.describe().c_str());
   table << line;
 
-  bool wrote_lammps = false;
+  bool exported = false;
   for (int threads : o.threads) {
     omp_set_num_threads(threads);
     Simulation sim(bed.particles, bed.box, o.contact, settings);
-    if (!o.lammps_prefix.empty() && !wrote_lammps) {
-      double ztop = 0;
-      for (const auto& x : bed.particles.x) ztop = std::max(ztop, x.z() + 1.0);
-      write_lammps_data(o.lammps_prefix + ".data", bed.particles, bed.box, ztop);
-      LammpsRun run;
-      // Relative to the input script: run lmp from the directory that holds both.
-      const std::string data = o.lammps_prefix + ".data";
-      run.data_file = data.substr(data.find_last_of('/') + 1);
-      run.contact = o.contact;
-      run.dt = sim.dt();
-      run.skin = o.skin;
-      run.steps = o.steps;
-      run.thermo_every = o.steps;
-      write_lammps_settle_input(o.lammps_prefix + ".in", run);
-      wrote_lammps = true;
-      std::snprintf(line, sizeof line, "# LAMMPS input: %s.in (data %s.data), dt = %.6g\n",
-                    o.lammps_prefix.c_str(), o.lammps_prefix.c_str(), sim.dt());
-      table << line;
+    if (o.export_start && !exported) {
+      table << o.export_start(bed.particles, bed.box, sim.dt());
+      exported = true;
     }
     sim.setup();
     sim.timers().reset();

@@ -1,8 +1,11 @@
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "contact/contact_params.hpp"
+#include "core/box.hpp"
+#include "core/particles.hpp"
 
 namespace granudrag {
 
@@ -16,7 +19,10 @@ struct BenchOptions {
   double initial_speed = 0.5;
   ContactParams contact = ContactParams{}.with_stiffness(2.0e5);
   std::uint64_t seed = 1;
-  std::string lammps_prefix;  // when set, also write <prefix>.data and <prefix>.in
+  // Called once with the collapsed state the timed runs start from (e.g. to write it for LAMMPS:
+  // the application does that, the protocol layer knows no file formats); returns a line for the
+  // table, or "".
+  std::function<std::string(const Particles&, const Box&, double dt)> export_start;
 };
 
 // Lets an fcc-packed bed of `grains` grains collapse under gravity for `settle_steps` (untimed),
