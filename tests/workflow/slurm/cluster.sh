@@ -63,7 +63,8 @@ CONF
   export SLURM_CONF="$dir/slurm.conf"
   slurmctld -f "$SLURM_CONF"
   slurmd -f "$SLURM_CONF"
-  for _ in $(seq 60); do
+  # Until the node takes jobs: seconds on an idle machine; 300 s only bounds a node that never does.
+  for _ in $(seq 300); do
     if sinfo -h -o %t 2>/dev/null | grep -qE "^(idle|mix|alloc)"; then
       echo "export SLURM_CONF=$SLURM_CONF"
       return 0
@@ -76,10 +77,19 @@ CONF
 }
 
 stop() {
+  local pids=() pid
   for pidfile in "$dir/slurmd.pid" "$dir/slurmctld.pid" "$dir/munge/munged.pid"; do
-    [ -f "$pidfile" ] && kill "$(cat "$pidfile")" 2>/dev/null || true
+    [ -f "$pidfile" ] || continue
+    pid=$(cat "$pidfile")
+    kill "$pid" 2>/dev/null && pids+=("$pid")
   done
-  sleep 1
+  # Until the daemons have exited (their ports free for the next cluster), at most 60 s.
+  for _ in $(seq 600); do
+    pid=""
+    for p in "${pids[@]}"; do kill -0 "$p" 2>/dev/null && pid=$p; done
+    [ -z "$pid" ] && return 0
+    sleep 0.1
+  done
 }
 
 case "$cmd" in

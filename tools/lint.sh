@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# The format and lint checks, each reporting which files it rejects (exit 1 if any does):
+#   clang-format  src/ and tests/cpp against .clang-format (fix: clang-format -i FILE)
+#   ruff          the Python code, configured in pyproject.toml (fix: ruff check --fix, or by hand)
+#   snakefmt      the workflow's Snakefile and rules (fix: snakefmt workflow/)
+# ruff and snakefmt come from a private virtual environment, .venv-lint/, made with Debian's
+# interpreter from the pinned, hashed tools/requirements-lint.txt when missing or out of date.
+#   tools/lint.sh
+set -uo pipefail
+cd "$(dirname "$0")/.."
+failed=()
+
+# 1. C++ format.
+mapfile -t cxx < <(find src tests/cpp -name '*.cpp' -o -name '*.hpp' | sort)
+bad=$(clang-format --dry-run --Werror "${cxx[@]}" 2>&1 | sed -nE 's/^([^:]+):[0-9]+:[0-9]+: error:.*/\1/p' | sort -u)
+if [ -n "$bad" ] || ! clang-format --dry-run --Werror "${cxx[@]}" >/dev/null 2>&1; then
+  echo "lint: clang-format: these files are not formatted (fix: clang-format -i FILE):"
+  sed 's/^/  /' <<<"${bad:-(clang-format itself failed; run it by hand)}"
+  failed+=(clang-format)
+else
+  echo "lint: clang-format: ${#cxx[@]} C++ files formatted"
+fi
+
+# 2. The pinned Python linters, installed once.
+venv=.venv-lint
+req=tools/requirements-lint.txt
+if ! cmp -s "$req" "$venv/requirements-lint.txt"; then
+  echo "lint: installing the pinned linters into $venv/ (from $req)"
+  rm -rf "$venv"
+  if ! { /usr/bin/python3 -m venv "$venv" &&
+         "$venv/bin/pip" install -q --disable-pip-version-check --require-hashes --only-binary :all: \
+           -r "$req" && cp "$req" "$venv/requirements-lint.txt"; }; then
+    echo "lint: FAILED to install the linters into $venv/ (python3-venv missing? offline?)"
+    exit 1
+  fi
+fi
+
+# 3. Python lint (rules and paths from pyproject.toml).
+if out=$("$venv/bin/ruff" check --no-cache --output-format concise 2>&1); then
+  echo "lint: ruff: clean"
+else
+  echo "lint: ruff: these files have problems (fix: $venv/bin/ruff check --fix, or by hand):"
+  sed 's/^/  /' <<<"$out"
+  failed+=(ruff)
+fi
+
+# 4. Snakemake format (snakefmt formats shell: blocks with the venv's shfmt, so the venv's
+# bin/ comes first on PATH).
+if out=$(PATH="$PWD/$venv/bin:$PATH" "$venv/bin/snakefmt" --check --verbose workflow/ 2>&1); then
+  echo "lint: snakefmt: workflow/ formatted"
+else
+  echo "lint: snakefmt: these files are not formatted (fix: PATH=$venv/bin:\$PATH snakefmt workflow/):"
+  grep -E '^\[(ERROR|WARNING)\]|different from original' <<<"$out" |
+    sed -E 's/^\[DEBUG\] In file "([^"]+)":.*/\1/; s/^/  /'
+  failed+=(snakefmt)
+fi
+
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "lint: FAILED: ${failed[*]}"
+  exit 1
+fi
+echo "lint: all checks passed"
