@@ -8,8 +8,16 @@ import h5py
 import numpy as np
 import pytest
 
-from analysis.runs import (RunFileError, load_runs, path_parameters, read_coordination_distribution,
-                           read_force_trace, read_parameters, read_run, read_snapshots)
+from analysis.runs import (
+    RunFileError,
+    load_runs,
+    path_parameters,
+    read_coordination_distribution,
+    read_force_trace,
+    read_parameters,
+    read_run,
+    read_snapshots,
+)
 from analysis.table import froude, validate_table
 
 BED = "system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.05359/seed~1"
