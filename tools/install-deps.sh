@@ -17,7 +17,7 @@ peer_pkgs=(lammps openmpi-bin)
 case "${1:-all}" in
   build) wanted=("${build_pkgs[@]}") ;;
   study) wanted=("${build_pkgs[@]}" "${python_pkgs[@]}") ;;
-  test|all) wanted=("${build_pkgs[@]}" "${python_pkgs[@]}" "${peer_pkgs[@]}" "${slurm_pkgs[@]}") ;;
+  test|all) wanted=("${build_pkgs[@]}" "${python_pkgs[@]}" "${peer_pkgs[@]}" "${slurm_pkgs[@]}" clang-format python3-venv) ;;
   *) echo "usage: $0 [build|study|test|all]" >&2; exit 2 ;;
 esac
 missing=()
