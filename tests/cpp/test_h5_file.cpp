@@ -114,7 +114,10 @@ TEST(H5File, LargeArraysAreChunkedAndCompressedSmallOnesAreNot) {
   H5Fclose(file);
 }
 
-TEST(H5File, WritesLargeArraysQuickly) {
+// Large arrays are compressed at gzip level 1: level 9 costs seconds per snapshot for a few
+// percent of disk. Checked on the file's own filter settings, not on a wall clock (the time is
+// printed for information only: this machine is shared).
+TEST(H5File, WritesLargeArraysWithCheapCompression) {
   TempDir dir;
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0, 100);
@@ -127,7 +130,28 @@ TEST(H5File, WritesLargeArraysQuickly) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("  200000 x 3 random doubles written and committed in %.3f s (%.1f MB on disk)\n", seconds,
               fs::file_size(dir.file("big.h5")) / 1e6);
-  EXPECT_LT(seconds, 5.0);  // gzip level 1: about 0.1 s here; level 9 would take seconds
+  const hid_t file = H5Fopen(dir.file("big.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const hid_t dset = H5Dopen2(file, "/particles/all/position/value", H5P_DEFAULT);
+  ASSERT_GE(dset, 0);
+  const hid_t dcpl = H5Dget_create_plist(dset);
+  bool deflate = false;
+  for (int k = 0; k < H5Pget_nfilters(dcpl); ++k) {
+    unsigned flags = 0, level[4] = {0, 0, 0, 0};
+    std::size_t n = 4;
+    char name[64];
+    if (H5Pget_filter2(dcpl, static_cast<unsigned>(k), &flags, &n, level, sizeof name, name, nullptr) !=
+        H5Z_FILTER_DEFLATE)
+      continue;
+    deflate = true;
+    ASSERT_GE(n, 1u);
+    EXPECT_EQ(level[0], 1u) << "gzip level of a large dataset";
+  }
+  EXPECT_TRUE(deflate) << "a 200000-row dataset is stored compressed";
+  H5Pclose(dcpl);
+  H5Dclose(dset);
+  H5Fclose(file);
+  EXPECT_EQ(h5::File::open(dir.file("big.h5")).read_vec3("/particles/all/position/value"), x);
 }
 
 TEST(H5File, GroupsAreCreatedOnDemandAndExistsSeesThem) {
@@ -186,9 +210,9 @@ TEST(H5Series, ThousandRowsAppendedOneByOneReadBack) {
     f.commit();
     EXPECT_MENTIONS(error_of([&] { drag.append(n * 100, 1.0, std::vector<double>{1, 2, 3}); }), "committed");
   }
+  // For information only (no assertion on a wall clock: this machine is shared).
   std::printf("  %d rows appended to 2 series in %.1f ms (%.1f us per append)\n", n, 1e3 * seconds,
               1e6 * seconds / (2 * n));
-  EXPECT_LT(seconds, 2.0);
 
   const h5::File f = h5::File::open(path);
   const h5::SeriesData drag = f.read_series("/observables/drag");
