@@ -31,10 +31,7 @@ void create_and_write(hid_t file, const std::string& file_name, const std::strin
     const hsize_t row = total / dims[0];
     chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], kChunkElements / row));
     H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data());
-    if (H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
-      H5Pset_shuffle(dcpl.get());
-      H5Pset_deflate(dcpl.get(), 1);
-    }
+    set_compression(dcpl.get());
   }
   const Handle lcpl = link_create_plist();
   Handle dset(H5Dcreate2(file, path.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),

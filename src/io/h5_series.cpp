@@ -24,10 +24,7 @@ Handle create_extendible(hid_t file, const std::string& file_name, const std::st
   const Handle space(H5Screate_simple(rank, dims, max_dims), H5Sclose);
   const Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   H5Pset_chunk(dcpl.get(), rank, chunk);
-  if (H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
-    H5Pset_shuffle(dcpl.get());
-    H5Pset_deflate(dcpl.get(), 1);
-  }
+  set_compression(dcpl.get());
   const Handle lcpl = link_create_plist();
   Handle dset(H5Dcreate2(file, path.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
               H5Dclose);

@@ -93,6 +93,12 @@ Handle link_create_plist() {
   return lcpl;
 }
 
+void set_compression(hid_t dcpl) {
+  if (H5Zfilter_avail(H5Z_FILTER_DEFLATE) <= 0) return;
+  H5Pset_shuffle(dcpl);
+  H5Pset_deflate(dcpl, 1);
+}
+
 // Opens the group or dataset at `path`; with `create`, makes a group there (and on the way)
 // when nothing exists yet.
 Handle open_object(hid_t file, const std::string& file_name, const std::string& path, bool create) {

@@ -71,6 +71,9 @@ H5I_type_t kind_of(hid_t file, const std::string& path);
 void require_group_ancestors(hid_t file, const std::string& file_name, const std::string& path);
 // Link creation that makes missing groups on the way.
 Handle link_create_plist();
+// Byte shuffle + gzip level 1 on a chunked dataset's creation list, when HDF5 has gzip: level 1
+// gets most of the size reduction of level 9 at a fraction of the time per snapshot.
+void set_compression(hid_t dcpl);
 // Opens the group or dataset at `path`; with `create`, makes a group there (and on the way)
 // when nothing exists yet.
 Handle open_object(hid_t file, const std::string& file_name, const std::string& path, bool create);
