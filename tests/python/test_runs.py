@@ -357,3 +357,25 @@ def test_a_run_whose_verdict_is_not_clean_is_left_out_by_name(tmp_path):
     df, problems = load_runs([good, old, bad], errors="collect")
     assert list(df.sanity) == ["clean", "unknown"]
     assert len(problems) == 1 and problems[0].startswith(f"{bad}: sanity verdict is not clean")
+
+
+def test_the_engine_records_a_failed_verdict_and_the_table_leaves_the_run_out(tmp_path):
+    """A real pull that breaks its overlap bound: without --keep_going it stops (exit 1, no run
+    file); with it, it finishes and records the failure, and load_runs lists it by name."""
+    bed = tmp_path / "bed.h5"
+    subprocess.run([str(BINARY), "pour", "--output", str(bed), "--grains", "150", "--lx", "5", "--ly", "4.5",
+                    "--intruder_diameter", "1.5", "--depth", "1.5", "--kn", "2e4", "--max_settle_time", "0.5",
+                    "--quiet"], check=True, capture_output=True)
+    run = tmp_path / "system~I" / "run.h5"
+    run.parent.mkdir()
+    # Grains still settling overlap by ~0.01-0.03 d at kn = 2e4: over a 0.005 d bound.
+    pull = [str(BINARY), "pull", "--bed", str(bed), "--output", str(run), "--distance", "0.1",
+            "--speed", "0.1", "--max_overlap", "0.005", "--quiet"]
+    r = subprocess.run(pull, capture_output=True, text=True)
+    assert r.returncode == 1 and "exceeds max_overlap = 0.005 d" in r.stderr, r.stderr
+    assert not run.exists()
+    subprocess.run([*pull, "--keep_going"], check=True, capture_output=True)
+    df, problems = load_runs([run], errors="collect")
+    assert df.empty
+    assert len(problems) == 1 and problems[0].startswith(f"{run}: sanity verdict is not clean")
+    assert "exceeds max_overlap = 0.005 d" in problems[0]
