@@ -8,13 +8,13 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 args=(--lx 10 --ly 10 --grains 1200 --intruder_diameter 2 --depth 4 --kn 2e4 --ke_threshold 1e-9
-  --max_settle_time 40 --checkpoint_interval 2 --threads 2 --quiet)
+  --max_settle_time 20 --checkpoint_interval 2 --threads 2 --quiet)
 "$gd" pour "${args[@]}" --output whole.h5 >/dev/null
 [ -f whole.h5.checkpoint.h5 ] && { echo "FAIL: a finished pour left its checkpoint"; exit 1; }
 
 "$gd" pour "${args[@]}" --output killed.h5 >/dev/null &
 pid=$!
-# Kill hard as soon as the first of its 19 checkpoints exists (written to a temporary file, then
+# Kill hard as soon as the first of its 9 checkpoints exists (written to a temporary file, then
 # renamed: complete when it appears). Event-driven, however slowly the machine runs; 600 s only
 # bounds a pour that never checkpoints.
 for _ in $(seq 6000); do
