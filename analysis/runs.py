@@ -23,6 +23,16 @@ kept as `h_requested` (NaN for beds placed by height, `z~`). Other
 `key~value` components that name a stored quantity (D, mu, kn, gn, Fr, V)
 are checked against the file, so a run copied to the wrong place is refused
 rather than filed under the wrong parameters.
+
+Sanity: a run file records its verdict, /sanity attribute `verdict`: "clean",
+or the first failure of a pull run with `--keep_going` (grains lost, an
+overlap over `max_overlap`, energy gained beyond the work done). A run whose
+verdict is not clean is refused (RunFileError naming the file and the
+verdict), so the table leaves it out and lists it with the other unusable
+files (results/table_problems.txt). Run files written before the verdict
+existed have none: they are read as before, with column `sanity` = "unknown"
+(granudrag then stopped only on NaN or exploding kinetic energy, so their
+overlaps were not bounded); new files have `sanity` = "clean".
 """
 import math
 import re
@@ -41,7 +51,7 @@ RUN_VERSIONS = (1, 2)   # 1: parameters as YAML text (legacy path), 2: parameter
 # the scale of the run (box, grains poured, distance pulled; NaN when the file
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err",
-                 "lx", "ly", "grains", "distance", "path"]
+                 "lx", "ly", "grains", "distance", "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
@@ -145,6 +155,7 @@ def read_run(path, system=None, root=None):
         theta, theta_err = observable("theta"), observable("theta", "error")
         Z, kappa = observable("bulk_coordination"), observable("kappa")
         scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
+        sanity = _verdict(f, path)
     except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
         raise RunFileError(f"{path}: damaged run file: {exc}") from None
     finally:
@@ -172,6 +183,8 @@ def read_run(path, system=None, root=None):
     if not math.isclose(fr, get["froude"], rel_tol=1e-6, abs_tol=1e-12):
         raise RunFileError(f"{path}: stored Froude number {get['froude']:.6g} is not paper Eq. 4 "
                            f"of its speed and D ({fr:.6g})")
+    if sanity != "clean" and sanity != "unknown":
+        raise RunFileError(f"{path}: sanity verdict is not clean, left out: {sanity}")
     if not math.isfinite(drag):
         raise RunFileError(f"{path}: the pull produced no drag (value {drag}); see its log")
     h_requested = float(params["h"]) if "h" in params else math.nan
@@ -186,7 +199,18 @@ def read_run(path, system=None, root=None):
             "drag_err": drag_err, "n_contacts": n, "theta": theta, "Z": Z, "kappa": kappa,
             "run": str(run_dir), "h_requested": h_requested, "dt": get["dt"],
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
-            **scale, "distance": get["speed"] * get["steps"] * get["dt"], "path": str(path)}
+            **scale, "distance": get["speed"] * get["steps"] * get["dt"], "sanity": sanity,
+            "path": str(path)}
+
+
+def _verdict(f, path):
+    """The run's sanity verdict: "clean", the failure it records, or "unknown" for a file
+    written before granudrag recorded one."""
+    group = f.get("sanity")
+    if group is None or "verdict" not in group.attrs:
+        return "unknown"
+    value = _attr(group, "verdict", path, "/sanity")
+    return value if value else "unknown"
 
 
 def _value(value):

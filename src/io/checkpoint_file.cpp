@@ -28,6 +28,8 @@ void write_pull_record(h5::File& f, const PullRecord& r) {
   f.write("/pull/z_histogram", std::vector<std::int64_t>(r.z_histogram.begin(), r.z_histogram.end()));
   f.write("/pull/energy", std::vector<double>{r.work, r.max_overlap, r.energy_start, r.contact_sum});
   f.write_rows("/pull/force_sum", std::vector<Vec3>{r.force_sum});
+  f.set_attr("/pull", "grains_lost", static_cast<std::int64_t>(r.grains_lost));
+  f.set_attr("/pull", "verdict", r.verdict);
   f.set_attr("/pull", "snapshots", static_cast<std::int64_t>(r.snapshots.size()));
   write_snapshots(f, "/pull/snapshot_", r.snapshots);
 }
@@ -56,6 +58,9 @@ PullRecord read_pull_record(const h5::File& f) {
   r.energy_start = en.at(2);
   r.contact_sum = en.at(3);
   r.force_sum = f.read_vec3("/pull/force_sum").at(0);
+  // Checkpoints written before the run guard have neither: clean so far.
+  if (f.has_attr("/pull", "grains_lost")) r.grains_lost = f.get_attr_int64("/pull", "grains_lost");
+  if (f.has_attr("/pull", "verdict")) r.verdict = f.get_attr_string("/pull", "verdict");
   const std::int64_t ns = f.get_attr_int64("/pull", "snapshots");
   if (ns < 0) throw Error("negative snapshot count under /pull");
   r.snapshots = read_snapshots(f, "/pull/snapshot_", static_cast<std::size_t>(ns));

@@ -68,6 +68,10 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
   f.set_attr("/sanity", "report", sanity);
   f.set_attr("/sanity", "max_overlap", r.max_overlap);
   f.set_attr("/sanity", "work", r.work);
+  // "clean", or the first failure of a keep_going pull; the analysis uses clean runs only.
+  f.set_attr("/sanity", "verdict", pull.verdict());
+  f.set_attr("/sanity", "grains_lost", static_cast<std::int64_t>(r.grains_lost));
+  f.set_attr("/sanity", "max_overlap_bound", pull.spec().max_overlap);
   f.commit();
 }
 

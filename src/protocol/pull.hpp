@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/run_guard.hpp"
 #include "engine/simulation.hpp"
 #include "protocol/pour.hpp"
 
@@ -25,6 +26,10 @@ struct PullSpec {
   // Drop the bed's contact histories and recompute the forces before the first step, as a
   // LAMMPS run starting from a data file does: for like-for-like comparisons.
   bool fresh_start = false;
+  double max_overlap = 0.1;  // d: refused above (one impact at V), stopped above (any overlap)
+  // On a sanity failure other than a non-finite number: finish the pull and record the failure
+  // as the run's verdict instead of stopping.
+  bool keep_going = false;
 
   // Every field within its key's range (pull_keys(), skin_key()); throws Error naming the key.
   void validate() const;
@@ -56,6 +61,8 @@ struct PullRecord {
   std::vector<Snapshot> snapshots;
   double work = 0;          // done by the intruder on the grains
   double max_overlap = 0;   // largest overlap seen at a sample, d
+  long grains_lost = 0;     // most grains out of the box at a sample
+  std::string verdict;      // the first sanity failure (keep_going), "" while clean
   double energy_start = 0;  // of the mobile grains
   // Running sums over the current interval.
   Vec3 force_sum = Vec3::Zero();
@@ -87,7 +94,8 @@ class Pull {
 
   // Runs to the end. on_checkpoint is called every spec.checkpoint_every steps, right after
   // the forced rebuild that makes a resumed run bitwise identical. Throws Error when the run
-  // blows up (NaN or exploding kinetic energy).
+  // guard (engine/run_guard.hpp) finds a failure at the end of a sample interval, before a
+  // checkpoint could save it; with spec.keep_going only a non-finite number stops it.
   void run(bool show_progress, const std::function<void(const Pull&)>& on_checkpoint = {});
 
   PullResult result() const;
@@ -99,6 +107,8 @@ class Pull {
   bool finished() const { return sim_.steps_done() >= record_.total_steps; }
   // Sanity report printed at the end of every run (CoMD style).
   std::string sanity_report(double wall_seconds) const;
+  // "clean", or the first sanity failure of a keep_going pull.
+  std::string verdict() const { return record_.verdict.empty() ? "clean" : record_.verdict; }
 
  private:
   void after_step();
@@ -110,6 +120,7 @@ class Pull {
   PullSpec spec_;
   Simulation sim_;
   PullRecord record_;
+  RunGuard guard_;
   std::vector<int> scratch_;
   std::vector<int> counts_;
 };

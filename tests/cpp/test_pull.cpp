@@ -139,3 +139,44 @@ TEST(Pull, RejectsBadInput) {
   no_intruder.intruder = -1;
   EXPECT_THROW(Pull(no_intruder, PullSpec{}), Error);
 }
+
+TEST(Pull, ASpeedTheBedCannotResolveIsRefusedBeforeAnyStep) {
+  PullSpec spec;
+  spec.speed = 1e6;  // ran to the end with NaN before the speed limits
+  try {
+    Pull pull(small_bed(), spec);
+    FAIL() << "V = 1e6 was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("the largest speed that works is"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Pull, AnOverlapOverTheBoundStopsTheRunOrIsRecordedWithKeepGoing) {
+  // V = 6 passes the impact estimate at kn = 2e4 (largest speed 6.6) but the bed, loaded from
+  // behind, overlaps the grain ahead of the intruder by 0.113 d: the guard stops it.
+  PullSpec spec;
+  spec.speed = 6;
+  spec.distance = 1.0;
+  int checkpoints = 0;
+  {
+    Pull pull(small_bed(), spec);
+    try {
+      pull.run(false, [&](const Pull&) { ++checkpoints; });
+      FAIL() << "an overlap over 0.1 d ran to the end";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("exceeds max_overlap = 0.1 d"), std::string::npos) << e.what();
+    }
+  }
+  spec.keep_going = true;
+  Pull pull(small_bed(), spec);
+  pull.run(false);
+  EXPECT_TRUE(pull.finished());
+  EXPECT_NE(pull.verdict().find("exceeds max_overlap"), std::string::npos) << pull.verdict();
+  EXPECT_GT(pull.record().max_overlap, 0.1);
+  // A larger bound passes the same pull clean.
+  spec.keep_going = false;
+  spec.max_overlap = 0.2;
+  Pull clean(small_bed(), spec);
+  clean.run(false);
+  EXPECT_EQ(clean.verdict(), "clean");
+}

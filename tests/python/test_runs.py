@@ -49,7 +49,7 @@ def write_parameters_v1(f):
 
 
 def write_run(path, D=2.0, depth=9.87, speed=0.75, mu=0.5, kn=2e4, gamman=199.05359,
-              drag=111.1, fmt="granudrag-run", version=2, skip=None, n_samples=50):
+              drag=111.1, fmt="granudrag-run", version=2, skip=None, n_samples=50, verdict="clean"):
     """A run file with the attributes and datasets of src/io/run_file.cpp save_run."""
     path.parent.mkdir(parents=True, exist_ok=True)
     with h5py.File(path, "w") as f:
@@ -87,6 +87,8 @@ def write_run(path, D=2.0, depth=9.87, speed=0.75, mu=0.5, kn=2e4, gamman=199.05
             for c, v in zip(("dx", "dz", "vx", "vz"), (1.0, -2.0, -speed, 0.1 * (k + 1))):
                 s.create_dataset(c, data=np.full(3 + k, v))
         f.create_group("sanity").attrs["report"] = "sanity: grains lost 0"
+        if verdict is not None:      # None: a file written before the verdict existed
+            f["sanity"].attrs["verdict"] = verdict
     return path
 
 
@@ -201,6 +203,7 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     assert params["pull"]["resume"] is False and params["pull"]["snapshots"] == 3
     row = read_run(run)
     assert (row["lx"], row["ly"], row["grains"]) == (5.0, 4.5, 150.0)
+    assert row["sanity"] == "clean"
 
 
 def test_load_runs_gives_a_valid_table(tmp_path):
@@ -340,3 +343,39 @@ def test_coordination_distribution_and_snapshots(tmp_path):
     text.write_text("not hdf5")
     with pytest.raises(RunFileError, match="not an HDF5 file"):
         read_snapshots(text)
+
+
+def test_a_run_whose_verdict_is_not_clean_is_left_out_by_name(tmp_path):
+    good = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5")
+    old = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5", speed=1.5, verdict=None)
+    bad = write_run(tmp_path / "pulls" / BED / "Fr~3" / "run.h5", speed=2.25,
+                    verdict="overlap 0.1541 d at t = 0.08057 exceeds max_overlap = 0.15 d")
+    assert read_run(good)["sanity"] == "clean"
+    assert read_run(old)["sanity"] == "unknown"      # before the verdict: read, marked unknown
+    with pytest.raises(RunFileError, match="sanity verdict is not clean.*exceeds max_overlap"):
+        read_run(bad)
+    df, problems = load_runs([good, old, bad], errors="collect")
+    assert list(df.sanity) == ["clean", "unknown"]
+    assert len(problems) == 1 and problems[0].startswith(f"{bad}: sanity verdict is not clean")
+
+
+def test_the_engine_records_a_failed_verdict_and_the_table_leaves_the_run_out(tmp_path):
+    """A real pull that breaks its overlap bound: without --keep_going it stops (exit 1, no run
+    file); with it, it finishes and records the failure, and load_runs lists it by name."""
+    bed = tmp_path / "bed.h5"
+    subprocess.run([str(BINARY), "pour", "--output", str(bed), "--grains", "150", "--lx", "5", "--ly", "4.5",
+                    "--intruder_diameter", "1.5", "--depth", "1.5", "--kn", "2e4", "--max_settle_time", "0.5",
+                    "--quiet"], check=True, capture_output=True)
+    run = tmp_path / "system~I" / "run.h5"
+    run.parent.mkdir()
+    # Grains still settling overlap by ~0.01-0.03 d at kn = 2e4: over a 0.005 d bound.
+    pull = [str(BINARY), "pull", "--bed", str(bed), "--output", str(run), "--distance", "0.1",
+            "--speed", "0.1", "--max_overlap", "0.005", "--quiet"]
+    r = subprocess.run(pull, capture_output=True, text=True)
+    assert r.returncode == 1 and "exceeds max_overlap = 0.005 d" in r.stderr, r.stderr
+    assert not run.exists()
+    subprocess.run([*pull, "--keep_going"], check=True, capture_output=True)
+    df, problems = load_runs([run], errors="collect")
+    assert df.empty
+    assert len(problems) == 1 and problems[0].startswith(f"{run}: sanity verdict is not clean")
+    assert "exceeds max_overlap = 0.005 d" in problems[0]

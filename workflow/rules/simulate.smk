@@ -19,6 +19,11 @@ rule build_granudrag:
         " && cmake --build {params.build} -j {threads} --target granudrag) > {log} 2>&1"
 
 
+# A pour checkpoints only when its settling may outlast `checkpoint_minutes` of
+# estimated wall time (or a quarter of max_runtime); a rerun after a killed job
+# resumes from the checkpoint, unless the arguments changed, and ends with the
+# bed an uninterrupted pour gives. With max_runtime, a pour longer than that
+# runs over several jobs (retries: enough for the longest).
 rule bed:
     input:
         granudrag=ancient(GRANUDRAG),
@@ -28,6 +33,7 @@ rule bed:
         f"{LOGS}/beds/{{bed}}.log",
     benchmark:
         f"{RESULTS}/benchmarks/beds/{{bed}}.tsv"
+    retries: BED_RETRIES
     conda:
         "../envs/granudrag.yaml"
     threads: THREADS
@@ -37,7 +43,16 @@ rule bed:
     params:
         args=pour_args,
     shell:
-        "{input.granudrag} pour --output {output} --threads {threads} {params.args} > {log} 2>&1"
+        """
+        ckpt={output}.checkpoint.h5
+        args="{params.args}"
+        if [ -e "$ckpt" ] && [ "$(cat "$ckpt.args" 2>/dev/null)" != "$args" ]; then
+            rm -f "$ckpt"
+        fi
+        echo "$args" >"$ckpt.args"
+        {input.granudrag} pour --output {output} --threads {threads} --resume $args >{log} 2>&1
+        rm -f "$ckpt.args"
+        """
 
 
 # A pull checkpoints every tenth of its travel, or every `checkpoint_minutes` of
