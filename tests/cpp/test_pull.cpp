@@ -2,7 +2,9 @@
 // bitwise identical to an uninterrupted run.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <random>
+#include <string>
 
 #include "core/error.hpp"
 #include "helpers.hpp"
@@ -102,6 +104,41 @@ TEST(Observables, NinetyFivePercentIntervalsCoverAr1AtShortLengths) {
   int plateaus = 0;
   for (int r = 0; r < 50; ++r) plateaus += mean_error(ar1(1024, a, rng)).plateau;
   EXPECT_GE(plateaus, 40);
+}
+
+TEST(Observables, NinetyFivePercentIntervalsOnARealForceSeriesAreNotTooNarrow) {
+  // A recorded drag series (tests/data, 9930 samples; its autocorrelation falls to 0 at 28
+  // samples and has a negative lobe of -0.4 near 50), resampled as a circular block bootstrap
+  // with 256-sample blocks: every resample's expected mean is the whole series' mean.
+  const std::string path =
+      std::string(__FILE__).substr(0, std::string(__FILE__).rfind('/')) + "/../data/drag_series_D2_V1.txt";
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << path;
+  std::vector<double> x;
+  std::string line;
+  while (std::getline(in, line))
+    if (!line.empty() && line[0] != '#') x.push_back(std::stod(line));
+  ASSERT_EQ(x.size(), 9930u);
+  const double truth = mean(x);
+  const long L = 256, N = static_cast<long>(x.size());
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<long> start(0, N - 1);
+  for (long n : {64L, 128L, 256L, 1024L}) {
+    auto draw = [&] {
+      std::vector<double> s;
+      while (static_cast<long>(s.size()) < n) {
+        const long i0 = start(rng);
+        for (long k = 0; k < L && static_cast<long>(s.size()) < n; ++k) s.push_back(x[(i0 + k) % N]);
+      }
+      return s;
+    };
+    const double c = coverage(draw, truth, 1000);
+    std::printf("recorded drag series, %ld samples: coverage %.3f\n", n, c);
+    // Honest, but conservative on this series: the automatic window ends before the negative
+    // lobe, so the error is overestimated at n >= 128 (measured 0.999, 0.999, 0.990; 0.902 at
+    // 64 samples, at the bound: 1000 repeats, a coverage standard error of 0.007).
+    EXPECT_GE(c, 0.90) << n << " samples";
+  }
 }
 
 TEST(Observables, CumulativeAverage) {
