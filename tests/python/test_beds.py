@@ -6,7 +6,7 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from analysis.table import between_bed_scatter, bed_bootstrap, combine_beds, froude, validate_table
+from analysis.table import bed_bootstrap, between_bed_scatter, combine_beds, froude, validate_table
 
 FR = np.array([0.25, 0.5, 1.0, 2.0, 4.0, 8.0])
 D = 2.0
@@ -42,7 +42,7 @@ def test_three_beds_combine_to_one_row_per_point_with_the_formula():
     pts = combine_beds(df)
     validate_table(pts)
     assert len(pts) == len(FR) and (pts.n_beds == 3).all() and (pts.seeds == "1;2;3").all()
-    for fr, row in zip(FR, pts.itertuples()):
+    for row in pts.itertuples():
         g = df[np.isclose(df.Fr, row.Fr)]
         y, e = g.drag.to_numpy(), g.drag_err.to_numpy()
         assert row.drag == pytest.approx(y.mean())
