@@ -173,19 +173,35 @@ def _with_ids(runs):
     return runs.assign(_point=[i[0] for i in ids], _series=[i[1] for i in ids])
 
 
+def _by_point(runs):
+    """(runs with ids, codes, k, first): each row's point index, beds per point, and the
+    first row of each point, in first-seen order."""
+    runs = _with_ids(runs).reset_index(drop=True)
+    codes, _ = pd.factorize(runs["_point"])
+    k = np.bincount(codes)
+    first = np.unique(codes, return_index=True)[1]
+    return runs, codes, k, first
+
+
+def _moments(codes, k, y, e):
+    """Per point: mean of y, var of y (ddof 1, NaN for one bed), W = mean(e^2)."""
+    m = np.bincount(codes, y) / k
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s2 = np.bincount(codes, (y - m[codes]) ** 2) / (k - 1)
+    return m, np.where(k >= 2, s2, np.nan), np.bincount(codes, e ** 2) / k
+
+
 def between_bed_scatter(runs):
     """(r2, dof): the pooled relative between-bed variance sigma_B^2/drag^2 over the points
     with two or more beds, and its degrees of freedom sum(k - 1); (NaN, 0) if none has."""
-    num, dof = 0.0, 0
-    for _, g in _with_ids(runs).groupby("_point", sort=False):
-        k = len(g)
-        if k < 2:
-            continue
-        y, e = g.drag.to_numpy(float), g.drag_err.to_numpy(float)
-        sb2 = max(0.0, np.var(y, ddof=1) - np.nanmean(e ** 2))
-        num += (k - 1) * sb2 / np.mean(y) ** 2
-        dof += k - 1
-    return (num / dof, dof) if dof else (np.nan, 0)
+    runs, codes, k, _ = _by_point(runs)
+    m, s2, W = _moments(codes, k, runs.drag.to_numpy(float), runs.drag_err.to_numpy(float))
+    rep = k >= 2
+    dof = int(np.sum(k[rep] - 1))
+    if not dof:
+        return np.nan, 0
+    sb2 = np.maximum(0.0, s2[rep] - W[rep])
+    return float(np.sum((k[rep] - 1) * sb2 / m[rep] ** 2) / dof), dof
 
 
 def combine_beds(runs, r2=None):
@@ -207,42 +223,43 @@ def combine_beds(runs, r2=None):
         r2, r2_dof = between_bed_scatter(runs)
     else:
         r2_dof = np.inf
-    runs = _with_ids(runs)
-    rows = []
-    for _, g in runs.groupby("_point", sort=False):
-        k = len(g)
-        row = g.iloc[0].to_dict()
-        y, e = g.drag.to_numpy(float), g.drag_err.to_numpy(float)
-        nu = (g.drag_dof.to_numpy(float) if "drag_dof" in g else np.full(k, np.nan))
-        W = float(np.mean(e ** 2))
-        within_dof = k * k * W ** 2 / np.sum(e ** 4 / nu) if np.all(nu > 0) and W > 0 else np.nan
-        if k >= 2:
-            s2 = float(np.var(y, ddof=1))
-            sb2 = max(0.0, s2 - W)
-            dof = float(k - 1) if s2 > W else within_dof
-        elif np.isfinite(r2):
-            sb2 = r2 * float(y[0]) ** 2
-            parts = np.array([W, sb2])
-            dofs = np.array([within_dof, r2_dof])
-            dof = (W + sb2) ** 2 / np.sum(parts ** 2 / dofs) if np.all(dofs > 0) else np.nan
-        else:
-            sb2, dof = np.nan, within_dof
-        row.update(drag=float(np.mean(y)), drag_err=float(np.sqrt((np.nan_to_num(sb2) + W) / k)),
-                   drag_err_within=float(np.sqrt(W / k)),
-                   drag_err_between=float(np.sqrt(sb2 / k)) if np.isfinite(sb2) else np.nan,
-                   drag_dof=dof, n_beds=k,
-                   seeds=";".join(f"{s:g}" for s in g.seed) if "seed" in g else "",
-                   run=str(g.run.iloc[0]) if k == 1 else row["_point"])
-        if "plateau" in g:
-            row["plateau"] = bool(g.plateau.astype(bool).all())
-        for c in ("h", "n_contacts", "Z", "kappa", "theta"):
-            row[c] = float(np.mean(g[c].to_numpy(float)))
-        if "theta_err" in g:
-            te = g.theta_err.to_numpy(float)
-            s2 = float(np.var(g.theta.to_numpy(float), ddof=1)) if k >= 2 else 0.0
-            row["theta_err"] = float(np.sqrt(max(s2, np.mean(te ** 2)) / k))
-        rows.append(row)
-    out = pd.DataFrame(rows).drop(columns=["_point", "_series"])
+    runs, codes, k, first = _by_point(runs)
+    y, e = runs.drag.to_numpy(float), runs.drag_err.to_numpy(float)
+    nu = runs.drag_dof.to_numpy(float) if "drag_dof" in runs else np.full(len(runs), np.nan)
+    m, s2, W = _moments(codes, k, y, e)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        within_dof = k * k * W ** 2 / np.bincount(codes, e ** 4 / nu)
+        within_dof = np.where(np.isfinite(within_dof) & (W > 0), within_dof, np.nan)
+        y1 = m  # one bed: its drag
+        pooled = r2 * y1 ** 2 if np.isfinite(r2) else np.full(len(k), np.nan)
+        single_dof = (W + pooled) ** 2 / (W ** 2 / within_dof + pooled ** 2 / r2_dof)
+    rep = k >= 2
+    sb2 = np.where(rep, np.maximum(0.0, s2 - W), pooled)
+    dof = np.where(rep, np.where(s2 > W, k - 1.0, within_dof),
+                   np.where(np.isfinite(pooled), single_dof, within_dof))
+    out = runs.iloc[first].reset_index(drop=True).copy()
+    out["drag"] = m
+    out["drag_err"] = np.sqrt((np.nan_to_num(sb2) + W) / k)
+    out["drag_err_within"] = np.sqrt(W / k)
+    out["drag_err_between"] = np.sqrt(sb2 / k)
+    out["drag_dof"] = dof
+    out["n_beds"] = k
+    if "seed" in runs:
+        texts = [[] for _ in k]
+        for c, v in zip(codes, runs.seed.to_numpy(float)):
+            texts[c].append(f"{v:g}")
+        out["seeds"] = [";".join(t) for t in texts]
+    else:
+        out["seeds"] = ""
+    out["run"] = np.where(rep, out["_point"], out["run"].astype(str))
+    if "plateau" in runs:
+        out["plateau"] = np.bincount(codes, ~runs.plateau.astype(bool).to_numpy()) == 0
+    for c in ("h", "n_contacts", "Z", "kappa", "theta"):
+        out[c] = np.bincount(codes, runs[c].to_numpy(float)) / k
+    if "theta_err" in runs:
+        _, ts2, tW = _moments(codes, k, runs.theta.to_numpy(float), runs.theta_err.to_numpy(float))
+        out["theta_err"] = np.sqrt(np.maximum(np.nan_to_num(ts2), tW) / k)
+    out = out.drop(columns=["_point", "_series"])
     return out.astype({"system": object, "run": object})
 
 
