@@ -2,7 +2,8 @@
 
 A run file holds one pull: attributes on /run (D, depth, speed, froude, mu,
 kn, gamman, dt, steps), the observables under /observables (drag with its
-block-averaging error, intruder coordination n, contact angle theta, bulk
+standard error, that error's Student-t degrees of freedom `error_dof` and its
+convergence flag `plateau`, intruder coordination n, contact angle theta, bulk
 coordination Z, kappa, the force series) and the resolved parameters of the
 pull and of its bed, one typed attribute per key under /parameters/pull and
 /parameters/pour (`read_parameters`). `read_run` turns one file into a row of
@@ -51,7 +52,8 @@ RUN_VERSIONS = (1, 2)   # 1: parameters as YAML text (legacy path), 2: parameter
 # the scale of the run (box, grains poured, distance pulled; NaN when the file
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err",
-                 "lx", "ly", "grains", "distance", "sanity", "path"]
+                 "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "sanity",
+                 "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
@@ -150,6 +152,7 @@ def read_run(path, system=None, root=None):
             return _number(_group(obs, name, path), attr, path, f"/observables/{name}")
 
         drag, drag_err = observable("drag"), observable("drag", "error")
+        drag_dof, plateau = _drag_convergence(_group(obs, "drag", path), drag_err)
         transient = observable("drag", "transient_distance")
         n = observable("coordination")
         theta, theta_err = observable("theta"), observable("theta", "error")
@@ -199,6 +202,7 @@ def read_run(path, system=None, root=None):
             "drag_err": drag_err, "n_contacts": n, "theta": theta, "Z": Z, "kappa": kappa,
             "run": str(run_dir), "h_requested": h_requested, "dt": get["dt"],
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
+            "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "sanity": sanity,
             "path": str(path)}
 
@@ -211,6 +215,26 @@ def _verdict(f, path):
         return "unknown"
     value = _attr(group, "verdict", path, "/sanity")
     return value if value else "unknown"
+
+
+def _drag_convergence(group, drag_err):
+    """(error_dof, plateau) of the drag's error. Files before these attributes (block
+    averaging, no convergence test): (NaN, False), so a table never claims a converged error
+    that was not tested."""
+    dof = float(group.attrs.get("error_dof", math.nan))
+    plateau = bool(int(group.attrs.get("plateau", 0))) and math.isfinite(drag_err)
+    return dof, plateau
+
+
+def _seed(params, path):
+    """The bed's pour seed from the path's `seed~` component (NaN if the path has none): it
+    tells replicate beds of one point apart (analysis.table.combine_beds)."""
+    if "seed" not in params:
+        return math.nan
+    try:
+        return float(params["seed"])
+    except ValueError:
+        raise RunFileError(f"{path}: path component 'seed~{params['seed']}' is not a number") from None
 
 
 def _value(value):

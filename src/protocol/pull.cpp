@@ -200,8 +200,11 @@ PullResult Pull::result() const {
   std::vector<double> resistance(record_.fx.size());
   for (std::size_t k = 0; k < resistance.size(); ++k) resistance[k] = -record_.fx[k];
   r.cumulative_drag = cumulative_average(resistance);
-  r.drag = mean(fx);
-  r.drag_error = block_average_error(fx);
+  const MeanError drag = mean_error(fx);
+  r.drag = drag.mean;
+  r.drag_error = drag.error;
+  r.drag_dof = drag.dof;
+  r.drag_plateau = drag.plateau;
   r.coordination = mean(n);
   if (record_.theta_count > 0) {
     const double m = record_.theta_sum / record_.theta_count;

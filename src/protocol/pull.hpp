@@ -71,8 +71,10 @@ struct PullRecord {
 
 struct PullResult {
   // The drag: -<F_x> after the transient (positive when it resists the motion along +x), and
-  // its block-averaging error. The record keeps the raw force components.
-  double drag = NAN, drag_error = NAN;
+  // its standard error (mean_error, protocol/observables.hpp) with its effective degrees of
+  // freedom and whether the error converged. The record keeps the raw force components.
+  double drag = NAN, drag_error = NAN, drag_dof = NAN;
+  bool drag_plateau = false;
   double transient_distance = 0;
   long transient_samples = 0;
   std::vector<double> cumulative_drag;  // running mean of -F_x over all samples (Fig. 4)

@@ -49,7 +49,8 @@ def write_parameters_v1(f):
 
 
 def write_run(path, D=2.0, depth=9.87, speed=0.75, mu=0.5, kn=2e4, gamman=199.05359,
-              drag=111.1, fmt="granudrag-run", version=2, skip=None, n_samples=50, verdict="clean"):
+              drag=111.1, fmt="granudrag-run", version=2, skip=None, n_samples=50,
+              drag_err=2.5, convergence=(6.5, 1), verdict="clean"):
     """A run file with the attributes and datasets of src/io/run_file.cpp save_run."""
     path.parent.mkdir(parents=True, exist_ok=True)
     with h5py.File(path, "w") as f:
@@ -70,8 +71,11 @@ def write_run(path, D=2.0, depth=9.87, speed=0.75, mu=0.5, kn=2e4, gamman=199.05
         o.create_dataset("intruder_force/value", data=force)
         o.create_dataset("intruder_force/step", data=np.arange(1, n_samples + 1) * 48)
         o.create_dataset("cumulative_drag/value", data=np.cumsum(-fx) / np.arange(1, n_samples + 1))
-        for name, attrs in {"drag": dict(value=drag, error=2.5, transient_distance=0.5,
-                                         transient_samples=np.int64(10 if skip is None else skip)),
+        conv = {} if convergence is None else dict(error_dof=convergence[0],
+                                                   plateau=np.int64(convergence[1]))
+        for name, attrs in {"drag": dict(value=drag, error=drag_err, transient_distance=0.5,
+                                         transient_samples=np.int64(10 if skip is None else skip),
+                                         **conv),
                             "coordination": dict(value=10.0, error=math.nan),
                             "theta": dict(value=1.55, error=0.1),
                             "bulk_coordination": dict(value=3.7, error=math.nan, shell=2.0),
@@ -195,15 +199,30 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     run = tmp_path / "system~I" / "run.h5"
     run.parent.mkdir()
     subprocess.run([str(BINARY), "pull", "--bed", str(tmp_path / "bed.h5"), "--output", str(run),
-                    "--distance", "0.1", "--quiet"], check=True, capture_output=True)
+                    "--distance", "0.5", "--quiet"], check=True, capture_output=True)
     params = read_parameters(run)
     assert params["pour"]["grains"] == 150 and params["pour"]["lx"] == 5.0
     assert params["pour"]["quiet"] is True and "intruder_z" not in params["pour"]   # unset: absent
-    assert params["pull"]["bed"] == str(tmp_path / "bed.h5") and params["pull"]["distance"] == 0.1
+    assert params["pull"]["bed"] == str(tmp_path / "bed.h5") and params["pull"]["distance"] == 0.5
     assert params["pull"]["resume"] is False and params["pull"]["snapshots"] == 3
     row = read_run(run)
     assert (row["lx"], row["ly"], row["grains"]) == (5.0, 4.5, 150.0)
     assert row["sanity"] == "clean"
+    # The drag error's Student-t dof and convergence flag: a 0.5 d pull is far too short.
+    assert row["drag_dof"] >= 1 and row["plateau"] is False
+
+
+def test_drag_error_convergence_and_seed_are_read(tmp_path):
+    p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5", convergence=(3.2, 0))
+    row = read_run(p, root=tmp_path)
+    assert row["drag_dof"] == 3.2 and row["plateau"] is False and row["seed"] == 1.0
+    p = write_run(tmp_path / "b" / "system~I" / "run.h5", convergence=(40.0, 1))
+    row = read_run(p)
+    assert row["plateau"] is True and math.isnan(row["seed"])
+    # A file from before the convergence test claims no plateau.
+    p = write_run(tmp_path / "c" / "system~I" / "run.h5", convergence=None)
+    row = read_run(p)
+    assert row["plateau"] is False and math.isnan(row["drag_dof"])
 
 
 def test_load_runs_gives_a_valid_table(tmp_path):

@@ -84,9 +84,17 @@ def test_report_and_figures(smoke):
 def test_table_has_one_row_per_planned_pull(smoke):
     workdir, _, config = smoke
     plan = study.plan(config)
+    runs = pd.read_csv(workdir / config["results"] / "runs.csv", dtype={"system": str, "run": str})
+    assert len(runs) == len(plan.pulls) == 13
+    assert set(runs.run) == {f"pulls/{key}" for key in plan.pulls}
+    # The kn sweep's point has two beds (seeds 1, 2): one row of the point table, combined.
     df = pd.read_csv(workdir / config["results"] / "table.csv", dtype={"system": str, "run": str})
-    assert len(df) == len(plan.pulls) == 12
-    assert set(df.run) == {f"pulls/{key}" for key in plan.pulls}
+    assert len(df) == 12
+    two = df[df.n_beds == 2]
+    assert len(two) == 1 and two.kn.iloc[0] == 5e4
+    pair = runs[runs.kn == 5e4].drag.to_numpy()
+    assert two.drag.iloc[0] == pytest.approx(pair.mean())
+    assert two.drag_err.iloc[0] >= abs(pair[0] - pair[1]) / 2 * (1 - 1e-9)   # sqrt(s^2/2) at least
     assert df.drag.notna().all() and (df.drag > 0).all()
     assert set(df.system) == {"I", "II"}
     assert sorted(df[df.V == 0.01].h_requested.tolist()) == [3, 4, 5]
@@ -199,7 +207,7 @@ def test_test_directory_holds_the_smoke_config(tmp_path):
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
     counts = job_counts(r.stdout + r.stderr)
-    assert (counts.get("bed"), counts.get("pull")) == (5, 12), counts
+    assert (counts.get("bed"), counts.get("pull")) == (6, 13), counts
 
 
 @pytest.mark.parametrize("name", ["smoke.yaml", "config.yaml", "paper.yaml"])

@@ -7,6 +7,7 @@ rule table:
         ALL_RUNS,
     output:
         table=f"{RESULTS}/table.csv",
+        runs=f"{RESULTS}/runs.csv",
         problems=f"{RESULTS}/table_problems.txt",
         coordination=f"{RESULTS}/coordination.csv",
     log:
