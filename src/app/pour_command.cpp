@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "app/command.hpp"
+#include "app/output_paths.hpp"
 #include "core/error.hpp"
 #include "io/run_files.hpp"
 #include "protocol/pour.hpp"
@@ -62,6 +63,8 @@ int pour_command(const std::vector<std::string>& args) {
   const PourSpec s = pour_spec(*par);
   const std::string out = par->text("output");
   check_output_dir(out, "output");
+  const auto locks = claim_outputs(
+      config_inputs(args), {{"output", out, "granudrag-bed"}, {"the sidecar", out + ".xdmf", "text", false}});
 
   const double t0 = omp_get_wtime();
   const Bed bed = pour(s, !par->flag("quiet"));

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app/command.hpp"
+#include "app/output_paths.hpp"
 #include "core/error.hpp"
 #include "io/run_files.hpp"
 #include "protocol/pull.hpp"
@@ -56,6 +57,11 @@ int pull_command(const std::vector<std::string>& args) {
   set_threads(par);
   const std::string bed_path = par.text("bed"), out = par.text("output");
   check_output_dir(out, "output");
+  std::vector<InputFile> inputs = config_inputs(args);
+  inputs.push_back({"bed", bed_path});
+  const auto locks = claim_outputs(
+      inputs, {{"output", out, "granudrag-run"},
+               {"the checkpoint", out + ".checkpoint.h5", "granudrag-checkpoint", false, true}});
   ParameterRecord bed_parameters;
   const Bed bed = load_bed(bed_path, &bed_parameters);
   if (bed.intruder < 0) throw Error("bed '" + bed_path + "' has no intruder to pull");
