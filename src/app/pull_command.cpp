@@ -88,10 +88,13 @@ int pull_command(const std::vector<std::string>& args) {
   const double t0 = omp_get_wtime();
   auto save = [&](const Pull& p) { save_checkpoint(checkpoint, p, par, bed_parameters); };
   std::unique_ptr<Pull> pull;
-  if (par.flag("resume") && std::filesystem::exists(checkpoint)) {
-    // A resumed pull must match every option but the run controls, and the bed itself.
-    Checkpoint c = load_checkpoint(checkpoint, bed, par, {"resume", "quiet", "threads"});
-    pull = std::make_unique<Pull>(bed, spec, c.state, std::move(c.record));
+  // A resumed pull must match every option but the run controls, and the bed itself; an
+  // unreadable checkpoint is moved aside and the pull starts over.
+  std::optional<Checkpoint> c;
+  if (par.flag("resume") && std::filesystem::exists(checkpoint))
+    c = load_checkpoint_or_move_aside(checkpoint, bed, par, {"resume", "quiet", "threads"});
+  if (c) {
+    pull = std::make_unique<Pull>(bed, spec, c->state, std::move(c->record));
     std::fprintf(stderr, "pull: resuming from %s at step %ld\n", checkpoint.c_str(),
                  pull->simulation().steps_done());
   } else {
