@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "core/error.hpp"
+#include "io/hdf5_internals.hpp"
 
 namespace granudrag {
 
@@ -41,6 +42,7 @@ std::string file_kind(const std::string& path) {
   if (ec || !fs::exists(st)) return "missing";
   if (fs::is_directory(st)) return "directory";
   if (fs::is_regular_file(st) && fs::file_size(path, ec) == 0 && !ec) return "empty";
+  h5::detail::silence_hdf5();
   htri_t is_hdf5 = -1;
   H5E_BEGIN_TRY { is_hdf5 = H5Fis_hdf5(path.c_str()); }
   H5E_END_TRY;
