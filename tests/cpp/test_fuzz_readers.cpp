@@ -291,10 +291,16 @@ const auto* const hdf5_shutdown = ::testing::AddGlobalTestEnvironment(new Hdf5Sh
 // LeakSanitizer ignores what is allocated while the HDF5 files are fuzzed. Every other sanitizer
 // check stays on.
 struct IgnoreHdf5Leaks {
+  IgnoreHdf5Leaks() {
 #if defined(__SANITIZE_ADDRESS__)
-  IgnoreHdf5Leaks() { __lsan_disable(); }
-  ~IgnoreHdf5Leaks() { __lsan_enable(); }
+    __lsan_disable();
 #endif
+  }
+  ~IgnoreHdf5Leaks() {
+#if defined(__SANITIZE_ADDRESS__)
+    __lsan_enable();
+#endif
+  }
 };
 
 }  // namespace
