@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "app/command.hpp"
+#include "app/output_paths.hpp"
 #include "core/error.hpp"
 #include "engine/run_guard.hpp"
 #include "io/pour_checkpoint.hpp"
@@ -81,9 +82,13 @@ int pour_command(const std::vector<std::string>& args) {
   const PourSpec s = pour_spec(*par);
   const std::string out = par->text("output");
   check_output_dir(out, "output");
+  const std::string checkpoint = out + ".checkpoint.h5";
+  const auto locks = claim_outputs(
+      config_inputs(args), {{"output", out, "granudrag-bed"},
+                            {"the sidecar", out + ".xdmf", "text", false},
+                            {"the checkpoint", checkpoint, "granudrag-pour-checkpoint", false, true}});
 
   const double t0 = omp_get_wtime();
-  const std::string checkpoint = out + ".checkpoint.h5";
   PourCheckpoints checkpoints;
   PourState resumed;
   if (par->number("checkpoint_interval") > 0) {
@@ -94,9 +99,11 @@ int pour_command(const std::vector<std::string>& args) {
     };
   }
   if (par->flag("resume") && std::filesystem::exists(checkpoint)) {
-    resumed = load_pour_checkpoint(checkpoint, *par, {"resume", "quiet", "threads"});
-    checkpoints.resume_from = &resumed;
-    std::fprintf(stderr, "pour: resuming from %s at step %ld\n", checkpoint.c_str(), resumed.state.steps);
+    if (auto c = load_pour_checkpoint_or_move_aside(checkpoint, *par, {"resume", "quiet", "threads"})) {
+      resumed = std::move(*c);
+      checkpoints.resume_from = &resumed;
+      std::fprintf(stderr, "pour: resuming from %s at step %ld\n", checkpoint.c_str(), resumed.state.steps);
+    }
   }
   const Bed bed = pour(s, !par->flag("quiet"), checkpoints);
   save_bed(out, bed, *par);

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app/command.hpp"
+#include "app/output_paths.hpp"
 #include "core/error.hpp"
 #include "io/run_files.hpp"
 #include "protocol/pull.hpp"
@@ -68,6 +69,11 @@ int pull_command(const std::vector<std::string>& args) {
   set_threads(par);
   const std::string bed_path = par.text("bed"), out = par.text("output");
   check_output_dir(out, "output");
+  std::vector<InputFile> inputs = config_inputs(args);
+  inputs.push_back({"bed", bed_path});
+  const auto locks = claim_outputs(
+      inputs, {{"output", out, "granudrag-run"},
+               {"the checkpoint", out + ".checkpoint.h5", "granudrag-checkpoint", false, true}});
   ParameterRecord bed_parameters;
   const Bed bed = load_bed(bed_path, &bed_parameters);
   if (bed.intruder < 0) throw Error("bed '" + bed_path + "' has no intruder to pull");
@@ -96,10 +102,13 @@ int pull_command(const std::vector<std::string>& args) {
   const double t0 = omp_get_wtime();
   auto save = [&](const Pull& p) { save_checkpoint(checkpoint, p, par, bed_parameters); };
   std::unique_ptr<Pull> pull;
-  if (par.flag("resume") && std::filesystem::exists(checkpoint)) {
-    // A resumed pull must match every option but the run controls, and the bed itself.
-    Checkpoint c = load_checkpoint(checkpoint, bed, par, {"resume", "quiet", "threads"});
-    pull = std::make_unique<Pull>(bed, spec, c.state, std::move(c.record));
+  // A resumed pull must match every option but the run controls, and the bed itself; an
+  // unreadable checkpoint is moved aside and the pull starts over.
+  std::optional<Checkpoint> c;
+  if (par.flag("resume") && std::filesystem::exists(checkpoint))
+    c = load_checkpoint_or_move_aside(checkpoint, bed, par, {"resume", "quiet", "threads"});
+  if (c) {
+    pull = std::make_unique<Pull>(bed, spec, c->state, std::move(c->record));
     std::fprintf(stderr, "pull: resuming from %s at step %ld\n", checkpoint.c_str(),
                  pull->simulation().steps_done());
   } else {

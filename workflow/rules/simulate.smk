@@ -50,6 +50,7 @@ rule bed:
             rm -f "$ckpt"
         fi
         echo "$args" >"$ckpt.args"
+        rm -f {output}.lock
         {input.granudrag} pour --output {output} --threads {threads} --resume $args >{log} 2>&1
         rm -f "$ckpt.args"
         """
@@ -60,6 +61,8 @@ rule bed:
 # crash), the rerun resumes from the checkpoint, unless the bed is newer than
 # the checkpoint or the arguments changed. With max_runtime, a pull longer than
 # that runs over several jobs (retries: enough for the longest).
+# Snakemake runs one job per output, so an output lock left beside it is a dead
+# job's (possibly on another node, where granudrag cannot tell): the rule removes it.
 rule pull:
     input:
         granudrag=ancient(GRANUDRAG),
@@ -87,6 +90,7 @@ rule pull:
             rm -f "$ckpt"
         fi
         echo "$args" >"$ckpt.args"
+        rm -f {output}.lock
         {input.granudrag} pull --bed {input.bed} --output {output} --threads {threads} --resume $args >{log} 2>&1
         rm -f "$ckpt.args"
         """
