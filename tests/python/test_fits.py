@@ -149,3 +149,38 @@ def test_fit_file_errors(tmp_path):
     bad.write_text(json.dumps({"format": "granudrag-fits", "version": 1, "laws": [{"mu": 0.5}]}))
     with pytest.raises(FitFileError, match="damaged fit file"):
         load_fits(bad)
+
+
+def test_config_h_min_and_alpha_speeds_reach_the_fits():
+    # paper.yaml cuts Eq. 12 / Fig. 19 at h >= 45 as the paper; the default keeps every depth
+    # (its beds are all shallower), and both average alpha over the paper's five speeds.
+    import yaml
+
+    from analysis.study import fit_options, validate_config
+    root = synth.__file__.rsplit("/tests/", 1)[0]
+    opts = {}
+    for name in ("paper.yaml", "config.yaml", "smoke.yaml"):
+        with open(f"{root}/config/{name}") as fh:
+            cfg = yaml.safe_load(fh)
+        validate_config(cfg)
+        opts[name] = fit_options(cfg)
+    assert opts["paper.yaml"].h_min == 45 and opts["config.yaml"].h_min == 0
+    assert opts["smoke.yaml"].h_min == 0                       # schema default
+    assert opts["paper.yaml"].alpha_speeds == (0.5, 1.0, 2.0, 4.0, 6.0)
+    # the paper's Fig. 18a K_n sweep pulls at those speeds, not at the yield speed
+    with open(f"{root}/config/paper.yaml") as fh:
+        sweeps = {s["name"]: s for s in yaml.safe_load(fh)["sweeps"]}
+    assert sweeps["alpha_kn"]["V"] == [0.5, 1, 2, 4, 6] == sweeps["alpha_speeds"]["V"]
+
+
+def test_scaling_law_h_min_drops_shallow_pulls(table):
+    phi, alpha = fit_phi(table), fit_alpha(table)
+    deep = fit_scaling_law(table, phi, alpha, mu=0.5, n_boot=0, h_min=45)
+    every = fit_scaling_law(table, phi, alpha, mu=0.5, n_boot=0)
+    moving = table[(table.mu == 0.5) & (table.kn == synth.KN) & (table.gamman == synth.GAMMAN)
+                   & (table.V > 0.02)]
+    assert every.regimes.n_points == len(moving)
+    assert deep.regimes.n_points == len(moving[moving.h >= 45])
+    assert deep.ranges["h"][0] == 45 and deep.regimes.meta["h_min"] == 45
+    with pytest.raises(ValueError, match="h >= 100"):
+        fit_scaling_law(table, phi, alpha, mu=0.5, n_boot=0, h_min=100)
