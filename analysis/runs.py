@@ -51,7 +51,7 @@ RUN_VERSIONS = (1, 2)   # 1: parameters as YAML text (legacy path), 2: parameter
 # check (requested depth, time step, how much of the pull was discarded) and
 # the scale of the run (box, grains poured, distance pulled; NaN when the file
 # does not record them).
-EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err",
+EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
                  "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "sanity",
                  "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
@@ -157,6 +157,7 @@ def read_run(path, system=None, root=None):
         n = observable("coordination")
         theta, theta_err = observable("theta"), observable("theta", "error")
         Z, kappa = observable("bulk_coordination"), observable("kappa")
+        kappa_err = _kappa_error(obs, kappa, n, transient / get["speed"] if get["speed"] > 0 else 0.0)
         scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
         sanity = _verdict(f, path)
     except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
@@ -202,7 +203,7 @@ def read_run(path, system=None, root=None):
             "drag_err": drag_err, "n_contacts": n, "theta": theta, "Z": Z, "kappa": kappa,
             "run": str(run_dir), "h_requested": h_requested, "dt": get["dt"],
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
-            "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
+            "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "sanity": sanity,
             "path": str(path)}
 
@@ -235,6 +236,33 @@ def _seed(params, path):
         return float(params["seed"])
     except ValueError:
         raise RunFileError(f"{path}: path component 'seed~{params['seed']}' is not a number") from None
+
+
+def block_error(x, min_blocks=8):
+    """Standard error of the mean of a correlated series by block averaging: the largest
+    standard error over pairwise blocking levels that keep at least min_blocks blocks."""
+    x = np.asarray(x, float)
+    best = np.std(x, ddof=1) / np.sqrt(len(x)) if len(x) > 1 else math.nan
+    while len(x) >= 2 * min_blocks:
+        x = 0.5 * (x[: len(x) // 2 * 2 : 2] + x[1 : len(x) // 2 * 2 : 2])
+        best = max(best, np.std(x, ddof=1) / np.sqrt(len(x)))
+    return float(best)
+
+
+def _kappa_error(obs, kappa, n, t0):
+    """Error of kappa = (Z/n)(D+d)^2/(2 sqrt(3)) from the block-averaging error of the
+    intruder coordination n, whose series the run file stores
+    (/observables/intruder_contacts, samples after the transient). The bulk Z has no
+    series in the file, so its sampling error is not included. NaN when unavailable."""
+    try:
+        g = obs["intruder_contacts"]
+        t, c = g["time"][()], g["value"][()].astype(float)
+    except KeyError:
+        return math.nan
+    c = c[t > t0]
+    if len(c) < 2 or not (math.isfinite(kappa) and n > 0):
+        return math.nan
+    return abs(kappa) * block_error(c) / n
 
 
 def _value(value):

@@ -13,7 +13,7 @@ The names below are the library's interface: `from analysis import study; study.
 """
 
 from .commands import checkpoint_interval, pour_args, pour_checkpoint_interval, pull_args
-from .config import SCHEMA, ConfigError, resolve_binary, validate_config
+from .config import SCHEMA, ConfigError, fit_options, resolve_binary, validate_config
 from .cost import (
     bed_cost,
     bed_dt,
@@ -54,6 +54,7 @@ __all__ = [
     "bed_retries",
     "bed_file",
     "checkpoint_interval",
+    "fit_options",
     "flow_pulls",
     "fmt",
     "job_attempts",

@@ -398,3 +398,22 @@ def test_the_engine_records_a_failed_verdict_and_the_table_leaves_the_run_out(tm
     assert df.empty
     assert len(problems) == 1 and problems[0].startswith(f"{run}: sanity verdict is not clean")
     assert "exceeds max_overlap = 0.005 d" in problems[0]
+
+
+def test_kappa_error_from_the_coordination_series(tmp_path):
+    # kappa = (Z/n)(D+d)^2/(2 sqrt 3): its error is kappa times the relative block-averaging
+    # error of n, from the intruder_contacts series after the transient (0.5 d at V = 0.75:
+    # t > 0.667). White noise of standard deviation 2 about n = 10 over 1000 samples: the
+    # analytic standard error of the mean is 2/sqrt(N); block averaging's largest level
+    # lands within [0.8, 1.6] of it.
+    p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5")
+    assert math.isnan(read_run(p)["kappa_err"])          # no series: no error
+    rng = np.random.default_rng(0)
+    t = np.linspace(0.0, 20.0, 1034)
+    with h5py.File(p, "a") as f:
+        f["observables/intruder_contacts/time"] = t
+        f["observables/intruder_contacts/value"] = 10.0 + 2.0 * rng.standard_normal(len(t))
+    n_after = int(np.sum(t > 0.5 / 0.75))
+    row = read_run(p)
+    expected = 0.96 * (2.0 / np.sqrt(n_after)) / 10.0
+    assert 0.8 < row["kappa_err"] / expected < 1.6, row["kappa_err"] / expected
