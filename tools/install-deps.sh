@@ -42,6 +42,18 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 [ "${1:-all}" = build ] && exit 0
 
+# Where the interpreter's `analysis` comes from, asked from / so that the current directory
+# does not answer; "stale" when its installed command-line entries are not pyproject.toml's
+# (an install from before [project.scripts] changed).
+where='
+import sys, tomllib
+from importlib.metadata import distribution
+import analysis
+scripts = set(tomllib.load(open(sys.argv[1], "rb"))["project"].get("scripts", {}))
+installed = {e.name for e in distribution("granudrag-analysis").entry_points if e.group == "console_scripts"}
+print(analysis.__path__[0] if scripts == installed else "stale")
+'
+
 # The project environment: made again when requirements/project.txt differs from the copy
 # kept in it (a fresh venv, so nothing outside the lock lingers); the analysis package in it
 # from this checkout.
@@ -60,14 +72,14 @@ if ! cmp -s "$lock" "$venv/requirements-project.txt" || [ ! -x "$venv/bin/snakem
     -r "$lock" >&2
   cp "$lock" "$venv/requirements-project.txt"
 fi
-installed=$(cd / && "$venv/bin/python" -c 'import analysis; print(analysis.__path__[0])' 2>/dev/null || true)
+installed=$(cd / && "$venv/bin/python" -c "$where" "$repo/pyproject.toml" 2>/dev/null || true)
 if [ "$installed" != "$repo/analysis" ]; then
   echo "install-deps: installing the analysis package from $repo into $venv (pip, editable)" >&2
   "$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps --no-build-isolation -e "$repo" >&2
 fi
 [ "${1:-all}" = venv ] && exit 0
-# `analysis` from this checkout? (Asked from / so that the current directory does not answer.)
-installed=$(cd / && /usr/bin/python3 -c 'import analysis; print(analysis.__path__[0])' 2>/dev/null || true)
+# `analysis` from this checkout, with pyproject.toml's entries, for Debian's interpreter too?
+installed=$(cd / && /usr/bin/python3 -c "$where" "$repo/pyproject.toml" 2>/dev/null || true)
 if [ "$installed" != "$repo/analysis" ]; then
   echo "install-deps: installing the analysis package from $repo (pip, editable, user site)" >&2
   /usr/bin/python3 -m pip install --quiet --user --break-system-packages --no-deps --no-build-isolation \

@@ -8,8 +8,6 @@
 #                           DIR/slurmdbd.conf, starts the database and the daemons and waits
 #                           until the node takes jobs; prints "export SLURM_CONF=DIR/slurm.conf"
 #   cluster.sh stop DIR     stops the daemons started by `start DIR`
-# Options for the test: MAX_TIME=MINUTES in the environment of `start` gives the partition that
-# time limit (default INFINITE).
 set -euo pipefail
 cmd=${1:?usage: cluster.sh start|stop DIR}
 dir=$(realpath -m "${2:?usage: cluster.sh start|stop DIR}")
@@ -105,8 +103,10 @@ JobCompType=jobcomp/none
 MpiDefault=none
 ReturnToService=2
 SlurmdTimeout=60
+# A job past its time limit is killed 5 s after SIGTERM (the time-limit test waits less).
+KillWait=5
 NodeName=$node NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=$mem State=UNKNOWN
-PartitionName=debug Nodes=$node Default=YES MaxTime=${MAX_TIME:-INFINITE} State=UP
+PartitionName=debug Nodes=$node Default=YES MaxTime=INFINITE State=UP
 CONF
   export SLURM_CONF="$dir/slurm.conf"
   # slurmdbd reads slurmdbd.conf beside $SLURM_CONF; the cluster, its account and user are
