@@ -7,8 +7,9 @@ user site) and the project environment's .venv/bin/python (tools/test.sh runs bo
 import subprocess
 import sys
 import sysconfig
-import tomllib
 from pathlib import Path
+
+import tomllib
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -172,6 +172,21 @@ def test_one_figure_reruns_alone(smoke):
     assert job_counts(r.stdout + r.stderr) == {"figures_yield": 1, "report": 1, "all": 1}
 
 
+def test_rerun_triggers(smoke):
+    """As the README says: a changed rule parameter (here report.n_boot, a param of the fits
+    rule) re-runs that rule and what follows; with --rerun-triggers mtime only newer input
+    files count, so nothing is re-run."""
+    workdir, _, config = smoke
+    changed = yaml.safe_load(yaml.safe_dump(config))
+    changed["report"]["n_boot"] = config["report"]["n_boot"] + 1
+    configfile = write_config(workdir / "n_boot.yaml", changed)
+    dry = snakemake(workdir, configfile, "--dry-run", "--quiet", "rules")
+    counts = job_counts(dry.stdout + dry.stderr)
+    assert counts.get("fits") == 1 and "pull" not in counts and "bed" not in counts, counts
+    r = snakemake(workdir, configfile, "--dry-run", "--rerun-triggers", "mtime")
+    assert "Nothing to be done" in r.stdout + r.stderr
+
+
 def test_figure_without_data_is_a_note_in_the_report(smoke):
     # The smoke study has one yield pull per D at a single mu: no phi_mu fit, no Fig. 14.
     from analysis.figures import not_drawn_reason
