@@ -7,9 +7,11 @@
 #      checks that the beds and pulls ran as SLURM jobs that accounting (sacct) knows as
 #      COMPLETED, under the account and partition given by SBATCH_ACCOUNT/SBATCH_PARTITION, and
 #      that each table of results equals a local run's;
-#   2. with a tiny max_runtime (1 minute), runs one pull that needs longer, through each
-#      profile: SLURM kills the first job at its time limit (sacct: TIMEOUT), Snakemake submits
-#      the next attempt, which resumes from the checkpoint and completes;
+#   2. with a 1-minute time limit on the pull rule (--set-resources pull:runtime=1, as
+#      max_runtime gives on a cluster; the config's max_runtime is 10 minutes at least), runs one
+#      pull that needs longer, through each profile: SLURM kills the first job at its time limit
+#      (sacct: TIMEOUT), Snakemake submits the next attempt, which resumes from the checkpoint
+#      and completes;
 # and shuts the cluster down. Prints how long each path took.
 #   test_slurm.sh [path/to/granudrag]      (GRANUDRAG_SNAKEMAKE9: another Snakemake >= 8)
 set -euo pipefail
@@ -39,15 +41,14 @@ chmod +x "$work/bin/srun"
 export PATH="$work/bin:$PATH"
 echo "cluster up in $((SECONDS - t0)) s: $(sinfo -h -o '%P %D %t %c cpus'); accounting: $(sacctmgr -n -P list cluster format=cluster)"
 
-# The smoke config on this binary; the time-limit config: one pull of 200 box lengths at Fr = 0.5 (about two
-# minutes on one thread) under max_runtime = 1 minute.
+# The smoke config on this binary; the time-limit config: one pull of 200 box lengths at
+# Fr = 0.5 (about two minutes on one thread).
 /usr/bin/python3 - "$root/config/smoke.yaml" "$work" "$gd" <<'PY'
 import sys, yaml
 src, work, gd = sys.argv[1:4]
 config = yaml.safe_load(open(src))
 config["granudrag"] = gd
 yaml.safe_dump(config, open(f"{work}/smoke.yaml", "w"), sort_keys=False)
-config["max_runtime"] = 1
 config["systems"]["I"]["pull"]["distance"] = 200
 config["sweeps"] = [dict(name="long", system="I", D=2, depth=4, Fr=0.5)]
 yaml.safe_dump(config, open(f"{work}/timelimit.yaml", "w"), sort_keys=False)
@@ -109,13 +110,14 @@ for d, name in zip(sys.argv[1:3], ("Snakemake 9 + slurm", "Snakemake 7.21 + slur
 PY
 
 # A pull longer than the time limit: killed (TIMEOUT), resumed by the next attempt.
+limit=(--set-resources pull:runtime=1 --restart-times 3)
 for gen in 9 7; do
   t=$SECONDS
   before=$(jobs_of | wc -l)
   if [ "$gen" = 9 ]; then
-    run "$work/limit9" "$sm9" "$work/timelimit.yaml" --profile "$root/workflow/profiles/slurm" --jobs 2 "${fast[@]}" pulls
+    run "$work/limit9" "$sm9" "$work/timelimit.yaml" --profile "$root/workflow/profiles/slurm" --jobs 2 "${fast[@]}" "${limit[@]}" pulls
   else
-    run "$work/limit7" "$sm7" "$work/timelimit.yaml" --profile "$root/workflow/profiles/slurm-v7" --jobs 2 --cores 2 pulls
+    run "$work/limit7" "$sm7" "$work/timelimit.yaml" --profile "$root/workflow/profiles/slurm-v7" --jobs 2 --cores 2 "${limit[@]}" pulls
   fi
   sleep 2
   new=$(jobs_of | tail -n +$((before + 1)))
