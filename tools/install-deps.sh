@@ -6,8 +6,8 @@
 #     hashes of requirements/project.txt (remade only when that file changed, else seconds;
 #     tools/lock-deps.sh refreshes the lock), and the analysis package in it (pip install -e .);
 #   - the analysis package (pyproject.toml) for Debian's /usr/bin/python3 too, in editable mode
-#     in the user's site-packages (no sudo; reinstalled only when missing or installed from
-#     another checkout), for Debian's /usr/bin/snakemake 7.21.
+#     in the user's site-packages (no sudo; reinstalled only when missing, installed from
+#     another checkout or with other command-line entries), for Debian's /usr/bin/snakemake 7.21.
 # Usage: tools/install-deps.sh [build|study|test|all|venv]   (default: all)
 #   venv: only .venv/ (python3-venv must be installed)
 set -euo pipefail
