@@ -86,7 +86,9 @@ def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf
     x, y = x[ok], y[ok]
     if len(x) < len(names):
         raise ValueError(f"{name} fit needs at least {len(names)} points, got {len(x)}")
-    popt, pcov = curve_fit(model, x, y, p0=p0, sigma=s, absolute_sigma=False,
+    # With errors: the covariance they give (absolute), scaled below; an exact fit (chi^2 = 0,
+    # as SciPy >= 1.16 can return for points on the curve) then keeps the measurements' error.
+    popt, pcov = curve_fit(model, x, y, p0=p0, sigma=s, absolute_sigma=s is not None,
                            bounds=bounds, maxfev=20000)
     dof = len(x) - len(names)
     method = "least-squares covariance scaled by reduced chi^2"
@@ -95,8 +97,8 @@ def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf
         # to lie on the curve (chi^2/dof << 1; 3 yield forces, 2 parameters) would otherwise
         # claim a far smaller error than the measurements carry.
         chi2 = float(np.sum(((y - model(x, *popt)) / s) ** 2)) / dof
-        if 0 < chi2 < 1:
-            pcov = pcov / chi2
+        if chi2 > 1:
+            pcov = pcov * chi2
         method = "least-squares covariance scaled by reduced chi^2 when > 1"
     err = np.sqrt(np.diag(pcov)) if dof > 0 else np.full(len(names), np.nan)
     return Fit(model=name, params={k: Param(float(v), float(e)) for k, v, e in zip(names, popt, err)},

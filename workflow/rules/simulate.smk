@@ -10,7 +10,9 @@ rule build_granudrag:
         f"{LOGS}/build_granudrag.log",
     conda:
         "../envs/granudrag.yaml"
-    threads: workflow.cores
+    # Snakemake lowers it to the cores given (--cores); workflow.cores is not set under
+    # Snakemake 9 without --cores (--report, a cluster executor).
+    threads: 16
     params:
         source=REPO,
         build=lambda wildcards, output: Path(output[0]).parent,
