@@ -20,6 +20,8 @@ case "${1:-all}" in
   test|all) wanted=("${build_pkgs[@]}" "${python_pkgs[@]}" "${peer_pkgs[@]}" "${slurm_pkgs[@]}" clang-format python3-venv) ;;
   *) echo "usage: $0 [build|study|test|all]" >&2; exit 2 ;;
 esac
+# Pictures: Fig. 1's 3D panels and pull movies (ParaView's pvbatch under a virtual X server, ffmpeg).
+case "${1:-all}" in study|test|all) wanted+=(paraview python3-paraview xvfb xauth ffmpeg) ;; esac
 missing=()
 for p in "${wanted[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
