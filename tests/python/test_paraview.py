@@ -67,3 +67,41 @@ def test_the_3d_render_of_a_bed_is_a_picture(tmp_path):
     # The intruder (red: species 2) is in view, not hidden behind the grains in front of it.
     red = (image[..., 0] > 0.6) & (image[..., 1] < 0.3) & (image[..., 2] < 0.3)
     assert red.sum() > 50
+
+
+FIG1 = ROOT / "workflow" / "scripts" / "fig1.py"
+
+
+def test_fig1_draws_all_panels_and_the_report_lists_it_first(tmp_path):
+    import matplotlib.image
+
+    from analysis.report import figure_entries
+
+    bed, _ = lattice_bed(tmp_path)
+    out = tmp_path / "fig01_beds.png"
+    subprocess.run(["/usr/bin/python3", str(FIG1), str(out), str(bed), str(bed)], check=True,
+                   capture_output=True, timeout=900)
+    assert out.with_suffix(".pdf").is_file()
+    assert out.with_suffix(".txt").read_text().strip() == ""
+    image = matplotlib.image.imread(out)[..., :3]
+    assert float(np.var(image)) > 1e-3
+    caption, png, why = figure_entries(tmp_path)[0]
+    assert caption.startswith("Fig. 1") and png == out and why == ""
+
+
+def test_fig1_without_paraview_says_which_panels_are_missing(tmp_path):
+    from analysis.report import figure_entries
+
+    bed, _ = lattice_bed(tmp_path)
+    out = tmp_path / "fig01_beds.png"
+    empty = tmp_path / "bin"
+    empty.mkdir()
+    env = dict(os.environ, PATH=str(empty))  # no pvbatch, no xvfb-run
+    subprocess.run(["/usr/bin/python3", str(FIG1), str(out), str(bed)], check=True,
+                   capture_output=True, env=env, timeout=600)
+    note = out.with_suffix(".txt").read_text()
+    assert "Panel (a) is missing: ParaView (pvbatch) is not installed" in note
+    assert "Panel (c) is missing: the study has no such bed" in note
+    assert "(b)" not in note
+    caption, png, _ = figure_entries(tmp_path)[0]
+    assert png == out and "Panel (a) is missing" in caption
