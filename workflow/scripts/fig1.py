@@ -35,11 +35,15 @@ def render_3d(bed, png):
     command = ["pvbatch", "--force-offscreen-rendering", str(RENDER), f"{bed}.xdmf", str(png)]
     if shutil.which("xvfb-run"):
         command = ["xvfb-run", "-a", "pvbatch", str(RENDER), f"{bed}.xdmf", str(png)]
-    run = subprocess.run(command, capture_output=True, text=True, timeout=3600)
-    if run.returncode != 0 or not Path(png).is_file():
-        tail = (run.stderr or run.stdout).strip().splitlines()[-3:]
-        return "pvbatch failed: " + " ".join(tail)
-    return None
+    # pvbatch under a loaded machine has been seen to abort at random (once in a few runs,
+    # never reproducibly alone): up to three tries, then the reason ParaView gave.
+    for _ in range(3):
+        run = subprocess.run(command, capture_output=True, text=True, timeout=3600)
+        if run.returncode == 0 and Path(png).is_file():
+            return None
+    lines = (run.stderr + run.stdout).strip().splitlines()
+    said = [x for x in lines if "what()" in x or "ERR|" in x or "rror" in x] or lines[-3:]
+    return "pvbatch failed: " + " ".join(x.strip() for x in said[:3])
 
 
 def slice_panel(ax, bed):
