@@ -337,9 +337,18 @@ def _html(blocks):
     return "\n".join(out + ["</body></html>"])
 
 
+FIG1_CAPTION = ("Fig. 1: (a) a system I and (c) a system II bed with the intruder (red; frozen base "
+                "grey), the half in front of the intruder's plane cut away; (b) the slice of the "
+                "system I bed through the intruder's plane, grains as circles of their cut radius.")
+
+
 def figure_entries(outdir):
     """[(caption, png path or None, why not drawn)] of every figure in outdir, paper order."""
     out = []
+    fig1 = Path(outdir) / "fig01_beds.png"  # drawn by workflow/rules/fig1.smk, if it ran
+    if fig1.is_file():
+        note = fig1.with_suffix(".txt")
+        out.append((FIG1_CAPTION + (" " + note.read_text().strip() if note.is_file() else ""), fig1, ""))
     for fig in FIGURES:
         png = Path(outdir) / f"{fig.name}.png"
         why = not_drawn_reason(png) if png.is_file() else "no figure file"

@@ -28,6 +28,8 @@ case "${1:-all}" in
   venv) wanted=() ;;
   *) echo "usage: $0 [build|study|test|all|venv]" >&2; exit 2 ;;
 esac
+# Pictures: Fig. 1's 3D panels and pull movies (ParaView's pvbatch under a virtual X server, ffmpeg).
+case "${1:-all}" in study|test|all) wanted+=(paraview python3-paraview xvfb xauth ffmpeg) ;; esac
 missing=()
 for p in ${wanted[@]+"${wanted[@]}"}; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
