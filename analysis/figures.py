@@ -1,4 +1,10 @@
-"""One function per figure of the paper; each writes <name>.png and <name>.pdf.
+"""One function per figure of the paper; each writes <name>.png, <name>.pdf and <name>.csv.
+
+<name>.csv holds what the figure plots, one row per plotted point: figure, panel (a, b,
+c in the order of the axes), series (its legend label, plain text), kind (points, curve,
+line), x, y, y_err (NaN where none) and, for Fig. 9, the arrows u, v. The arrays are
+recorded as they are handed to matplotlib (after any scaling or collapse), so the tests
+check what is drawn.
 
 Every function takes the pull table (or arrays) and an output directory and
 returns the paths it wrote. Fits can be passed in (the report fits once and
@@ -11,6 +17,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+import pandas as pd
 from matplotlib.patches import Circle
 from matplotlib.ticker import FormatStrFormatter
 
@@ -18,7 +25,7 @@ from . import paper
 from .fits import evaluate, fit_alpha, fit_kappa, fit_phi, fit_regimes, fit_saturation, fit_theta
 from .physics import gamman_ratio
 from .result import format_pm
-from .table import YIELD_SPEED, reference_params, select, yield_rows
+from .table import YIELD_SPEED, reference_params, select, write_csv, yield_rows
 
 plt.switch_backend("Agg")  # files only, no display
 
@@ -41,13 +48,38 @@ def _subplots(*args, **kw):
     return plt.subplots(*args, layout="constrained", **kw)
 
 
-def _save(fig, outdir, name, png_metadata=None):
+DATA_COLUMNS = ["figure", "panel", "series", "kind", "x", "y", "y_err"]
+
+
+def _record(ax, series, x, y, err=None, kind="points", **extra):
+    """Keep what is drawn on ax for the figure's CSV (see the module docstring)."""
+    fig = ax.figure
+    x, y = np.asarray(x, float).ravel(), np.asarray(y, float).ravel()
+    err = np.full(len(x), np.nan) if err is None else np.broadcast_to(np.asarray(err, float), x.shape)
+    panel = "abcdefgh"[fig.axes.index(ax)] if ax in fig.axes else "a"
+    label = str(series).replace("$", "").replace("\\", "") if series is not None else ""
+    frame = pd.DataFrame({"panel": panel, "series": label, "kind": kind, "x": x, "y": y, "y_err": err,
+                          **{k: np.asarray(v, float).ravel() for k, v in extra.items()}})
+    if not hasattr(fig, "_granudrag_data"):
+        fig._granudrag_data = []
+    fig._granudrag_data.append(frame)
+
+
+def _save(fig, outdir, name, png_metadata=None, data=None):
+    """<name>.png and .pdf, and <name>.csv with the recorded data (or `data`, a DataFrame)."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     paths = [outdir / f"{name}.png", outdir / f"{name}.pdf"]
     fig.savefig(paths[0], dpi=150, metadata=png_metadata)
     fig.savefig(paths[1])
+    parts = getattr(fig, "_granudrag_data", [])
     plt.close(fig)
+    if data is None and parts:
+        data = pd.concat(parts, ignore_index=True)
+        data.insert(0, "figure", name)
+    if data is not None:
+        write_csv(data, outdir / f"{name}.csv")
+        paths.append(outdir / f"{name}.csv")
     return paths
 
 
@@ -61,7 +93,8 @@ def draw_not_drawn(outdir, name, caption, reason):
     fig, ax = _subplots(figsize=(5, 1.6))
     ax.axis("off")
     ax.text(0.5, 0.5, f"{caption}\nnot drawn: {reason}", ha="center", va="center", wrap=True, fontsize=9)
-    return _save(fig, outdir, name, png_metadata={NOT_DRAWN: reason})
+    # Its data file has the columns and no rows (nothing was plotted).
+    return _save(fig, outdir, name, png_metadata={NOT_DRAWN: reason}, data=pd.DataFrame(columns=DATA_COLUMNS))
 
 
 def not_drawn_reason(png):
@@ -80,17 +113,19 @@ def _reference(df):
     return select(df, kn=kn, gamman=gn)
 
 
-def _errorbars(ax, x, y, err, i, label, scale=1.0):
+def _errorbars(ax, x, y, err, i, label, scale=1.0, series=None):
     """Markers with error bars (where known); returns their colour."""
     err = np.asarray(err, float) / scale
+    _record(ax, series if series is not None else label, x, np.asarray(y, float) / scale, err)
     c = ax.errorbar(x, np.asarray(y, float) / scale,
                     yerr=np.where(np.isfinite(err), err, 0.0) if np.isfinite(err).any() else None,
                     fmt=MARKERS[i % len(MARKERS)], ms=4, capsize=2, mfc="none", label=label)
     return c[0].get_color()
 
 
-def _curve(ax, fit, lo, hi, log=False, **kw):
+def _curve(ax, fit, lo, hi, log=False, series=None, **kw):
     x = np.geomspace(max(lo, 1e-4), hi, 200) if log else np.linspace(lo, hi, 200)
+    _record(ax, series or kw.get("label", "fit"), x, evaluate(fit, x), kind="curve")
     return ax.plot(x, evaluate(fit, x), **({"color": "k", "lw": 1} | kw))[0]
 
 
@@ -147,7 +182,7 @@ def _drag_panels(rows, by, label, mu, fits, name, outdir, enlarge=True):
             color = _errorbars(ax, g.Fr, g.drag, g.drag_err, i, label(key))
             fit = fits.get(key)
             if fit is not None and len(g):
-                _curve(ax, fit, 0.0, g.Fr.max(), color=color, lw=0.8)
+                _curve(ax, fit, 0.0, g.Fr.max(), color=color, lw=0.8, series=f"fit, {label(key)}")
         ax.set_xlabel(FR_LABEL)
         ax.set_ylabel(F_LABEL)
     axes[0][0].legend(fontsize=7, title=rf"$\mu = {mu:g}$", title_fontsize=8)
@@ -162,6 +197,8 @@ def fig02_restitution(v_n, e, theory_v, theory_e, outdir, sim_label="simulation"
     fig, ax = _subplots(figsize=(5, 3.8))
     ax.plot(v_n, e, "o", mfc="none", label=sim_label)
     ax.plot(theory_v, theory_e, "k-", label="Kuwabara-Kono / Brilliantov theory")
+    _record(ax, "simulation", v_n, e)
+    _record(ax, "theory", theory_v, theory_e, kind="curve")
     ax.set_xscale("log")
     ax.set_xlabel(r"$v_n^* = v_n/\sqrt{gd}$")
     ax.set_ylabel("coefficient of restitution $e$")
@@ -177,6 +214,8 @@ def fig04_force_trace(t, force, outdir, transient=0.0):
     fig, ax = _subplots(figsize=(6, 3.8))
     ax.plot(t, force, lw=0.4, color="0.6", label="instantaneous")
     ax.plot(t[keep], cum, lw=2, color="k", label="cumulative average")
+    _record(ax, "instantaneous", t, force, kind="line")
+    _record(ax, "cumulative average", t[keep], cum, kind="line")
     if transient > 0:
         ax.axvspan(t.min(), transient, color="0.9", label="discarded transient")
     ax.set_xlabel(r"$t^* = t\sqrt{g/d}$")
@@ -208,6 +247,7 @@ def fig06_theta(df, outdir, mu=0.5, fit=None):
     fig, ax = _subplots(figsize=(5, 3.8))
     for i, (D, g) in enumerate(rows.groupby("D")):
         ax.plot(g.Fr, g.theta, MARKERS[i % len(MARKERS)], mfc="none", ms=4, label=f"$D = {D:g}d$")
+        _record(ax, f"D = {D:g}d", g.Fr, g.theta, g["theta_err"] if "theta_err" in g else None)
     p = fit.values()
     _curve(ax, fit, rows.Fr.min(), rows.Fr.max(),
            label=rf"${p['U1']:.2f}\,{{\rm Fr}}^{{{p['U2']:.2f}}} + \pi/{p['U3']:.2f}$")
@@ -242,6 +282,7 @@ def fig07_coordination(pz, outdir, D=4.0, mu=0.5, speeds=5):
     for i, V in enumerate(_spread(rows.V, speeds)):
         g = rows[np.isclose(rows.V, V)]
         g = g.groupby("Z", as_index=False).P.mean()     # several beds at one speed: their mean
+        _record(ax, f"V* = {V:.3g}", g.Z, g.P, kind="line")
         ax.plot(g.Z, g.P, marker=MARKERS[i % len(MARKERS)], ms=4, mfc="none", lw=0.8,
                 label=rf"$V^* = {V:.3g}$")
     zmax = rows.Z.max()
@@ -266,6 +307,7 @@ def fig09_flow_field(panels, outdir):
         # Lab-frame speed relative to the intruder's: grains dragged along show up bright.
         lab = np.hypot(near.vx + V, near.vz) / V
         ax.scatter(near.dx, near.dz, s=6, c="0.85", zorder=0)   # where the grains are
+        _record(ax, f"D = {D:g}d, V = {V:.3g}", near.dx, near.dz, kind="arrows", u=near.vx + V, v=near.vz)
         q = ax.quiver(near.dx, near.dz, near.vx + V, near.vz, np.clip(lab, 0, 1.5), cmap="viridis",
                       clim=(0, 1.5), angles="xy", scale_units="xy", scale=2.0 * V, width=0.004)
         ax.add_patch(Circle((0, 0), D / 2, color="0.6", zorder=0))
@@ -284,6 +326,7 @@ def fig08_kappa(df, outdir, mu=0.5, fit=None):
     fig, ax = _subplots(figsize=(5, 3.8))
     for i, (D, g) in enumerate(rows.groupby("D")):
         ax.plot(g.Fr, g.kappa, MARKERS[i % len(MARKERS)], mfc="none", ms=4, label=f"$D = {D:g}d$")
+        _record(ax, f"D = {D:g}d", g.Fr, g.kappa, g["kappa_err"] if "kappa_err" in g else None)
     p = fit.values()
     _curve(ax, fit, rows.Fr.min(), rows.Fr.max(),
            label=rf"$\kappa = {p['k0']:.3f} + {p['k1']:.3f}\,{{\rm Fr}}$")
@@ -346,7 +389,9 @@ def _scaling_panels(rows, xcol, xlabel, table, expo, pref, name, outdir, logx_b)
             r = t.iloc[0]
             xs = np.geomspace(x.min(), x.max(), 50)
             axes[0].plot(xs, r[pref] * xs ** r[expo], color=color, lw=0.8)
-            _errorbars(axes[1], x, g.drag, g.drag_err, i, None, scale=r[pref] * x ** r[expo])
+            _record(axes[0], f"fit mu = {mu:g}", xs, r[pref] * xs ** r[expo], kind="curve")
+            _errorbars(axes[1], x, g.drag, g.drag_err, i, None, scale=r[pref] * x ** r[expo],
+                       series=f"mu = {mu:g}")
     _plain_log(axes[0], "x")
     axes[0].set(yscale="log", xlabel=xlabel, ylabel=FY_LABEL)
     axes[0].legend(fontsize=7)
@@ -358,6 +403,7 @@ def _scaling_panels(rows, xcol, xlabel, table, expo, pref, name, outdir, logx_b)
     base = "(D^*+1)" if xcol == "D" else "{h^*}"
     axes[1].set_ylabel(f"$F^*_Y / [{sym}(\\mu)\\,{base}^{{\\{expo}_\\mu}}]$")
     axes[2].errorbar(table.mu, table[pref], yerr=table[pref + "_err"].fillna(0), fmt="o", capsize=2)
+    _record(axes[2], f"{pref}(mu)", table.mu, table[pref], table[pref + "_err"])
     axes[2].set(xlabel=MU_LABEL, ylabel=rf"${sym}(\mu)$")
     for ax, tag in zip(axes, "abc"):
         ax.set_title(f"({tag})", loc="left")
@@ -385,6 +431,7 @@ def fig17_yield_vs_h(df, outdir, alpha=None):
 def _by_kn(ax, table, col, err):
     for i, (kn, t) in enumerate(table.groupby("kn")):
         t = t.sort_values("mu")
+        _record(ax, f"K_n = {kn:.3g}", t.mu, t[col], t[err], kind="line")
         ax.errorbar(t.mu, t[col], yerr=t[err].fillna(0), fmt=MARKERS[i % len(MARKERS)] + "-",
                     mfc="none", capsize=2, ms=4, label=rf"$K_n = {_sci(kn)}$")
     ax.set_xlabel(MU_LABEL)
@@ -403,21 +450,38 @@ def fig14_phi_vs_mu(df, outdir, phi=None):
     return _save(fig, outdir, "fig14_phi_vs_mu")
 
 
-def fig18_alpha(df, outdir, phi=None, alpha=None):
-    """Fig. 18: (a) alpha_mu vs mu per K_n, (b) sum rule alpha_mu + phi_mu ~ 3."""
-    from .fits import sum_rule
+def fig18_alpha(df, outdir, phi=None, alpha=None, alpha_drag=None, speeds=None):
+    """Fig. 18: (a) alpha_mu vs mu per K_n: the paper's, the drag's depth exponent at the
+    speeds averaged (alpha_drag), with Fig. 17's from the yield force beside it (open);
+    (b) the sum rule alpha_mu + phi_mu ~ 3 with the averaged alpha_mu (with the yield
+    force's when the study has no drag at speed over depth)."""
+    from .fits import ALPHA_SPEEDS, fit_alpha_drag, sum_rule
     phi = fit_phi(df) if phi is None else phi
     alpha = fit_alpha(df) if alpha is None else alpha
-    if alpha.empty:
-        raise NoData("no alpha_mu fitted (system II yield pulls at two or more h)")
+    if alpha_drag is None:
+        alpha_drag = fit_alpha_drag(df, speeds=speeds or ALPHA_SPEEDS)[0]
+    if alpha.empty and alpha_drag.empty:
+        raise NoData("no alpha_mu fitted (system II pulls at two or more h)")
     fig, axes = _subplots(1, 2, figsize=(10, 3.8))
-    _by_kn(axes[0], alpha, "alpha", "alpha_err")
-    axes[0].set_ylabel(r"$\alpha_\mu$")
-    s = sum_rule(phi, alpha)
+    ax = axes[0]
+    for i, (kn, t) in enumerate(alpha_drag.groupby("kn")):
+        t = t.sort_values("mu")
+        _record(ax, f"drag, averaged over speeds, K_n = {kn:.3g}", t.mu, t.alpha, t.alpha_err, kind="line")
+        ax.errorbar(t.mu, t.alpha, yerr=t.alpha_err.fillna(0), fmt=MARKERS[i % len(MARKERS)] + "-", ms=4,
+                    capsize=2, label=rf"$K_n = {_sci(kn)}$ (drag at speed)")
+    for i, (kn, t) in enumerate(alpha.groupby("kn")):
+        t = t.sort_values("mu")
+        _record(ax, f"yield force, K_n = {kn:.3g}", t.mu, t.alpha, t.alpha_err)
+        ax.errorbar(t.mu, t.alpha, yerr=t.alpha_err.fillna(0), fmt=MARKERS[i % len(MARKERS)], mfc="none",
+                    ms=4, capsize=2, color="0.5", label=rf"$K_n = {_sci(kn)}$ (yield force, Fig. 17)")
+    ax.set(xlabel=MU_LABEL, ylabel=r"$\alpha_\mu$")
+    ax.legend(fontsize=7)
+    use, how = (alpha_drag, "averaged over speeds") if len(alpha_drag) else (alpha, "from the yield force")
+    s = sum_rule(phi, use)
     if len(s):
         _by_kn(axes[1], s, "sum", "sum_err")
     axes[1].axhline(paper.SUM_RULE, color="k", ls="--", lw=0.8)
-    axes[1].set_ylabel(r"$\alpha_\mu + \phi_\mu$")
+    axes[1].set_ylabel(rf"$\alpha_\mu + \phi_\mu$ ($\alpha_\mu$ {how})")
     for ax, tag in zip(axes, "ab"):
         ax.set_title(f"({tag})", loc="left")
     return _save(fig, outdir, "fig18_alpha_and_sum_rule")
@@ -529,8 +593,8 @@ def table1(df, outdir, fits=None):
     fig, ax = _subplots(figsize=(10.5, 0.4 * len(body) + 0.8))
     ax.axis("off")
     ax.table(cellText=body, colLabels=header, loc="center", cellLoc="center")
-    paths = _save(fig, outdir, "table1_mu0_regime1")
+    paths = _save(fig, outdir, "table1_mu0_regime1", data=pd.DataFrame(body, columns=header))
     md = Path(outdir) / "table1_mu0_regime1.md"
     md.write_text("| " + " | ".join(header) + " |\n|" + "---|" * len(header) + "\n"
                   + "".join("| " + " | ".join(r) + " |\n" for r in body))
-    return paths + [md]
+    return paths[:2] + [md] + paths[2:]

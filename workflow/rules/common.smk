@@ -125,11 +125,15 @@ onsuccess:
 
 
 def figure_files(subcategory, *names):
-    """Output files of figures: each one's PNG (in Snakemake's report) and PDF, and Table I's
-    Markdown."""
+    """Output files of figures: each one's PNG (in Snakemake's report), PDF and the data it
+    plots (CSV), and Table I's Markdown."""
     files = []
     for name in names:
-        files += [figure(name, subcategory), f"{REPORT}/{name}.pdf"]
+        files += [
+            figure(name, subcategory),
+            f"{REPORT}/{name}.pdf",
+            f"{REPORT}/{name}.csv",
+        ]
         if figure_list.BY_NAME[name].markdown:
             files.append(f"{REPORT}/{name}.md")
     return files
