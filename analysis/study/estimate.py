@@ -1,7 +1,7 @@
 """Job count and estimated cost of a study config, from measured throughput.
 
     /usr/bin/python3 -m analysis.study.estimate config/paper.yaml [--throughput PS] [--cores N] [--by-sweep]
-        [--measure [--grains G] [--binary build/granudrag]]
+        [--by-figure] [--measure [--grains G] [--binary build/granudrag]]
 
 Cost model (analysis.study.cost): a pull costs grains x travel / (V dt)
 particle-steps, a pour at most grains x max_settle_time / dt (pours that reach
@@ -31,6 +31,7 @@ from pathlib import Path
 import yaml
 
 from .. import study
+from .breakdown import by_figure
 
 # Assumed efficiency of a job's OpenMP threads beyond those measured here (2 threads: 0.93).
 PARALLEL_EFFICIENCY = 0.8
@@ -73,6 +74,8 @@ def main(argv=None):
     ap.add_argument("--throughput", type=float, help="particle-steps/s of one job (default: the config's)")
     ap.add_argument("--cores", type=int, default=2, help="cores for the wall-time estimate (default 2)")
     ap.add_argument("--by-sweep", action="store_true", help="break the cost down by sweep")
+    ap.add_argument("--by-figure", action="store_true",
+                    help="the cost of the runs behind each figure (the sweeps' `figures` keys)")
     ap.add_argument("--measure", action="store_true",
                     help="measure the throughput on this machine with `granudrag bench` (about a minute)")
     ap.add_argument("--grains", type=int, help="grains of the --measure bench (default: smallest system's, <= 70000)")
@@ -119,6 +122,12 @@ def main(argv=None):
         print("  pulls by sweep (particle-steps, share of all pulls):")
         for name, c in sorted(cost.items(), key=lambda kv: -kv[1]):
             print(f"    {name:24s} {count[name]:5d} pulls {c:10.3g} {c / s['pull_particle_steps']:6.1%}")
+    if args.by_figure:
+        print("  runs behind each figure (beds, pulls, core-hours with their beds; a run feeding "
+              "several figures counts in each):")
+        for figs, beds, pulls, ch, names in by_figure(config):
+            label = ", ".join(f"Fig. {f}" if f[0].isdigit() else f for f in figs) or "(no figure named)"
+            print(f"    {label}: {beds} beds, {pulls} pulls, {ch:.3g} core-h ({', '.join(names)})")
     return 0
 
 

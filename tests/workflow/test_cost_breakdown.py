@@ -1,0 +1,87 @@
+"""analysis.study.breakdown: the cost of a study by figure and by sweep."""
+import copy
+import subprocess
+from pathlib import Path
+
+import pytest
+import yaml
+
+from analysis import physics, study
+from analysis.study.breakdown import by_figure, by_sweep, core_hours
+
+ROOT = Path(__file__).resolve().parents[2]
+
+CONFIG = {
+    "threads": 2, "throughput": 1e7,
+    "defaults": {"kn": 2e4, "mu": 0.5, "seed": 1},
+    "systems": {"I": {"lx": 8, "ly": 8, "grains": 800, "pour": {"max_settle_time": 10},
+                      "pull": {"distance": 2}}},
+    "sweeps": [
+        {"name": "drag", "system": "I", "D": [1, 2], "depth": 4, "Fr": [0.5, 1], "figures": ["5", 15]},
+        {"name": "more", "system": "I", "D": 2, "depth": 4, "Fr": [1, 2], "figures": ["5"]},
+        {"name": "yield", "system": "I", "D": 2, "depth": 4, "V": 0.01, "pull": {"distance": 0.1}},
+    ],
+}
+
+
+def by_hand(beds, pulls):
+    """Core-hours of the given beds and pulls (D, Fr or V, distance), from the cost formulas."""
+    dt = physics.default_dt(2e4)
+    steps = beds * 800 * 10 / dt
+    for D, speed, distance in pulls:
+        V = physics.froude_speed(speed[1], D) if speed[0] == "Fr" else speed[1]
+        steps += 800 * distance / (V * dt)
+    return steps / 1e7 * 2 / 3600
+
+
+def test_a_figure_counts_each_of_its_runs_once():
+    config = copy.deepcopy(CONFIG)
+    study.validate_config(config)
+    rows = {tuple(figs): (beds, pulls, ch, names) for figs, beds, pulls, ch, names in by_figure(config)}
+    assert list(rows) == [("5",), ("15",), ()]
+    # Fig. 5: the two beds (D = 1, 2) and five pulls: D = 2 at Fr = 1 is in both sweeps, once.
+    beds, pulls, ch, names = rows[("5",)]
+    assert (beds, pulls, names) == (2, 5, ["drag", "more"])
+    want = by_hand(2, [(1, ("Fr", 0.5), 2), (1, ("Fr", 1), 2), (2, ("Fr", 0.5), 2), (2, ("Fr", 1), 2),
+                       (2, ("Fr", 2), 2)])
+    assert ch == pytest.approx(want, rel=1e-12)
+    assert rows[("15",)][:2] == (2, 4)
+    # The sweep that names no figure shares its bed with the others: counted there too.
+    assert rows[()][:2] == (1, 1) and rows[()][3] == ["yield"]
+    assert rows[()][2] == pytest.approx(by_hand(1, [(2, ("V", 0.01), 0.1)]), rel=1e-12)
+
+
+def test_the_whole_study_is_no_more_than_its_sweeps():
+    config = copy.deepcopy(CONFIG)
+    plan = study.plan(config)
+    s = study.summary(plan)
+    whole = core_hours(s["bed_particle_steps"] + s["pull_particle_steps"], config)
+    assert whole == pytest.approx(s["core_hours"], rel=1e-12)
+    parts = sum(ch for _, _, _, ch in by_sweep(config))
+    assert parts > whole          # beds shared by the sweeps count in each
+
+
+def test_estimate_cost_prints_the_cost_per_figure(tmp_path):
+    config = copy.deepcopy(CONFIG)
+    path = tmp_path / "c.yaml"
+    path.write_text(yaml.safe_dump(config))
+    out = subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"), str(path),
+                          "--by-figure"], capture_output=True, text=True, check=True).stdout
+    lines = [ln.strip() for ln in out.splitlines() if ln.strip().startswith("Fig.")]
+    assert [ln.split(":")[0] for ln in lines] == ["Fig. 5", "Fig. 15"]
+    ch = float(lines[0].split("pulls, ")[1].split()[0])
+    assert ch == pytest.approx(by_figure(config)[0][3], rel=1e-2)
+
+
+def test_figures_must_be_a_list():
+    config = copy.deepcopy(CONFIG)
+    config["sweeps"][0]["figures"] = {"5": 1}
+    with pytest.raises(study.ConfigError, match="figures"):
+        study.validate_config(config)
+
+
+def test_figures_on_the_same_runs_share_a_row():
+    config = copy.deepcopy(CONFIG)
+    config["sweeps"][1]["figures"] = ["5", "6"]
+    config["sweeps"][0]["figures"] = ["5", "6", "Table I"]
+    assert [figs for figs, *_ in by_figure(config)] == [["5", "6"], ["Table I"], []]
