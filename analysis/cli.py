@@ -4,12 +4,15 @@
                                      [--h-min 45] [--alpha-speeds 0.5,1,2,4,6]
     python -m analysis report TABLE.csv --fits fits.json --output-dir DIR [--trace trace.csv ...]
     python -m analysis predict --fits fits.json --D 4 --h 50 --mu 0.5 --V 2
+    python -m analysis validate {yield_speed,box_size,stiffness} RUNS.csv --output-dir DIR
 
 `fit` does what the workflow's `fits` rule does, on any table with the columns of
 results/table.csv (analysis.table.COLUMNS); the file it writes is described in
 analysis/README.md. `report` draws every figure and writes report.md and report.html as the
 workflow's figure and report rules do (figures whose data are not given are listed as not
-drawn). `predict` is `python -m analysis.predict`. Errors go to standard error with exit
+drawn). `predict` is `python -m analysis.predict`. `validate` compares a validation study's
+runs with the reference protocol (analysis.validation) and writes a figure, the comparison
+table and a sentence. Errors go to standard error with exit
 status 2; outputs are written under a temporary name and renamed when complete.
 """
 import argparse
@@ -77,6 +80,15 @@ def _report(args):
     return 0
 
 
+def _validate(args):
+    from .table import load_csv
+    from .validation import validate
+
+    paths = validate(load_csv(args.table), args.study, args.output_dir)
+    print(paths[-1].read_text().split("\n\n")[-1].strip())
+    return 0
+
+
 def _predict(argv):
     from .predict import main as predict_main
 
@@ -85,7 +97,7 @@ def _predict(argv):
 
 def parser():
     ap = argparse.ArgumentParser(prog="python -m analysis", description=__doc__.split("\n")[0])
-    sub = ap.add_subparsers(dest="command", required=True, metavar="{fit,report,predict}")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="{fit,report,predict,validate}")
     f = sub.add_parser("fit", help="every fit of the report -> fits.json")
     f.add_argument("table", help="pull table (CSV with the columns of results/table.csv)")
     f.add_argument("--output", required=True, help="fit file to write (JSON, analysis/README.md)")
@@ -104,6 +116,10 @@ def parser():
                        ("theory", "restitution theory CSV (Fig. 2)"), ("trace", "force trace CSV (Fig. 4)"),
                        ("coordination", "P(Z) CSV (Fig. 7)"), ("flow", "velocity-field CSV (Fig. 9)")):
         r.add_argument(f"--{name}", help=what)
+    v = sub.add_parser("validate", help="a validation study: does a cheaper protocol agree?")
+    v.add_argument("study", choices=["yield_speed", "box_size", "stiffness"], help="what is varied")
+    v.add_argument("table", help="run table (results/.../runs.csv; or the point table)")
+    v.add_argument("--output-dir", required=True, help="directory of validate_<study>.png/.csv/.md")
     sub.add_parser("predict", help="drag from a fit file (python -m analysis predict --help)",
                    add_help=False)
     return ap
@@ -117,7 +133,7 @@ def main(argv=None):
     from .table import TableError
 
     try:
-        return {"fit": _fit, "report": _report}[args.command](args)
+        return {"fit": _fit, "report": _report, "validate": _validate}[args.command](args)
     except (TableError, FitFileError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

@@ -102,3 +102,29 @@ rule fits:
         options=study.fit_options(config).to_dict(),
     script:
         "../scripts/fits.py"
+
+
+# A validation study's comparison (config/validate/*.yaml set `validation`): its runs
+# against the reference protocol, a figure, the table of comparisons and the sentence.
+if config.get("validation"):
+
+    rule validation:
+        input:
+            f"{RESULTS}/runs.csv",
+        output:
+            multiext(
+                f"{RESULTS}/validate_{config['validation']}",
+                ".png",
+                ".pdf",
+                ".csv",
+                ".md",
+            ),
+        log:
+            f"{LOGS}/validation.log",
+        conda:
+            "../envs/analysis.yaml"
+        params:
+            study=config["validation"],
+            outdir=RESULTS,
+        script:
+            "../scripts/validate.py"

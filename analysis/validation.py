@@ -1,0 +1,221 @@
+"""Validation studies: does a cheaper protocol give the paper's numbers within errors?
+
+Each study varies one thing of the protocol — the yield pull's speed, the box, the stiffness —
+and compares the drag of every point (same D, μ, depth and, for pulls at speed, Fr) with
+its value under the reference protocol (the slowest yield speed, the largest box, the
+stiffest K_n). A variant agrees at a point when
+
+    z = (F - F_ref) / sqrt(e^2 + e_ref^2),  |z| < Z_AGREE,
+
+with e the drag's error. Where the variants were pulled through the same beds (the yield
+speed: one bed, several speeds; replicate beds by `seeds`), the comparison is paired, bed by
+bed: the bed's own randomness is common to both pulls and cancels, so the difference
+carries only the pulls' within-run errors. Elsewhere (other boxes and stiffnesses need their
+own beds) the point table's errors, which include the scatter between beds, are used.
+
+    python -m analysis validate yield_speed results/validate/runs.csv --output-dir DIR
+
+writes DIR/validate_<study>.png, .pdf, .csv (every comparison) and .md (the sentence).
+"""
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .table import combine_beds, write_csv
+
+Z_AGREE = 2.0   # |z| below this: agrees (a 95 % two-sided test for one comparison)
+
+
+@dataclass(frozen=True)
+class Study:
+    name: str
+    variant: str        # the column that varies
+    reference: str      # "min" or "max": which value is the reference protocol
+    keys: tuple         # what must be equal for two runs to be the same point
+    label: str          # the variant, as text
+    paired: bool        # variants share beds: compare bed by bed
+    question: str       # what the sentence answers
+
+
+STUDIES = {
+    "yield_speed": Study("yield_speed", "V", "min", ("system", "D", "h_requested", "mu", "kn", "gamman"),
+                         "V", True, "the fastest yield speed that agrees with the slowest at every point"),
+    "box_size": Study("box_size", "lx", "max", ("D", "h_requested", "mu", "kn", "gamman", "Fr"),
+                      "box length lx (d)", False, "the smallest box that agrees with the largest, for each D"),
+    "stiffness": Study("stiffness", "kn", "max", ("system", "D", "h_requested", "mu", "Fr"),
+                       "K_n", False, "how much the drag moves per decade of K_n"),
+}
+
+
+class ValidationError(ValueError):
+    """The table cannot answer the study's question (says what is missing)."""
+
+
+def _keys(df, study):
+    keys = [k for k in study.keys if k in df.columns]
+    if study.variant not in df.columns:
+        raise ValidationError(f"{study.name}: the table has no column '{study.variant}'")
+    return keys
+
+
+def _rounded(df, keys):
+    return df.assign(**{f"_{k}": df[k].round(6) if df[k].dtype.kind == "f" else df[k] for k in keys})
+
+
+def compare(runs, study):
+    """One row per (point, variant value other than the reference): the drags, the relative
+    difference (F - F_ref) / F_ref with its error, z and whether they agree.
+
+    `runs`: the run table (runs.csv; one row per pull, `seed` telling beds apart) or a point
+    table (table.csv). Paired comparison for studies whose variants share beds."""
+    if isinstance(study, str):
+        study = STUDIES[study]
+    keys = _keys(runs, study)
+    if "sanity" in runs.columns:
+        runs = runs[runs.sanity.fillna("clean") == "clean"]
+    table = runs if (study.paired or "seed" not in runs.columns or "n_beds" in runs.columns) else combine_beds(runs)
+    table = _rounded(table, keys + [study.variant])
+    gkeys = [f"_{k}" for k in keys]
+    rows = []
+    for _, g in table.groupby(gkeys, sort=True):
+        values = np.sort(g[f"_{study.variant}"].unique())
+        if len(values) < 2:
+            continue
+        ref = values[0] if study.reference == "min" else values[-1]
+        base = g[g[f"_{study.variant}"] == ref]
+        for v in values[values != ref]:
+            other = g[g[f"_{study.variant}"] == v]
+            rows.append(_difference(base, other, study, keys, ref, v))
+    if not rows:
+        raise ValidationError(
+            f"{study.name}: no point was run at two or more values of {study.variant} "
+            f"(points are told apart by {', '.join(keys)})")
+    return pd.DataFrame(rows)
+
+
+def _difference(base, other, study, keys, ref, v):
+    first = base.iloc[0]
+    row = {k: first[k] for k in keys} | {"reference": ref, "variant": v}
+    if study.paired and "seed" in base.columns:
+        pairs = base.merge(other, on="seed", suffixes=("_ref", ""))
+        if len(pairs):
+            d = pairs.drag - pairs.drag_ref
+            de2 = pairs.drag_err**2 + pairs.drag_err_ref**2
+            f_ref, f = pairs.drag_ref.mean(), pairs.drag.mean()
+            diff, diff_err = d.mean(), np.sqrt(de2.sum()) / len(pairs)
+            row |= {"drag_ref": f_ref, "drag": f, "beds": len(pairs), "paired": True,
+                    "drag_err_ref": np.sqrt((pairs.drag_err_ref**2).sum()) / len(pairs),
+                    "drag_err": np.sqrt((pairs.drag_err**2).sum()) / len(pairs)}
+            return _verdict(row, diff, diff_err)
+    f_ref, e_ref = base.drag.mean(), np.sqrt((base.drag_err**2).sum()) / len(base)
+    f, e = other.drag.mean(), np.sqrt((other.drag_err**2).sum()) / len(other)
+    row |= {"drag_ref": f_ref, "drag": f, "drag_err_ref": e_ref, "drag_err": e,
+            "beds": int(other.get("n_beds", pd.Series([len(other)])).iloc[0]), "paired": False}
+    return _verdict(row, f - f_ref, np.hypot(e, e_ref))
+
+
+def _verdict(row, diff, diff_err):
+    z = diff / diff_err if diff_err > 0 else np.inf * np.sign(diff)
+    return row | {"rel_diff": diff / row["drag_ref"], "rel_diff_err": diff_err / abs(row["drag_ref"]),
+                  "z": z, "agrees": bool(abs(z) < Z_AGREE)}
+
+
+def conclusion(cmp, study):
+    """The sentence: per variant value, how many points agree, the largest |z| and the mean
+    relative difference; then the study's answer."""
+    if isinstance(study, str):
+        study = STUDIES[study]
+    parts = []
+    for v, g in cmp.groupby("variant"):
+        ref = g.reference.iloc[0]
+        parts.append(f"{study.variant} = {v:g} against {ref:g}: agrees at {int(g.agrees.sum())} of {len(g)} "
+                     f"points (largest |z| {np.abs(g.z).max():.2g}; relative difference "
+                     f"{100 * g.rel_diff.mean():+.1f} % on average, "
+                     f"{100 * g.rel_diff.min():+.1f} % to {100 * g.rel_diff.max():+.1f} %)")
+    answer = _answer(cmp, study)
+    return "; ".join(parts) + f". {answer}"
+
+
+def _answer(cmp, study):
+    if study.name == "yield_speed":
+        ok = [v for v, g in cmp.groupby("variant") if g.agrees.all()]
+        slower = sorted(cmp.variant.unique())
+        fastest = None
+        for v in slower:                       # the agreeing speeds must be contiguous from the slowest
+            if v not in ok:
+                break
+            fastest = v
+        ref = cmp.reference.iloc[0]
+        return (f"The yield pulls can run at V = {fastest:g} instead of {ref:g} ({fastest / ref:.3g}x fewer steps)."
+                if fastest else f"No faster yield speed agrees with V = {ref:g}: keep it.")
+    if study.name == "box_size":
+        out = []
+        for D, g in cmp.groupby("D"):
+            ok = sorted(v for v, h in g.groupby("variant") if h.agrees.all())
+            ref = g.reference.iloc[0]
+            smallest = ref
+            for v in sorted(g.variant.unique(), reverse=True):
+                if v not in ok:
+                    break
+                smallest = v
+            out.append(f"D = {D:g}: lx = {smallest:g}")
+        return "Smallest box that agrees: " + ", ".join(out) + "."
+    # stiffness: the drag's change per decade of K_n
+    dec = np.log10(cmp.variant / cmp.reference)
+    per_decade = (cmp.rel_diff / dec).mean()
+    return (f"The drag moves by {100 * per_decade:+.1f} % per decade of K_n on average (negative: softer "
+            "contacts give a smaller drag), the stated bias of a study at a softer K_n.")
+
+
+def draw(cmp, study, outdir):
+    """validate_<name>.png/.pdf: F/F_ref against the variant, one series per point."""
+    import matplotlib.pyplot as plt
+
+    if isinstance(study, str):
+        study = STUDIES[study]
+    plt.switch_backend("Agg")
+    fig, ax = plt.subplots(figsize=(5.5, 3.8), layout="constrained")
+    keys = [k for k in study.keys if k in cmp.columns and cmp[k].nunique() > 1]
+    for i, (key, g) in enumerate(cmp.groupby(keys, sort=True) if keys else [((), cmp)]):
+        key = key if isinstance(key, tuple) else (key,)
+        label = ", ".join(f"{k.replace('_requested', '')} = {v:g}" for k, v in zip(keys, key))
+        x = np.concatenate([[g.reference.iloc[0]], g.variant])
+        y = np.concatenate([[1.0], 1.0 + g.rel_diff])
+        err = np.concatenate([[0.0], g.rel_diff_err])
+        ax.errorbar(x, y, yerr=err, fmt="os^vD<>p"[i % 8] + "-", ms=4, mfc="none", capsize=2, lw=0.8,
+                    label=label or None)
+    ax.axhline(1.0, color="k", lw=0.8, ls="--")
+    if study.variant in ("V", "kn"):
+        ax.set_xscale("log")
+    ax.set_xlabel(study.label)
+    ax.set_ylabel(r"$F / F_{\rm ref}$ (reference protocol: 1)")
+    if keys:
+        ax.legend(fontsize=7)
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    paths = [outdir / f"validate_{study.name}.png", outdir / f"validate_{study.name}.pdf"]
+    for p in paths:
+        fig.savefig(p, dpi=150)
+    plt.close(fig)
+    return paths
+
+
+def validate(runs, study, outdir):
+    """Compare, draw, and write the comparison table and the sentence; returns the paths."""
+    if isinstance(study, str):
+        if study not in STUDIES:
+            raise ValidationError(f"unknown validation study '{study}': one of {', '.join(STUDIES)}")
+        study = STUDIES[study]
+    cmp = compare(runs, study)
+    outdir = Path(outdir)
+    paths = draw(cmp, study, outdir)
+    write_csv(cmp, outdir / f"validate_{study.name}.csv")
+    md = outdir / f"validate_{study.name}.md"
+    tmp = md.with_suffix(".md.tmp")
+    tmp.write_text(f"### Validation: {study.name.replace('_', ' ')}\n\n"
+                   f"![{study.question}](validate_{study.name}.png)\n\n{conclusion(cmp, study)}\n")
+    tmp.replace(md)
+    return paths + [outdir / f"validate_{study.name}.csv", md]

@@ -1,0 +1,95 @@
+"""analysis.validation: comparisons of a cheaper protocol with the reference one."""
+import numpy as np
+import pandas as pd
+import pytest
+
+from analysis import validation as val
+
+
+def yield_runs(shift, beds=3, noise=0.01, bed_scatter=0.06, seed=1):
+    """Runs of a yield-speed study: 2 D x 2 mu, speeds 0.01/0.03/0.1, `beds` beds each.
+    Each bed shifts all its pulls by the same factor (bed_scatter); each pull has its own
+    within-run noise (relative `noise`, its error). The drag at V is F0 (1 + shift[V])."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for D in (2.0, 3.0):
+        for mu in (0.0, 0.5):
+            F0 = 100 * D * (1 + mu)
+            for b in range(1, beds + 1):
+                bed = 1 + bed_scatter * rng.standard_normal()
+                for V in (0.01, 0.03, 0.1):
+                    F = F0 * bed * (1 + shift[V])
+                    rows.append(dict(system="I", D=D, h_requested=6.5, mu=mu, kn=2e4, gamman=199.05, V=V,
+                                     Fr=V / np.sqrt(D), seed=b, drag=F * (1 + noise * rng.standard_normal()),
+                                     drag_err=noise * F, sanity="clean"))
+    return pd.DataFrame(rows)
+
+
+def test_paired_comparison_finds_a_small_shift_that_bed_scatter_would_hide():
+    runs = yield_runs({0.01: 0.0, 0.03: 0.0, 0.1: 0.08})
+    cmp = val.compare(runs, "yield_speed")
+    assert set(cmp.variant) == {0.03, 0.1} and len(cmp) == 8 and cmp.paired.all()
+    slow, fast = cmp[cmp.variant == 0.03], cmp[cmp.variant == 0.1]
+    assert slow.agrees.all()                       # no shift: |z| < 2 at all four points
+    assert not fast.agrees.any()                   # 8 % against 1 %/sqrt(3) errors: z ~ 10
+    assert fast.rel_diff.mean() == pytest.approx(0.08, abs=0.02)
+    # The paired error is the within-run one only: sqrt(2) x 1 % / sqrt(3) beds.
+    assert slow.rel_diff_err.median() == pytest.approx(0.01 * np.sqrt(2 / 3), rel=0.2)
+    text = val.conclusion(cmp, "yield_speed")
+    assert "V = 0.03 instead of 0.01" in text and "agrees at 4 of 4" in text and "agrees at 0 of 4" in text
+
+
+def test_a_shift_at_the_middle_speed_keeps_the_slowest():
+    runs = yield_runs({0.01: 0.0, 0.03: 0.1, 0.1: 0.0})
+    assert "keep it" in val.conclusion(val.compare(runs, "yield_speed"), "yield_speed")
+
+
+def box_runs(shift_small):
+    rows = []
+    for D in (2.0, 6.0):
+        for lx in (20.0, 30.0, 40.0):
+            for Fr in (1.0, 5.0):
+                F = 100 * D * (1 + 0.1 * Fr) * (1 + (shift_small if (lx == 20 and D == 6) else 0.0))
+                rows.append(dict(system=f"box{lx:g}", D=D, h_requested=10.0, mu=0.5, kn=2e4, gamman=199.05,
+                                 Fr=Fr, V=Fr * np.sqrt(D), lx=lx, ly=lx, seed=1, n_beds=2, drag=F,
+                                 drag_err=0.02 * F, sanity="clean"))
+    return pd.DataFrame(rows)
+
+
+def test_box_size_names_the_smallest_box_that_agrees_for_each_D():
+    cmp = val.compare(box_runs(0.2), "box_size")
+    assert not cmp.paired.any() and set(cmp.reference) == {40.0}
+    text = val.conclusion(cmp, "box_size")
+    assert "D = 2: lx = 20" in text and "D = 6: lx = 30" in text
+
+
+def test_stiffness_states_the_drift_per_decade():
+    rows = []
+    for kn in (2e4, 2e5, 2e6):
+        for Fr in (0.5, 2.0):
+            F = 100 * (1 + 0.05 * np.log10(kn / 2e6))    # +5 % per decade of K_n
+            rows.append(dict(system="I", D=2.0, h_requested=6.5, mu=0.5, kn=kn, gamman=1.0, Fr=Fr, V=Fr,
+                             seed=1, n_beds=1, drag=F, drag_err=0.5, sanity="clean"))
+    cmp = val.compare(pd.DataFrame(rows), "stiffness")
+    assert set(cmp.reference) == {2e6} and len(cmp) == 4
+    assert "+5.0 % per decade" in val.conclusion(cmp, "stiffness")
+
+
+def test_flagged_runs_and_missing_variants_are_named(tmp_path):
+    runs = yield_runs({0.01: 0.0, 0.03: 0.0, 0.1: 0.0})
+    runs.loc[runs.V != 0.01, "sanity"] = "overlap 0.3 d > max_overlap"
+    with pytest.raises(val.ValidationError, match="no point was run at two or more values of V"):
+        val.compare(runs, "yield_speed")
+    with pytest.raises(val.ValidationError, match="unknown validation study 'speed'"):
+        val.validate(runs, "speed", tmp_path)
+
+
+def test_validate_writes_figure_table_and_sentence(tmp_path):
+    paths = val.validate(yield_runs({0.01: 0.0, 0.03: 0.0, 0.1: 0.08}), "yield_speed", tmp_path)
+    names = sorted(p.name for p in paths)
+    assert names == ["validate_yield_speed.csv", "validate_yield_speed.md", "validate_yield_speed.pdf",
+                     "validate_yield_speed.png"]
+    assert (tmp_path / "validate_yield_speed.png").stat().st_size > 5000
+    back = pd.read_csv(tmp_path / "validate_yield_speed.csv")
+    assert len(back) == 8 and {"z", "rel_diff", "agrees"} <= set(back.columns)
+    assert "V = 0.03 instead of 0.01" in (tmp_path / "validate_yield_speed.md").read_text()

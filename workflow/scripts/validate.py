@@ -1,0 +1,9 @@
+"""Rule validation: a validation study's runs against the reference protocol (analysis.validation)."""
+
+from analysis.study.script import start
+from analysis.table import load_csv
+from analysis.validation import validate
+
+log = start(snakemake)
+paths = validate(load_csv(snakemake.input[0]), snakemake.params.study, snakemake.params.outdir)
+log.info(paths[-1].read_text())
