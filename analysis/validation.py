@@ -141,16 +141,24 @@ def conclusion(cmp, study):
 
 def _answer(cmp, study):
     if study.name == "yield_speed":
-        ok = [v for v, g in cmp.groupby("variant") if g.agrees.all()]
-        slower = sorted(cmp.variant.unique())
-        fastest = None
-        for v in slower:                       # the agreeing speeds must be contiguous from the slowest
-            if v not in ok:
-                break
-            fastest = v
+        def fastest(c):
+            ok, best = [v for v, g in c.groupby("variant") if g.agrees.all()], None
+            for v in sorted(c.variant.unique()):   # agreeing speeds must be contiguous from the slowest
+                if v not in ok:
+                    break
+                best = v
+            return best
+
+        def say(best, ref, who):
+            if best is None:
+                return f"{who}: no faster speed agrees with V = {ref:g}, keep it"
+            return f"{who}: V = {best:g} instead of {ref:g} ({best / ref:.3g}x fewer steps)"
+
         ref = cmp.reference.iloc[0]
-        return (f"The yield pulls can run at V = {fastest:g} instead of {ref:g} ({fastest / ref:.3g}x fewer steps)."
-                if fastest else f"No faster yield speed agrees with V = {ref:g}: keep it.")
+        parts = [say(fastest(cmp), ref, "Yield pulls at every point")]
+        if "mu" in cmp.columns and cmp.mu.nunique() > 1:
+            parts += [say(fastest(g), ref, f"at mu = {mu:g}") for mu, g in cmp.groupby("mu")]
+        return "; ".join(parts) + "."
     if study.name == "box_size":
         out = []
         for D, g in cmp.groupby("D"):

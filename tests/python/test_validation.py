@@ -36,12 +36,12 @@ def test_paired_comparison_finds_a_small_shift_that_bed_scatter_would_hide():
     # The paired error is the within-run one only: sqrt(2) x 1 % / sqrt(3) beds.
     assert slow.rel_diff_err.median() == pytest.approx(0.01 * np.sqrt(2 / 3), rel=0.2)
     text = val.conclusion(cmp, "yield_speed")
-    assert "V = 0.03 instead of 0.01" in text and "agrees at 4 of 4" in text and "agrees at 0 of 4" in text
+    assert "every point: V = 0.03 instead of 0.01" in text and "agrees at 4 of 4" in text and "agrees at 0 of 4" in text
 
 
 def test_a_shift_at_the_middle_speed_keeps_the_slowest():
     runs = yield_runs({0.01: 0.0, 0.03: 0.1, 0.1: 0.0})
-    assert "keep it" in val.conclusion(val.compare(runs, "yield_speed"), "yield_speed")
+    assert "every point: no faster speed agrees with V = 0.01, keep it" in val.conclusion(val.compare(runs, "yield_speed"), "yield_speed")
 
 
 def box_runs(shift_small):
