@@ -41,7 +41,8 @@ def test_paired_comparison_finds_a_small_shift_that_bed_scatter_would_hide():
 
 def test_a_shift_at_the_middle_speed_keeps_the_slowest():
     runs = yield_runs({0.01: 0.0, 0.03: 0.1, 0.1: 0.0})
-    assert "every point: no faster speed agrees with V = 0.01, keep it" in val.conclusion(val.compare(runs, "yield_speed"), "yield_speed")
+    text = val.conclusion(val.compare(runs, "yield_speed"), "yield_speed")
+    assert "every point: no faster speed agrees with V = 0.01, keep it" in text
 
 
 def box_runs(shift_small):
