@@ -47,9 +47,11 @@ def _non_negative(kind, name):
 
 def _fit(args):
     from .fitset import Options, run_fits, save_results
-    from .table import load_csv
+    from .table import load_csv, mark_yield
 
     df = load_csv(args.table)
+    if args.yield_speed is not None:
+        df = mark_yield(df, args.yield_speed)
     if Path(args.output).resolve() == Path(args.table).resolve():
         raise ValueError(f"--output {args.output} is the input table; name another file")
     opt = Options(n_boot=args.n_boot, seed=args.seed, h_min=args.h_min, alpha_speeds=args.alpha_speeds)
@@ -106,6 +108,8 @@ def parser():
     f.add_argument("--seed", type=_non_negative(int, "--seed"), default=0, help="bootstrap seed")
     f.add_argument("--h-min", type=_non_negative(float, "--h-min"), default=0.0,
                    help="Eq. 12 and Fig. 19 use pulls at depth h >= this only [d] (paper: 45; 0 = all)")
+    f.add_argument("--yield-speed", type=_non_negative(float, "--yield-speed"),
+                   help="speed of the yield pulls (default: the table's yield_pull column, else 0.01)")
     f.add_argument("--alpha-speeds", type=_speeds, default=ALPHA_SPEEDS,
                    help="speeds the paper's alpha_mu is averaged over (default 0.5,1,2,4,6)")
     r = sub.add_parser("report", help="every figure, report.md and report.html")

@@ -25,7 +25,7 @@ from . import paper
 from .fits import evaluate, fit_alpha, fit_kappa, fit_phi, fit_regimes, fit_saturation, fit_theta
 from .physics import gamman_ratio
 from .result import format_pm
-from .table import YIELD_SPEED, reference_params, select, write_csv, yield_rows
+from .table import is_yield, reference_params, select, write_csv, yield_rows
 
 plt.switch_backend("Agg")  # files only, no display
 
@@ -148,7 +148,8 @@ def _plain_log(ax, which="x"):
 
 def _moving(rows, by):
     """Groups that have pulls above the yield speed (drag-vs-Fr series)."""
-    keep = rows.groupby(by).V.transform(lambda v: (~np.isclose(v, YIELD_SPEED)).any())
+    keys = [rows[b] for b in by] if isinstance(by, (list, tuple)) else rows[by]
+    keep = pd.Series(~is_yield(rows), index=rows.index).groupby(keys).transform("any")
     return rows[keep.astype(bool)]
 
 
@@ -163,7 +164,7 @@ def _regime_fits(rows, by, mu, fits):
     fits = dict(fits or {})
     for key, g in rows.groupby(by):
         if key not in fits:
-            g = g[~np.isclose(g.V, YIELD_SPEED)]      # fitted to the pulls at speed, as the report
+            g = g[~is_yield(g)]      # fitted to the pulls at speed, as the report
             try:
                 fits[key] = fit_regimes(g.Fr, g.drag, g.drag_err, n_boot=0,
                                         regime1="power" if mu == 0 else "constant")

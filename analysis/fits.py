@@ -23,7 +23,7 @@ from scipy.optimize import curve_fit
 
 from .regimes import RegimeFitter, fit_regimes, regime_curve
 from .result import Fit, Param
-from .table import YIELD_SPEED, froude, reference_params, select, yield_rows
+from .table import froude, is_yield, reference_params, select, yield_rows
 
 __all__ = ["Fit", "Param", "fit_regimes", "regime_curve", "fit_theta", "fit_kappa",
            "fit_linear", "fit_power_law", "fit_saturation", "fit_phi", "fit_alpha",
@@ -214,7 +214,7 @@ def _exponent_table(df, variable, system, names, speed):
     return table.astype(float) if table.empty else table
 
 
-def fit_phi(df, speed=YIELD_SPEED, system="I"):
+def fit_phi(df, speed=None, system="I"):
     """phi_mu and f(mu) from F_Y = f(mu) (D*+1)^phi_mu, one fit per (mu, kn, gamman).
 
     f(mu) is the fitted prefactor: the paper draws it (Fig. 13c) but gives
@@ -223,7 +223,7 @@ def fit_phi(df, speed=YIELD_SPEED, system="I"):
     return _exponent_table(df, "D", system, ("phi", "f"), speed)
 
 
-def fit_alpha(df, speed=YIELD_SPEED, system="II"):
+def fit_alpha(df, speed=None, system="II"):
     """alpha_mu and g(mu) from F_Y = g(mu) h^alpha_mu, one fit per (mu, kn, gamman)."""
     return _exponent_table(df, "h", system, ("alpha", "g"), speed)
 
@@ -241,7 +241,7 @@ def fit_alpha_speeds(df, speeds=ALPHA_SPEEDS, system="II", match=SPEED_MATCH):
     F_drag = c h^alpha_V over the depths pulled at that speed, one fit per (mu, kn, gamman)
     and speed. A speed of the table within `match` (relative) of a target stands for it
     (a sweep on a Froude grid has other speeds); each table speed serves one target."""
-    rows = df[(df.system == system) & ~np.isclose(df.V, YIELD_SPEED, rtol=1e-6, atol=1e-12)]
+    rows = df[(df.system == system) & ~is_yield(df)]
     out = []
     for (mu, kn, gn), g in rows.groupby(["mu", "kn", "gamman"]):
         have = np.unique(g.V.to_numpy())
@@ -384,7 +384,7 @@ def fit_scaling_law(df, phi, alpha, *, mu, kn=None, gamman=None, h_min=None,
     # The regimes are fitted to the pulls at speed, as the paper's Figs. 5, 10 and 19: the
     # yield pulls' Fr values differ only through D and would otherwise pass for a whole
     # regime, and at mu = 0 they alone would fix a0 of a0 + b0 Fr^c0.
-    moving = rows[~np.isclose(rows.V, YIELD_SPEED)]
+    moving = rows[~is_yield(rows)]
     if moving.Fr.round(6).nunique() < 8:
         raise ValueError(f"needs pulls at 8 or more Froude numbers above the yield speed "
                          f"at mu={mu:g}" + (f", h >= {h_min:g}" if h_min else "")

@@ -28,7 +28,7 @@ from .fits import (
     save_fits,
     sum_rule,
 )
-from .table import YIELD_SPEED, reference_params, select, validate_table, yield_rows
+from .table import is_yield, reference_params, select, validate_table, yield_rows
 
 
 @dataclass
@@ -103,7 +103,7 @@ def run_fits(df, n_boot=200, seed=0, options=None):
     for label, system, by, mus in (("D", "I", "D", (0.5, 0.0)), ("h", "II", "h", (0.5,))):
         for mu in mus:
             for key, g in select(ref, mu=mu, system=system).groupby(by):
-                moving = g[~np.isclose(g.V, YIELD_SPEED)]
+                moving = g[~is_yield(g)]
                 if moving.empty:
                     continue        # yield pulls only: no drag-vs-Fr series here
                 # The paper fits the drag-vs-Fr data (Figs. 5, 10, 16); the yield pull is

@@ -26,7 +26,7 @@ from .figures import not_drawn_reason
 from .fits import write_text_atomic
 from .fitset import Results, load_results, run_fits, save_results
 from .result import Param, format_pm
-from .table import YIELD_SPEED, reference_params, select, yield_rows
+from .table import is_yield, reference_params, select, yield_rows
 
 __all__ = ["Results", "build_report", "comparisons", "run_fits", "verdict", "write_report"]
 
@@ -99,7 +99,7 @@ def _basis(rows):
 
 
 def _moving(rows):
-    return rows[~np.isclose(rows.V, YIELD_SPEED)]
+    return rows[~is_yield(rows)]
 
 
 def comparisons(r, df=None):

@@ -127,9 +127,24 @@ def save_csv(df, path):
 # `analysis.runs.load_runs(paths)`.
 
 
-def yield_rows(df, speed=YIELD_SPEED):
-    """Rows pulled at the zero-speed limit (their drag is the yield force F_Y)."""
-    return df[np.isclose(df.V, speed, rtol=1e-6, atol=1e-12)]
+def is_yield(df, speed=None):
+    """Which rows are yield pulls (their drag is the yield force F_Y, the zero-speed limit):
+    those pulled at `speed` if one is given; else the table's `yield_pull` column when it has
+    one (the workflow sets it from the config's report.yield_speed: a study may pull its yield
+    pulls faster than the paper's 0.01 once validated); else those at YIELD_SPEED."""
+    if speed is None and "yield_pull" in df.columns:
+        return df["yield_pull"].astype(bool).to_numpy()
+    return np.isclose(df.V, YIELD_SPEED if speed is None else speed, rtol=1e-6, atol=1e-12)
+
+
+def mark_yield(df, speed):
+    """The table with its `yield_pull` column set: pulled at `speed`."""
+    return df.assign(yield_pull=np.isclose(df.V, speed, rtol=1e-6, atol=1e-12))
+
+
+def yield_rows(df, speed=None):
+    """Rows pulled at the zero-speed limit (is_yield)."""
+    return df[is_yield(df, speed)]
 
 
 def reference_params(df):

@@ -230,3 +230,20 @@ def test_regime_fits_leave_the_yield_pull_out():
     assert fa.values() == fb.values()
     assert fa.n_points == len(synth.FR_GRID)
     assert fb.meta["yield_pull"]["drag"] == pytest.approx(float(moved.loc[y, "drag"].iloc[0]))
+
+
+def test_yield_pulls_at_a_validated_faster_speed_are_found_by_their_mark(table):
+    # A study whose yield pulls ran at V = 0.03 (report.yield_speed): the table marks them,
+    # and phi and alpha are the same as from the same forces at 0.01; unmarked, those pulls
+    # would be taken for pulls at speed and no yield force would be found.
+    import pandas as pd
+
+    from analysis.table import YIELD_SPEED, is_yield, mark_yield
+
+    faster = table.assign(V=np.where(np.isclose(table.V, YIELD_SPEED), 0.03, table.V))
+    assert not is_yield(faster).any()
+    assert fit_phi(faster).empty
+    marked = mark_yield(faster, 0.03)
+    assert is_yield(marked).sum() == np.isclose(table.V, YIELD_SPEED).sum() > 0
+    pd.testing.assert_frame_equal(fit_phi(marked), fit_phi(table))
+    pd.testing.assert_frame_equal(fit_alpha(marked), fit_alpha(table))

@@ -17,6 +17,7 @@ rule table:
     params:
         root=lambda wildcards, output: Path(output.table).parent,
         allow_failed=config["table"]["allow_failed"],
+        yield_speed=config["report"].get("yield_speed", 0.01),
     script:
         "../scripts/make_table.py"
 

@@ -9,7 +9,7 @@ import pandas as pd
 
 from analysis.runs import load_runs, read_coordination_distribution
 from analysis.study.script import start
-from analysis.table import combine_beds, save_csv, write_csv
+from analysis.table import combine_beds, mark_yield, save_csv, write_csv
 
 sm = snakemake
 log = start(sm)
@@ -32,6 +32,7 @@ if len(off):
         f"depth: measured minus requested from {-off.max():.3f} to {-off.min():.3f} d "
         f"(largest: requested {worst.h_requested:g}, measured {worst.h:.3f}, {worst.run})"
     )
+df = mark_yield(df, sm.params.yield_speed)  # which pulls are the yield force (report.yield_speed)
 save_csv(df, sm.output.runs)
 points = combine_beds(df)
 replicated = points[points.n_beds > 1]
