@@ -52,8 +52,8 @@ RUN_VERSIONS = (1, 2)   # 1: parameters as YAML text (legacy path), 2: parameter
 # the scale of the run (box, grains poured, distance pulled; NaN when the file
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
-                 "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "sanity",
-                 "path"]
+                 "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "stop_reason",
+                 "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
@@ -153,6 +153,10 @@ def read_run(path, system=None, root=None):
 
         drag, drag_err = observable("drag"), observable("drag", "error")
         drag_dof, plateau = _drag_convergence(_group(obs, "drag", path), drag_err)
+        # Why the pull ended: "distance", or "target_error" (sequential stopping); files from
+        # before sequential stopping travelled their distance.
+        stop = _group(obs, "drag", path).attrs.get("stop_reason", "distance")
+        stop_reason = stop.decode() if isinstance(stop, bytes) else str(stop)
         transient = observable("drag", "transient_distance")
         n = observable("coordination")
         theta, theta_err = observable("theta"), observable("theta", "error")
@@ -204,7 +208,8 @@ def read_run(path, system=None, root=None):
             "run": str(run_dir), "h_requested": h_requested, "dt": get["dt"],
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
-            **scale, "distance": get["speed"] * get["steps"] * get["dt"], "sanity": sanity,
+            **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,
+            "sanity": sanity,
             "path": str(path)}
 
 

@@ -8,7 +8,25 @@ one job on `threads` threads).
 
 import math
 
-from ..physics import default_dt
+from ..physics import default_dt, froude
+
+# Sequential stopping (a pull's `target_error`): the drag's relative standard error after L d of
+# travel past the transient is about c(Fr) / sqrt(L), and the stopping rule wants at least
+# STOP_MIN_DOF effective samples, one per STOP_CORRELATION_LENGTH of travel. Measured on the
+# pulls of config/regen-small.yaml (78 pulls of 12 d, K_n = 2e5, D = 2 and 3): the median of
+# drag_err / drag * sqrt(L) is 0.15 at Fr <= 1, 0.29 at Fr 1-3, 0.42 at Fr 3-6, 0.71 at
+# Fr 6-15, and of L / drag_dof 1.0-2.7 d; the line below passes through those medians.
+STOP_ERROR_INTERCEPT, STOP_ERROR_SLOPE = 0.15, 0.055
+STOP_CORRELATION_LENGTH = 2.5  # d
+STOP_MIN_DOF = 10              # as granudrag pull's stopping rule
+
+
+def expected_stop_distance(Fr, target, transient, min_distance, most):
+    """Expected travel, d, of a pull with a target error: the transient, then the travel the
+    error model needs, no less than min_distance, at most `most` (the pull's distance)."""
+    c = STOP_ERROR_INTERCEPT + STOP_ERROR_SLOPE * Fr
+    needed = max((c / target) ** 2, STOP_MIN_DOF * STOP_CORRELATION_LENGTH)
+    return min(most, max(min_distance, transient + needed))
 
 
 def bed_dt(bed, config):
@@ -24,11 +42,21 @@ def bed_cost(bed, config):
 
 
 def pull_distance(pull, config):
+    """Travel of a pull, d: its distance (0: the box length), or with a target error the
+    expected stopping distance (expected_stop_distance)."""
     sysc = config["systems"][pull.bed.system]
     settings = dict(sysc.get("pull") or {})
     settings.update(dict(pull.settings))
     distance = float(settings.get("distance", 0.0) or 0.0)
-    return distance if distance > 0 else float(sysc["lx"])
+    most = distance if distance > 0 else float(sysc["lx"])
+    target = float(settings.get("target_error", 0.0) or 0.0)
+    if target <= 0:
+        return most
+    D = pull.bed.value("D")
+    transient = float(settings.get("transient", -1.0))
+    transient = transient if transient >= 0 else min(D + 1.0, most / 4)
+    return expected_stop_distance(float(froude(pull.V, D)), target, transient,
+                                  float(settings.get("min_distance", 0.0) or 0.0), most)
 
 
 def pull_cost(pull, config):

@@ -81,6 +81,8 @@ int pull_command(const std::vector<std::string>& args) {
   const double D = 2 * bed.state.particles.radius[bed.intruder];
   spec.speed = pull_speed(par, D);
   spec.distance = par.number("distance");
+  spec.target_error = par.number("target_error");
+  spec.min_distance = par.number("min_distance");
   spec.sample_interval = par.number("sample_interval");
   spec.transient = par.number("transient");
   spec.shell = par.number("shell");
@@ -126,6 +128,10 @@ int pull_command(const std::vector<std::string>& args) {
               r.drag_error, r.transient_distance, r.transient_samples, pull->record().fx.size());
   std::printf("  n = %.3f, theta = %.4f +- %.2g rad, Z = %.3f, kappa = %.4f\n", r.coordination, r.theta,
               r.theta_error, r.bulk_coordination, r.kappa);
+  if (spec.target_error > 0)
+    std::printf("  stopped by %s after %.4g d (target: relative error %.3g)\n",
+                pull->record().stop_reason.c_str(),
+                pull->record().total_steps * pull->simulation().dt() * spec.speed, spec.target_error);
   std::printf("%s  verdict: %s\n", sanity.c_str(), pull->verdict().c_str());
   return 0;
 }

@@ -57,6 +57,13 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
   f.set_attr("/observables/drag", "error_dof", res.drag_dof);
   f.set_attr("/observables/drag", "plateau", static_cast<std::int64_t>(res.drag_plateau ? 1 : 0));
   f.set_attr("/observables/drag", "transient_distance", res.transient_distance);
+  // Sequential stopping: why the pull ended ("distance" or "target_error"), the target, and
+  // the distance travelled.
+  f.set_attr("/observables/drag", "stop_reason",
+             r.stop_reason.empty() ? std::string("distance") : r.stop_reason);
+  f.set_attr("/observables/drag", "target_error", pull.spec().target_error);
+  f.set_attr("/observables/drag", "distance_travelled",
+             r.total_steps * pull.simulation().dt() * pull.spec().speed);
   f.set_attr("/observables/drag", "transient_samples", static_cast<std::int64_t>(res.transient_samples));
   scalar("coordination", res.coordination, NAN, "n: mean number of grains touching the intruder");
   scalar(

@@ -53,6 +53,7 @@ Pull::Pull(const Bed& bed, const PullSpec& spec)
   const long steps = static_cast<long>(steps_wanted);
   const long k = record_.samples_per_interval;
   record_.total_steps = (steps + k - 1) / k * k;
+  planned_steps_ = record_.total_steps;
   const Energy e = sim_.energy();
   record_.energy_start = e.total();
   GuardLimits limits;
@@ -63,6 +64,13 @@ Pull::Pull(const Bed& bed, const PullSpec& spec)
   for (const Vec3& x : bed_.state.particles.x) top = std::max(top, x.z());
   limits.z_max = top + 10.0 + 2.0 * spec_.speed * spec_.speed;
   guard_ = RunGuard(limits, record_.energy_start);
+  if (spec_.target_error > 0 && spec_.min_distance >= distance) {
+    std::ostringstream msg;
+    msg << "'min_distance' = " << spec_.min_distance << " d is not below 'distance' = " << distance
+        << " d, the most the pull may travel: the target error could never stop it; lower "
+           "min_distance or raise distance";
+    throw Error(msg.str());
+  }
   if (spec_.transient >= 0 && spec_.transient >= distance) {
     std::ostringstream msg;
     msg << "'transient' = " << spec_.transient << " d leaves nothing of a pull of " << distance
@@ -80,7 +88,7 @@ Pull::Pull(const Bed& bed, const PullSpec& spec, const Simulation::State& state,
 }
 
 double Pull::transient_distance() const {
-  const double distance = record_.total_steps * sim_.dt() * spec_.speed;
+  const double distance = planned_steps_ * sim_.dt() * spec_.speed;
   if (spec_.transient >= 0) return std::min(spec_.transient, distance);
   const double D = 2 * bed_.state.particles.radius[bed_.intruder];
   return std::min(D + 1.0, 0.25 * distance);
@@ -102,6 +110,41 @@ void Pull::run(bool show_progress, const std::function<void(const Pull&)>& on_ch
     }
     if (show_progress) progress.update(sim_.steps_done(), n, "particle-steps");
   }
+  if (record_.stop_reason.empty()) record_.stop_reason = "distance";
+}
+
+long Pull::samples_in_transient() const {
+  // An interval counts when it starts after the transient; the samples are in time order.
+  const double t0 = transient_distance() / spec_.speed;
+  long k = 0;
+  while (k < static_cast<long>(record_.time.size()) &&
+         record_.time[k] - record_.samples_per_interval * sim_.dt() < t0 - 1e-12)
+    ++k;
+  return k;
+}
+
+namespace {
+constexpr double kMinStoppingDof = 10;
+}
+
+bool stopping_check_due(long n) {
+  if (n < 16) return false;
+  long power = 1;  // the largest power of 2 not above n
+  while (power <= n / 2) power *= 2;
+  return n % (power / 16) == 0;
+}
+
+bool Pull::target_met() const {
+  const double travelled = sim_.steps_done() * sim_.dt() * spec_.speed;
+  if (travelled < spec_.min_distance) return false;
+  const long first = samples_in_transient();
+  if (!stopping_check_due(static_cast<long>(record_.fx.size()) - first)) return false;
+  std::vector<double> fx(record_.fx.begin() + first, record_.fx.end());
+  const MeanError e = mean_error(fx);
+  // Without a plateau the error is the larger of two windows' (protocol/observables.hpp), an
+  // overestimate rather than an underestimate, so it may stop the pull too; enough
+  // independent samples (dof) keep a lucky early estimate from doing so.
+  return e.dof >= kMinStoppingDof && e.error <= spec_.target_error * std::abs(e.mean);
 }
 
 void Pull::after_step() {
@@ -153,6 +196,11 @@ void Pull::end_of_interval() {
 
   const double travelled = sim_.steps_done() * sim_.dt() * spec_.speed;
   if (travelled < transient_distance()) return;
+  if (spec_.target_error > 0 && target_met()) {
+    // Stop here: the loop ends at this step, and so does a resumed run (same samples, same check).
+    record_.total_steps = sim_.steps_done();
+    record_.stop_reason = "target_error";
+  }
   counts_.assign(p.size(), 0);
   sim_.contacts().count_contacts(counts_);
   const double R = p.radius[in];
@@ -163,7 +211,7 @@ void Pull::end_of_interval() {
   }
   // Snapshots evenly spread over the part of the pull after the transient.
   const long done = static_cast<long>(record_.snapshots.size());
-  const double t_end = record_.total_steps * sim_.dt();
+  const double t_end = planned_steps_ * sim_.dt();
   const double t_start = transient_distance() / spec_.speed;
   if (done < spec_.snapshots && sim_.time() >= t_start + (t_end - t_start) * (done + 0.5) / spec_.snapshots) {
     Snapshot s;

@@ -14,8 +14,13 @@
 namespace granudrag {
 
 struct PullSpec {
-  double speed = 1.0;             // V, sqrt(g d)
-  double distance = 0;            // travel, d; 0: one box length (as in the paper)
+  double speed = 1.0;   // V, sqrt(g d)
+  double distance = 0;  // travel, d; 0: one box length (as in the paper); with
+                        // target_error, the most it may travel
+  // Sequential stopping: end the pull once the drag's relative standard error is at most this
+  // (and the error estimate has converged), after min_distance of travel; 0: run the distance.
+  double target_error = 0;
+  double min_distance = 0;        // d
   double sample_interval = 0.02;  // sqrt(d/g): forces are averaged over each interval
   double transient = -1;          // travel discarded before averaging, d; <0: min(D + d, distance/4)
   double shell = 2.0;             // Z is measured for grains whose centre is within R + shell
@@ -59,15 +64,23 @@ struct PullRecord {
   // Bulk coordination number of grains in the shell, after the transient.
   std::vector<long> z_histogram = std::vector<long>(16, 0);  // Z = 0 .. 15 (15: >= 15)
   std::vector<Snapshot> snapshots;
-  double work = 0;          // done by the intruder on the grains
-  double max_overlap = 0;   // largest overlap seen at a sample, d
-  long grains_lost = 0;     // most grains out of the box at a sample
-  std::string verdict;      // the first sanity failure (keep_going), "" while clean
+  double work = 0;         // done by the intruder on the grains
+  double max_overlap = 0;  // largest overlap seen at a sample, d
+  long grains_lost = 0;    // most grains out of the box at a sample
+  std::string verdict;     // the first sanity failure (keep_going), "" while clean
+  // Why the pull ended: "distance" (travelled it all) or "target_error" (the drag's error met
+  // the target first; total_steps is then the step it stopped at); "" while it runs.
+  std::string stop_reason;
   double energy_start = 0;  // of the mobile grains
   // Running sums over the current interval.
   Vec3 force_sum = Vec3::Zero();
   double contact_sum = 0;
 };
+
+// Whether the sequential-stopping rule checks the error after n samples past the transient:
+// 16 times per doubling of n (n a multiple of 2^k/16, 2^k <= n < 2^(k+1)), from 16 samples
+// on, so that the checks cost O(n) over a pull and fall on the same samples in a resumed run.
+bool stopping_check_due(long n);
 
 struct PullResult {
   // The drag: -<F_x> after the transient (positive when it resists the motion along +x), and
@@ -115,6 +128,8 @@ class Pull {
  private:
   void after_step();
   void end_of_interval();
+  bool target_met() const;
+  long samples_in_transient() const;
   double transient_distance() const;
   int grains_lost() const;
 
@@ -123,6 +138,7 @@ class Pull {
   Simulation sim_;
   PullRecord record_;
   RunGuard guard_;
+  long planned_steps_ = 0;  // for the whole distance: the transient and snapshots are set by it
   std::vector<int> scratch_;
   std::vector<int> counts_;
 };

@@ -15,7 +15,19 @@ const std::vector<ParameterSpec>& pull_keys() {
           .unit("d")
           .default_value("0")
           .at_least(0)
-          .help("travel; 0: one box length (as in the paper)"),
+          .help("travel; 0: one box length (as in the paper); with target_error, the most it may travel"),
+      Key::number("target_error")
+          .default_value("0")
+          .at_least(0)
+          .at_most(1)
+          .help(
+              "stop once the drag's relative standard error is at most this (with >= 10 effective samples), "
+              "after min_distance; 0: travel the whole distance"),
+      Key::number("min_distance")
+          .unit("d")
+          .default_value("0")
+          .at_least(0)
+          .help("travel before target_error may stop the pull"),
       Key::number("sample_interval")
           .unit("sqrt(d/g)")
           .default_value("0.02")
@@ -48,6 +60,8 @@ void PullSpec::validate() const {
   check_ranges(keys,
                {{"speed", speed},
                 {"distance", distance},
+                {"target_error", target_error},
+                {"min_distance", min_distance},
                 {"sample_interval", sample_interval},
                 {"transient", transient},
                 {"shell", shell},

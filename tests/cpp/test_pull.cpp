@@ -2,6 +2,7 @@
 // bitwise identical to an uninterrupted run.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <random>
 #include <string>
@@ -204,6 +205,70 @@ TEST(Pull, ResumedFromCheckpointIsBitwiseIdentical) {
   EXPECT_EQ(whole.record().fx, resumed.record().fx);
 }
 
+TEST(Pull, ATargetErrorStopsThePullOnceTheDragIsThatPrecise) {
+  PullSpec spec;
+  // On this small periodic bed the drag decorrelates over 2-4 d of travel: 10 effective
+  // samples, the rule's least, take 25-45 d, depending on the thread count (which changes the
+  // trajectory's rounding, so its details).
+  spec.speed = 3.0;
+  spec.max_overlap = 0.2;  // soft grains at V = 3, as the default study sets
+  spec.distance = 90.0;
+  spec.target_error = 0.1;
+  spec.min_distance = 2.0;
+  Pull pull(small_bed(), spec);
+  pull.run(false);
+  const PullResult r = pull.result();
+  const double travelled = pull.simulation().time() * spec.speed;
+  EXPECT_EQ(pull.record().stop_reason, "target_error");
+  EXPECT_LT(travelled, 90.0 - 10);  // stopped well before the distance
+  EXPECT_GE(travelled, 2.0);        // not before min_distance
+  EXPECT_EQ(pull.record().total_steps, pull.simulation().steps_done());
+  // The result is computed over the samples the stopping rule saw: its error meets the target.
+  EXPECT_LE(r.drag_error, 0.1 * r.drag);
+  EXPECT_GE(r.drag_dof, 10);
+  // Unmet, the same pull travels the whole distance and says so.
+  spec.target_error = 1e-4;
+  Pull whole(small_bed(), spec);
+  whole.run(false);
+  EXPECT_EQ(whole.record().stop_reason, "distance");
+  EXPECT_GE(whole.simulation().time() * spec.speed, 90.0 - 1e-9);
+  EXPECT_GT(whole.result().drag_error, 1e-4 * whole.result().drag);
+  // The stopped pull is the first part of the whole one, sample for sample.
+  const std::vector<double>& a = pull.record().fx;
+  EXPECT_TRUE(std::equal(a.begin(), a.end(), whole.record().fx.begin()));
+}
+
+TEST(Pull, AResumedPullStopsAtTheSameStepAsAnUninterruptedOne) {
+  PullSpec spec;
+  spec.speed = 3.0;
+  spec.max_overlap = 0.2;  // soft grains at V = 3, as the default study sets
+  spec.distance = 90.0;
+  spec.target_error = 0.1;
+  spec.min_distance = 2.0;
+  spec.checkpoint_every = 4000;
+  Pull whole(small_bed(), spec);
+  std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
+  whole.run(false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); });
+  ASSERT_EQ(whole.record().stop_reason, "target_error");
+  ASSERT_GE(checkpoints.size(), 2u);
+  Pull resumed(small_bed(), spec, checkpoints[1].first, checkpoints[1].second);
+  resumed.run(false, [](const Pull&) {});
+  EXPECT_EQ(resumed.record().stop_reason, "target_error");
+  EXPECT_EQ(resumed.simulation().steps_done(), whole.simulation().steps_done());
+  EXPECT_EQ(resumed.record().fx, whole.record().fx);
+  EXPECT_EQ(resumed.result().drag, whole.result().drag);
+}
+
+TEST(Pull, StoppingChecksAreSparseAndFallOnFixedSampleCounts) {
+  long checks = 0;
+  for (long n = 1; n <= 100000; ++n) checks += stopping_check_due(n);
+  EXPECT_FALSE(stopping_check_due(15));
+  EXPECT_TRUE(stopping_check_due(16));
+  EXPECT_GT(checks, 16 * 12);  // 16 per doubling from 16 to 1e5 (12.6 doublings)
+  EXPECT_LT(checks, 16 * 14);
+  EXPECT_TRUE(stopping_check_due(1024) && stopping_check_due(1088) && !stopping_check_due(1089));
+}
+
 TEST(Pull, ABlowUpStopsTheRunWithAMessage) {
   Bed broken = small_bed();
   broken.state.particles.v[0] = Vec3(NAN, 0, 0);  // a NaN that will spread through contacts
@@ -226,6 +291,18 @@ TEST(Pull, RejectsBadInput) {
   PullSpec spec;
   spec.speed = -1;
   EXPECT_THROW(Pull(small_bed(), spec), Error);
+  spec = PullSpec{};
+  spec.target_error = 2;  // a relative error above 1
+  EXPECT_THROW(Pull(small_bed(), spec), Error);
+  spec.target_error = 0.05;
+  spec.distance = 3;
+  spec.min_distance = 3;  // the target could never stop it
+  try {
+    Pull(small_bed(), spec);
+    FAIL() << "min_distance = distance accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("min_distance"), std::string::npos) << e.what();
+  }
   Bed no_intruder = small_bed();
   no_intruder.intruder = -1;
   EXPECT_THROW(Pull(no_intruder, PullSpec{}), Error);

@@ -85,3 +85,26 @@ def test_figures_on_the_same_runs_share_a_row():
     config["sweeps"][1]["figures"] = ["5", "6"]
     config["sweeps"][0]["figures"] = ["5", "6", "Table I"]
     assert [figs for figs, *_ in by_figure(config)] == [["5", "6"], ["Table I"], []]
+
+
+def test_a_target_error_costs_the_expected_stopping_distance():
+    from analysis.study import cost
+
+    config = copy.deepcopy(CONFIG)
+    config["systems"]["I"]["pull"] = {"distance": 100}
+    config["sweeps"] = config["sweeps"][:1]
+    plain = study.plan(config)
+    pull = plain.pulls[next(k for k in plain.pulls if "D~2/" in k and k.endswith("/Fr~1"))]
+    assert study.pull_distance(pull, config) == 100
+    config["sweeps"][0]["pull"] = {"target_error": 0.03, "min_distance": 5}
+    planned = study.plan(config)
+    p = planned.pulls[pull.key]
+    # c(Fr = 1) = 0.205: (0.205 / 0.03)^2 = 46.7 d past the transient (min(D + 1, 25) = 3 d)
+    c = cost.STOP_ERROR_INTERCEPT + cost.STOP_ERROR_SLOPE * 1.0
+    assert study.pull_distance(p, config) == pytest.approx(3 + (c / 0.03) ** 2, rel=1e-9)
+    # a loose target still needs STOP_MIN_DOF correlation lengths; a tight one the whole distance
+    least = 3 + cost.STOP_MIN_DOF * cost.STOP_CORRELATION_LENGTH
+    assert cost.expected_stop_distance(1.0, 0.5, 3.0, 0.0, 100) == least
+    assert cost.expected_stop_distance(1.0, 0.001, 3.0, 0.0, 100) == 100
+    assert cost.expected_stop_distance(1.0, 0.5, 3.0, 40.0, 100) == 40
+    assert study.pull_cost(p, config) < study.pull_cost(pull, config) / 2
