@@ -84,7 +84,11 @@ def _basis(rows):
     """How many replicate beds the rows rest on and whether any of their runs lacked a plateau."""
     if rows is None or len(rows) == 0:
         return []
-    if SEED_COLUMN in rows.columns:
+    if "n_beds" in rows.columns:           # the point table: replicate beds already combined
+        per = rows["n_beds"].astype(int)
+        beds = f"{per.min()}–{per.max()}" if per.min() != per.max() else f"{per.min()}"
+        out = [f"{beds} replicate bed(s) per point"]
+    elif SEED_COLUMN in rows.columns:      # a run table: one row per bed
         per = rows.groupby(["system", "D", "h", "mu", "kn", "gamman", "V"])[SEED_COLUMN].nunique()
         beds = f"{per.min()}–{per.max()}" if per.min() != per.max() else f"{per.min()}"
         out = [f"{beds} replicate bed(s) per point"]

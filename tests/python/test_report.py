@@ -112,3 +112,12 @@ def test_each_number_says_what_it_rests_on(table):
     assert "2 replicate bed(s) per point" in notes
     assert f"1 of {2 * len(extra)} runs without a plateau of the block-average error" in notes
     assert "every run reached a plateau" in rows["Fr_1 (μ = 0.5, D = 2)"].notes
+
+
+def test_the_point_table_counts_its_combined_beds(table):
+    # The workflow's table.csv has one row per point (replicate beds combined, n_beds of
+    # them) and the first bed's seed: the note counts n_beds, not the seeds in the rows.
+    r = run_fits(table, n_boot=0)
+    points = table.assign(seed=1, n_beds=3, plateau=1)
+    rows = {x.quantity: x for x in comparisons(r, points)}
+    assert "3 replicate bed(s) per point" in rows["Fr_1 (μ = 0.5, D = 4)"].notes
