@@ -99,7 +99,7 @@ def test_a_target_error_costs_the_expected_stopping_distance():
     config["sweeps"][0]["pull"] = {"target_error": 0.03, "min_distance": 5}
     planned = study.plan(config)
     p = planned.pulls[pull.key]
-    # c(Fr = 1) = 0.205: (0.205 / 0.03)^2 = 46.7 d past the transient (min(D + 1, 25) = 3 d)
+    # c(Fr = 1) = 0.175: (0.175 / 0.03)^2 = 34 d past the transient (min(D + 1, 25) = 3 d)
     c = cost.STOP_ERROR_INTERCEPT + cost.STOP_ERROR_SLOPE * 1.0
     assert study.pull_distance(p, config) == pytest.approx(3 + (c / 0.03) ** 2, rel=1e-9)
     # a loose target still needs STOP_MIN_DOF correlation lengths; a tight one the whole distance
