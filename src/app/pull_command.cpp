@@ -104,6 +104,7 @@ int pull_command(const std::vector<std::string>& args) {
   std::printf("  n = %.3f, theta = %.4f +- %.2g rad, Z = %.3f, kappa = %.4f\n", r.coordination, r.theta,
               r.theta_error, r.bulk_coordination, r.kappa);
   std::printf("%s", sanity.c_str());
+  std::printf("%s", pull->timing_report().c_str());
   return 0;
 }
 

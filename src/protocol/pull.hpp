@@ -99,6 +99,11 @@ class Pull {
   bool finished() const { return sim_.steps_done() >= record_.total_steps; }
   // Sanity report printed at the end of every run (CoMD style).
   std::string sanity_report(double wall_seconds) const;
+  // "timing: loop ... s ..., particle-steps/s; integration ... s ..." for the last run(): the
+  // step loop alone and its split by phase (core/timer.hpp), one line.
+  std::string timing_report() const;
+  double loop_seconds() const { return loop_seconds_; }
+  long loop_steps() const { return loop_steps_; }
 
  private:
   void after_step();
@@ -112,6 +117,8 @@ class Pull {
   PullRecord record_;
   std::vector<int> scratch_;
   std::vector<int> counts_;
+  double loop_seconds_ = 0;
+  long loop_steps_ = 0;
 };
 
 }  // namespace granudrag
