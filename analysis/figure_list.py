@@ -92,7 +92,7 @@ FIGURES = [
     Figure("fig18_alpha_and_sum_rule", "Fig. 18: α_μ and the sum rule",
            _table(F.fig18_alpha, phi=lambda r: r.phi, alpha=lambda r: r.alpha)),
     Figure("fig19_scaled_drag_vs_Fr_h", "Fig. 19: drag scaled by h^α_μ",
-           _table(F.fig19_scaled_drag_h, alpha=lambda r: r.alpha)),
+           _table(F.fig19_scaled_drag_h, alpha=lambda r: r.alpha, h_min=lambda r: r.options.h_min)),
     Figure("fig20_kn_gamman", "Fig. 20: K_n and γ_n variations", _table(F.fig20_kn_gamman)),
 ]
 BY_NAME = {f.name: f for f in FIGURES}

@@ -17,6 +17,7 @@ from matplotlib.ticker import FormatStrFormatter
 from . import paper
 from .fits import evaluate, fit_alpha, fit_kappa, fit_phi, fit_regimes, fit_saturation, fit_theta
 from .physics import gamman_ratio
+from .result import format_pm
 from .table import YIELD_SPEED, reference_params, select, yield_rows
 
 plt.switch_backend("Agg")  # files only, no display
@@ -127,6 +128,7 @@ def _regime_fits(rows, by, mu, fits):
     fits = dict(fits or {})
     for key, g in rows.groupby(by):
         if key not in fits:
+            g = g[~np.isclose(g.V, YIELD_SPEED)]      # fitted to the pulls at speed, as the report
             try:
                 fits[key] = fit_regimes(g.Fr, g.drag, g.drag_err, n_boot=0,
                                         regime1="power" if mu == 0 else "constant")
@@ -511,17 +513,20 @@ def table1(df, outdir, fits=None):
     beside published. Written as PNG/PDF and as Markdown (<name>.md)."""
     rows = _need(select(_reference(df), mu=0.0, system="I"), "system I at mu = 0")
     fits = _regime_fits(rows, "D", 0.0, fits)
-    header = ["D/d", "a'' fit", "a'' paper", "b'' fit", "b'' paper", "c'' fit", "c'' paper"]
+    header = ["D/d", "a'' fit", "a'' paper", "b'' fit", "b'' paper", "c'' fit", "c'' paper",
+              "F_Y (yield pull, not fitted)"]
     body = []
     for D, fit in sorted(fits.items()):
         if fit is None:
             continue
         pub = paper.TABLE1.get(int(round(D)), (np.nan,) * 3) if float(D).is_integer() else (np.nan,) * 3
+        y = yield_rows(rows[np.isclose(rows.D, D)])
+        fy = format_pm(float(y.drag.mean()), float(y.drag_err.mean())) if len(y) else "-"
         body.append([f"{D:g}"] + [s for k, v in zip(("a0", "b0", "c0"), pub)
-                                  for s in (str(fit[k]), f"{v:g}" if np.isfinite(v) else "-")])
+                                  for s in (str(fit[k]), f"{v:g}" if np.isfinite(v) else "-")] + [fy])
     if not body:
         raise NoData("no mu = 0 regime fit succeeded")
-    fig, ax = _subplots(figsize=(9, 0.4 * len(body) + 0.8))
+    fig, ax = _subplots(figsize=(10.5, 0.4 * len(body) + 0.8))
     ax.axis("off")
     ax.table(cellText=body, colLabels=header, loc="center", cellLoc="center")
     paths = _save(fig, outdir, "table1_mu0_regime1")

@@ -27,10 +27,12 @@ from .table import YIELD_SPEED, froude, reference_params, select, yield_rows
 
 __all__ = ["Fit", "Param", "fit_regimes", "regime_curve", "fit_theta", "fit_kappa",
            "fit_linear", "fit_power_law", "fit_saturation", "fit_phi", "fit_alpha",
+           "fit_alpha_speeds", "average_alpha", "fit_alpha_drag", "theta_start",
            "sum_rule", "fit_scaling_law", "ScalingLaw", "evaluate", "save_fits",
            "load_fits", "FitFileError"]
 
 FORMAT, VERSION = "granudrag-fits", 1
+_OWN_KEYS = ("format", "version", "units", "laws", "fits", "tables", "notes")
 
 
 # --- model functions -----------------------------------------------------
@@ -84,7 +86,9 @@ def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf
     x, y = x[ok], y[ok]
     if len(x) < len(names):
         raise ValueError(f"{name} fit needs at least {len(names)} points, got {len(x)}")
-    popt, pcov = curve_fit(model, x, y, p0=p0, sigma=s, absolute_sigma=False,
+    # With errors: the covariance they give (absolute), scaled below; an exact fit (chi^2 = 0,
+    # as SciPy >= 1.16 can return for points on the curve) then keeps the measurements' error.
+    popt, pcov = curve_fit(model, x, y, p0=p0, sigma=s, absolute_sigma=s is not None,
                            bounds=bounds, maxfev=20000)
     dof = len(x) - len(names)
     method = "least-squares covariance scaled by reduced chi^2"
@@ -93,23 +97,63 @@ def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf
         # to lie on the curve (chi^2/dof << 1; 3 yield forces, 2 parameters) would otherwise
         # claim a far smaller error than the measurements carry.
         chi2 = float(np.sum(((y - model(x, *popt)) / s) ** 2)) / dof
-        if 0 < chi2 < 1:
-            pcov = pcov / chi2
+        if chi2 > 1:
+            pcov = pcov * chi2
         method = "least-squares covariance scaled by reduced chi^2 when > 1"
     err = np.sqrt(np.diag(pcov)) if dof > 0 else np.full(len(names), np.nan)
     return Fit(model=name, params={k: Param(float(v), float(e)) for k, v, e in zip(names, popt, err)},
-               method=method,
-               n_points=len(x), x_range=(float(x.min()), float(x.max())))
+               method=method + ("" if s is not None else " (unweighted: no per-point errors)"),
+               n_points=len(x), x_range=(float(x.min()), float(x.max())),
+               meta={"at_bounds": _at_bounds(names, popt, bounds), "weighted": s is not None})
+
+
+def _at_bounds(names, values, bounds):
+    """Parameters that ended on a finite bound of the fit, in words."""
+    lo, hi = (np.broadcast_to(np.asarray(b, float), (len(names),)) for b in bounds)
+    out = []
+    for k, v, a, b in zip(names, values, lo, hi):
+        for bound, side in ((a, "lower"), (b, "upper")):
+            if np.isfinite(bound) and abs(v - bound) <= 1e-4 * max(1.0, abs(bound)):
+                out.append(f"{k} = {v:.4g} at its {side} bound {bound:g}")
+    return out
+
+
+THETA_U2_GRID = np.geomspace(0.02, 4.0, 60)
+
+
+def theta_start(Fr, theta, sigma=None):
+    """A start for the Eq. 7 fit from the data alone: for each U2 on a grid the model is
+    linear in U1 and pi/U3, so the best (U1, U3) follow by least squares; the U2 with the
+    least squared error wins."""
+    Fr, theta = np.asarray(Fr, float), np.asarray(theta, float)
+    w = np.ones_like(Fr) if sigma is None else 1.0 / np.asarray(sigma, float) ** 2
+    best = None
+    for U2 in THETA_U2_GRID:
+        A = np.column_stack([Fr ** U2, np.ones_like(Fr)]) * np.sqrt(w)[:, None]
+        (U1, c), *_ = np.linalg.lstsq(A, theta * np.sqrt(w), rcond=None)
+        sse = float(np.sum(w * (theta - U1 * Fr ** U2 - c) ** 2))
+        if c > 0 and (best is None or sse < best[0]):
+            best = (sse, [float(U1), float(U2), float(np.pi / c)])
+    if best is None:
+        raise ValueError("theta(Fr): no positive static angle pi/U3 fits the data")
+    return best[1]
 
 
 def fit_theta(Fr, theta, sigma=None):
-    """theta(Fr) = U1 Fr^U2 + pi/U3 (paper Eq. 7; paper: -0.15, 0.38, 2.45)."""
+    """theta(Fr) = U1 Fr^U2 + pi/U3 (paper Eq. 7; paper: -0.15, 0.38, 2.45), weighted by
+    the per-point errors sigma when given. Started from theta_start (the data's own
+    best grid point), not from the paper's numbers; bounds U2 in [1e-3, 5] and
+    U3 in [0.1, 100] are reported in meta["at_bounds"] when reached."""
     Fr, theta = np.asarray(Fr, float), np.asarray(theta, float)
-    ok = np.isfinite(Fr) & np.isfinite(theta)
-    start_static = theta[ok][np.argmin(Fr[ok])] if ok.any() else np.pi / 2.45
-    p0 = [-0.15, 0.4, np.pi / max(start_static, 1e-3)]
-    return _covariance_fit(theta_curve, "theta", Fr, theta, sigma, p0, ["U1", "U2", "U3"],
-                           bounds=([-np.inf, 1e-3, 0.1], [np.inf, 5.0, 100.0]))
+    ok = np.isfinite(Fr) & np.isfinite(theta) & (Fr > 0)
+    s = _weights(None if sigma is None else np.asarray(sigma, float)[ok], ok.sum())
+    if ok.sum() < 3:
+        raise ValueError(f"theta fit needs at least 3 points, got {ok.sum()}")
+    p0 = theta_start(Fr[ok], theta[ok], s)
+    lo, hi = [-np.inf, 1e-3, 0.1], [np.inf, 5.0, 100.0]
+    p0 = list(np.clip(p0, np.array(lo) + 1e-9, np.array(hi) - 1e-9))
+    return _covariance_fit(theta_curve, "theta", Fr[ok], theta[ok], s, p0, ["U1", "U2", "U3"],
+                           bounds=(lo, hi))
 
 
 def fit_linear(x, y, sigma=None):
@@ -118,8 +162,10 @@ def fit_linear(x, y, sigma=None):
 
 
 def fit_kappa(df):
-    """kappa(Fr) = k0 + k1 Fr over all rows with kappa (paper: 0.887 + 0.185 Fr)."""
-    return fit_linear(df.Fr, df.kappa)
+    """kappa(Fr) = k0 + k1 Fr over all rows with kappa (paper: 0.887 + 0.185 Fr), weighted
+    by the per-point errors (column kappa_err) when the table has them for every row."""
+    sigma = df["kappa_err"] if "kappa_err" in df.columns else None
+    return fit_linear(df.Fr, df.kappa, sigma)
 
 
 def fit_power_law(x, y, sigma=None):
@@ -180,6 +226,65 @@ def fit_phi(df, speed=YIELD_SPEED, system="I"):
 def fit_alpha(df, speed=YIELD_SPEED, system="II"):
     """alpha_mu and g(mu) from F_Y = g(mu) h^alpha_mu, one fit per (mu, kn, gamman)."""
     return _exponent_table(df, "h", system, ("alpha", "g"), speed)
+
+
+ALPHA_SPEEDS = (0.5, 1.0, 2.0, 4.0, 6.0)   # Sec. III H: the speeds alpha_mu is averaged over
+SPEED_MATCH = 0.25                          # a table speed within 25 % of one of them stands for it
+
+ALPHA_DRAG_COLUMNS = ["mu", "kn", "gamman", "alpha", "alpha_err", "spread", "n_speeds", "speeds",
+                      "h_min", "h_max"]
+ALPHA_SPEED_COLUMNS = ["mu", "kn", "gamman", "V_target", "V", "alpha", "alpha_err", "n", "h_min", "h_max"]
+
+
+def fit_alpha_speeds(df, speeds=ALPHA_SPEEDS, system="II", match=SPEED_MATCH):
+    """The depth exponent of the drag at each of `speeds` (the paper's V = 0.5, 1, 2, 4, 6):
+    F_drag = c h^alpha_V over the depths pulled at that speed, one fit per (mu, kn, gamman)
+    and speed. A speed of the table within `match` (relative) of a target stands for it
+    (a sweep on a Froude grid has other speeds); each table speed serves one target."""
+    rows = df[(df.system == system) & ~np.isclose(df.V, YIELD_SPEED, rtol=1e-6, atol=1e-12)]
+    out = []
+    for (mu, kn, gn), g in rows.groupby(["mu", "kn", "gamman"]):
+        have = np.unique(g.V.to_numpy())
+        used = set()
+        for target in speeds:
+            rel = np.abs(have / target - 1.0)
+            order = [i for i in np.argsort(rel) if rel[i] <= match and i not in used]
+            if not order:
+                continue
+            V = have[order[0]]
+            at = g[np.isclose(g.V, V, rtol=1e-9)]
+            if at.h.nunique() < 2:
+                continue
+            used.add(order[0])
+            f = fit_power_law(at.h, at.drag, at.drag_err)
+            out.append({"mu": mu, "kn": kn, "gamman": gn, "V_target": float(target), "V": float(V),
+                        "alpha": f["p"].value, "alpha_err": f["p"].err, "n": f.n_points,
+                        "h_min": float(at.h.min()), "h_max": float(at.h.max())})
+    table = pd.DataFrame(out, columns=ALPHA_SPEED_COLUMNS)
+    return table.astype(float) if table.empty else table
+
+
+def average_alpha(per_speed):
+    """The paper's alpha_mu (Sec. III H, Fig. 18a): the depth exponents at the speeds,
+    averaged. Its error is the mean of theirs: the speeds are pulled in the same beds, so
+    their errors are taken as fully correlated (an upper bound; independent errors would
+    give 1/sqrt(n) of it). `spread` is the standard deviation of the per-speed exponents."""
+    out = []
+    for (mu, kn, gn), g in per_speed.groupby(["mu", "kn", "gamman"]):
+        a, e = g.alpha.to_numpy(float), g.alpha_err.to_numpy(float)
+        out.append({"mu": mu, "kn": kn, "gamman": gn, "alpha": float(np.mean(a)),
+                    "alpha_err": float(np.mean(e)) if np.all(np.isfinite(e)) else np.nan,
+                    "spread": float(np.std(a, ddof=1)) if len(a) > 1 else np.nan,
+                    "n_speeds": len(a), "speeds": " ".join(f"{v:.3g}" for v in g.V),
+                    "h_min": float(g.h_min.min()), "h_max": float(g.h_max.max())})
+    table = pd.DataFrame(out, columns=ALPHA_DRAG_COLUMNS)
+    return table if len(table) else table.astype({c: float for c in ALPHA_DRAG_COLUMNS if c != "speeds"})
+
+
+def fit_alpha_drag(df, speeds=ALPHA_SPEEDS, system="II", match=SPEED_MATCH):
+    """(averaged alpha_mu table, per-speed table): see fit_alpha_speeds and average_alpha."""
+    per = fit_alpha_speeds(df, speeds, system, match)
+    return average_alpha(per), per
 
 
 def sum_rule(phi, alpha):
@@ -274,15 +379,17 @@ def fit_scaling_law(df, phi, alpha, *, mu, kn=None, gamman=None, h_min=None,
     if p is None or a is None:
         raise ValueError(f"no phi and alpha fitted for mu={mu}, kn={kn:g}, gamman={gamman:g}")
     rows = select(df, mu=mu, kn=kn, gamman=gamman)
-    if h_min is not None:
+    if h_min:
         rows = rows[rows.h >= h_min]
-    # The regimes must be fixed by pulls at speed: the yield pulls' Fr values
-    # differ only through D and would otherwise pass for a whole regime.
+    # The regimes are fitted to the pulls at speed, as the paper's Figs. 5, 10 and 19: the
+    # yield pulls' Fr values differ only through D and would otherwise pass for a whole
+    # regime, and at mu = 0 they alone would fix a0 of a0 + b0 Fr^c0.
     moving = rows[~np.isclose(rows.V, YIELD_SPEED)]
     if moving.Fr.round(6).nunique() < 8:
         raise ValueError(f"needs pulls at 8 or more Froude numbers above the yield speed "
-                         f"at mu={mu:g}, has {moving.Fr.round(6).nunique()}")
-    rows = rows.sort_values("Fr", kind="stable")
+                         f"at mu={mu:g}" + (f", h >= {h_min:g}" if h_min else "")
+                         + f", has {moving.Fr.round(6).nunique()}")
+    rows = moving.sort_values("Fr", kind="stable")
     lnh, lnD = np.log(rows.h.to_numpy()), np.log(rows.D.to_numpy() + 1.0)
     drag, err = rows.drag.to_numpy(), rows.drag_err.to_numpy()
 
@@ -302,10 +409,10 @@ def fit_scaling_law(df, phi, alpha, *, mu, kn=None, gamman=None, h_min=None,
         reps.append(fitter.fit(x, dragb / sb, w * (sb / scale) ** 2))
         expo.append((ab, pb))
     reg = fitter.result(x, best, reps, f"{n_boot} wild-bootstrap refits with alpha, phi "
-                                       f"drawn from their errors (seed {seed})")
-    reg.meta.update(collapsed=True, mu=mu)
+                                       f"drawn from their errors (seed {seed})", y, w)
+    reg.meta.update(collapsed=True, mu=mu, h_min=float(h_min or 0.0))
     keep = [r is not None for r in reps]
-    ranges = {"D": [float(p.D_min), float(p.D_max)], "h": [float(a.h_min), float(a.h_max)],
+    ranges = {"D": [float(p.D_min), float(p.D_max)], "h": [max(float(a.h_min), float(h_min or 0.0)), float(a.h_max)],
               "Fr": [float(rows.Fr.min()), float(rows.Fr.max())]}
     return ScalingLaw(mu=float(mu), kn=float(kn), gamman=float(gamman),
                       alpha=Param(float(a.alpha), float(a.alpha_err)),
@@ -325,9 +432,10 @@ class FitFile:
     fits: dict
     tables: dict
     notes: list = field(default_factory=list)
+    summary: dict = field(default_factory=dict)   # the further top-level keys (save_fits)
 
 
-def save_fits(path, laws=(), fits=None, tables=None, notes=()):
+def save_fits(path, laws=(), fits=None, tables=None, notes=(), summary=None):
     """Write a JSON fit file:
 
         {"format": "granudrag-fits", "version": 1,
@@ -335,9 +443,12 @@ def save_fits(path, laws=(), fits=None, tables=None, notes=()):
          "fits":   {name: Fit: model, params {name: {value, err}}, method,
                     n_points, x_range, meta, [replicates]},
          "tables": {name: [row objects]},
-         "notes":  [fits that could not be made, in words]}
+         "notes":  [fits that could not be made, in words],
+         ...summary}
 
-    Errors are one standard error; null stands for "not estimable".
+    summary: further top-level keys (fitset.summary: phi, alpha, alpha_drag, crossovers,
+    at_bounds, violations, options; analysis/README.md). Errors are one standard error;
+    null stands for "not estimable".
     """
     doc = {"format": FORMAT, "version": VERSION,
            "units": "lengths in d, speeds in sqrt(g d), forces in rho d^3 g",
@@ -345,7 +456,20 @@ def save_fits(path, laws=(), fits=None, tables=None, notes=()):
            "fits": {k: f.to_dict() for k, f in (fits or {}).items()},
            "tables": {k: json.loads(t.to_json(orient="records")) for k, t in (tables or {}).items()},
            "notes": [str(n) for n in notes]}
-    Path(path).write_text(json.dumps(doc, indent=1, allow_nan=False))
+    for k, v in (summary or {}).items():
+        if k in _OWN_KEYS:
+            raise ValueError(f"summary key {k!r} would overwrite the fit file's own")
+        doc[k] = v
+    write_text_atomic(path, json.dumps(doc, indent=1, allow_nan=False))
+
+
+def write_text_atomic(path, text):
+    """Write text to path through a temporary file beside it and a rename (as
+    table.write_csv), so an interrupted write never leaves a truncated file."""
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text)
+    tmp.replace(path)
 
 
 def load_fits(path):
@@ -366,6 +490,7 @@ def load_fits(path):
         return FitFile(laws=[ScalingLaw.from_dict(d) for d in doc.get("laws", [])],
                        fits={k: Fit.from_dict(d) for k, d in doc.get("fits", {}).items()},
                        tables={k: pd.DataFrame(v) for k, v in doc.get("tables", {}).items()},
-                       notes=[str(n) for n in doc.get("notes", [])])
+                       notes=[str(n) for n in doc.get("notes", [])],
+                       summary={k: v for k, v in doc.items() if k not in _OWN_KEYS})
     except (KeyError, TypeError, ValueError) as exc:
         raise FitFileError(f"{path}: damaged fit file ({type(exc).__name__}: {exc})") from None

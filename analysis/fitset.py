@@ -13,7 +13,11 @@ import numpy as np
 import pandas as pd
 
 from .fits import (
+    ALPHA_DRAG_COLUMNS,
+    ALPHA_SPEED_COLUMNS,
+    ALPHA_SPEEDS,
     fit_alpha,
+    fit_alpha_drag,
     fit_kappa,
     fit_phi,
     fit_regimes,
@@ -28,16 +32,41 @@ from .table import YIELD_SPEED, reference_params, select, validate_table, yield_
 
 
 @dataclass
+class Options:
+    """The choices of the fits that a study's config sets (report.* keys)."""
+
+    n_boot: int = 200
+    seed: int = 0
+    h_min: float = 0.0                 # Eq. 12 and Fig. 19 use pulls at h >= h_min only (0: all)
+    alpha_speeds: tuple = ALPHA_SPEEDS  # speeds of the averaged alpha_mu (Sec. III H)
+
+    def to_dict(self):
+        return {"n_boot": int(self.n_boot), "seed": int(self.seed), "h_min": float(self.h_min),
+                "alpha_speeds": [float(v) for v in self.alpha_speeds]}
+
+    @classmethod
+    def from_dict(cls, d):
+        d = d or {}
+        return cls(n_boot=int(d.get("n_boot", 200)), seed=int(d.get("seed", 0)),
+                   h_min=float(d.get("h_min") or 0.0),
+                   alpha_speeds=tuple(float(v) for v in d.get("alpha_speeds", ALPHA_SPEEDS)))
+
+
+@dataclass
 class Results:
     regimes: dict = field(default_factory=dict)     # (label, mu, key) -> Fit
     theta: object = None
     kappa: object = None
     phi: object = None
-    alpha: object = None
-    sums: object = None
+    alpha: object = None          # alpha_mu from the yield force (Fig. 17)
+    sums: object = None           # phi + alpha (yield force)
+    alpha_drag: object = None     # the paper's alpha_mu: drag at the speeds, averaged (Fig. 18)
+    alpha_speeds: object = None   # its per-speed exponents
+    sums_drag: object = None      # phi + the averaged alpha_mu (Fig. 18b)
     saturation: dict = field(default_factory=dict)  # D -> Fit
     laws: list = field(default_factory=list)
     notes: list = field(default_factory=list)       # fits that could not be made
+    options: Options = field(default_factory=Options)
 
     def by(self, label, mu):
         return {k[2]: f for k, f in self.regimes.items() if k[:2] == (label, mu)}
@@ -51,42 +80,127 @@ def _try(results, what, fn, *args, **kw):
         return None
 
 
-def run_fits(df, n_boot=200, seed=0):
-    """Every fit of the report, on the reference contact law where it applies."""
+def _yield_beside(g):
+    """The series' yield pull(s) (V = 0.01), reported beside its drag-vs-Fr fit, not in it."""
+    y = yield_rows(g)
+    if y.empty:
+        return None
+    err = y.drag_err.to_numpy(float)
+    return {"drag": float(y.drag.mean()),
+            "drag_err": float(np.sqrt(np.sum(err ** 2)) / len(err)) if np.all(np.isfinite(err)) else None,
+            "Fr": float(y.Fr.mean()), "n": int(len(y))}
+
+
+def run_fits(df, n_boot=200, seed=0, options=None):
+    """Every fit of the report, on the reference contact law where it applies. options (an
+    Options) overrides n_boot and seed."""
     validate_table(df)
-    r = Results()
+    opt = options or Options(n_boot=n_boot, seed=seed)
+    n_boot, seed = opt.n_boot, opt.seed
+    r = Results(options=opt)
     kn, gn = reference_params(df)
     ref = select(df, kn=kn, gamman=gn)
     for label, system, by, mus in (("D", "I", "D", (0.5, 0.0)), ("h", "II", "h", (0.5,))):
         for mu in mus:
             for key, g in select(ref, mu=mu, system=system).groupby(by):
-                if (~np.isclose(g.V, YIELD_SPEED)).sum() == 0:
+                moving = g[~np.isclose(g.V, YIELD_SPEED)]
+                if moving.empty:
                     continue        # yield pulls only: no drag-vs-Fr series here
-                fit = _try(r, f"regimes at mu={mu:g}, {by}={key:g}", fit_regimes, g.Fr, g.drag,
-                           g.drag_err, regime1="power" if mu == 0 else "constant",
+                # The paper fits the drag-vs-Fr data (Figs. 5, 10, 16); the yield pull is
+                # reported beside the fit, not in it (at mu = 0 it alone would fix a'').
+                fit = _try(r, f"regimes at mu={mu:g}, {by}={key:g}", fit_regimes, moving.Fr,
+                           moving.drag, moving.drag_err, regime1="power" if mu == 0 else "constant",
                            n_boot=n_boot, seed=seed)
                 if fit is not None:
+                    fit.meta["yield_pull"] = _yield_beside(g)
+                    fit.meta["replicate_beds"] = _beds(moving)
                     r.regimes[(label, mu, key)] = fit
     obs = select(ref, mu=0.5, system="I")
     th = obs.dropna(subset=["theta"])
-    r.theta = _try(r, "theta(Fr)", fit_theta, th.Fr, th.theta) if len(th) else None
+    th_err = th["theta_err"] if "theta_err" in th.columns else None
+    r.theta = _try(r, "theta(Fr)", fit_theta, th.Fr, th.theta, th_err) if len(th) else None
     ka = obs.dropna(subset=["kappa"])
     r.kappa = _try(r, "kappa(Fr)", fit_kappa, ka) if len(ka) else None
     r.phi, r.alpha = fit_phi(df), fit_alpha(df)
     r.sums = sum_rule(r.phi, r.alpha)
+    r.alpha_drag, r.alpha_speeds = fit_alpha_drag(df, speeds=opt.alpha_speeds)
+    r.sums_drag = sum_rule(r.phi, r.alpha_drag)
     for D, g in yield_rows(ref).query("system == 'I'").groupby("D"):
         if g.mu.nunique() >= 4:
-            fit = _try(r, f"F_Y(mu) saturation at D={D:g}", fit_saturation, g.mu, g.drag)
+            fit = _try(r, f"F_Y(mu) saturation at D={D:g}", fit_saturation, g.mu, g.drag, g.drag_err)
             if fit is not None:
                 r.saturation[D] = fit
     for mu in sorted(set(r.sums.mu[np.isclose(r.sums.kn, kn) & np.isclose(r.sums.gamman, gn)])):
         law = _try(r, f"scaling law at mu={mu:g}", fit_scaling_law, df, r.phi, r.alpha,
-                   mu=mu, kn=kn, gamman=gn, n_boot=n_boot, seed=seed)
+                   mu=mu, kn=kn, gamman=gn, h_min=opt.h_min, n_boot=n_boot, seed=seed)
         if law is not None:
             r.laws.append(law)
     return r
 
 
+def _beds(rows):
+    """How many replicate beds (distinct seeds) a fit rests on, per point at most: the
+    table's `seed` column when it has one, else 1."""
+    if "seed" not in rows.columns:
+        return 1
+    return int(rows.groupby(["D", "h", "V"]).seed.nunique().max())
+
+
+# --- the summary keys of fits.json ---------------------------------------
+
+def _exponent_list(table, col):
+    return [{"mu": float(t.mu), "kn": float(t.kn), "gamman": float(t.gamman),
+             "value": _num(t[col]), "error": _num(t[col + "_err"])}
+            | ({"n_speeds": int(t.n_speeds), "speeds": t.speeds, "spread": _num(t.spread)}
+               if "n_speeds" in t else {})
+            for _, t in table.iterrows()]
+
+
+def _num(v):
+    v = float(v)
+    return v if np.isfinite(v) else None
+
+
+def crossover_list(r):
+    """Every fitted Fr_1, Fr_2: one entry per drag-vs-Fr series and per Eq. 12 collapse."""
+    out = []
+    for (label, mu, key), f in sorted(r.regimes.items(), key=lambda kv: (kv[0][0], -kv[0][1], kv[0][2])):
+        out.append({"series": f"{'I' if label == 'D' else 'II'}: drag vs Fr at {label} = {key:g}",
+                    "mu": float(mu), "D": float(key) if label == "D" else None,
+                    "h": float(key) if label == "h" else None,
+                    "Fr1": _num(f["Fr1"].value), "Fr1_error": _num(f["Fr1"].err),
+                    "Fr2": _num(f["Fr2"].value), "Fr2_error": _num(f["Fr2"].err),
+                    "at_bounds": f.meta.get("at_bounds", []), "violations": f.meta.get("violations", [])})
+    for law in r.laws:
+        f = law.regimes
+        out.append({"series": "Eq. 12 collapse", "mu": float(law.mu), "D": None, "h": None,
+                    "Fr1": _num(f["Fr1"].value), "Fr1_error": _num(f["Fr1"].err),
+                    "Fr2": _num(f["Fr2"].value), "Fr2_error": _num(f["Fr2"].err),
+                    "at_bounds": f.meta.get("at_bounds", []), "violations": f.meta.get("violations", [])})
+    return out
+
+
+def named_fits(r):
+    """name -> Fit of every fit in r, with its grouping in its meta (the keys of fits.json)."""
+    fits = {
+        f"regimes_mu{mu:g}_{by}{key:g}": _with_meta(f, group=by, mu=float(mu), group_value=float(key))
+        for (by, mu, key), f in r.regimes.items()
+    }
+    fits.update({k: v for k, v in (("theta", r.theta), ("kappa", r.kappa)) if v is not None})
+    fits.update({f"saturation_D{D:g}": _with_meta(f, D=float(D)) for D, f in r.saturation.items()})
+    fits.update({f"law_mu{law.mu:g}": law.regimes for law in r.laws})
+    return fits
+
+
+def summary(r):
+    """The top-level keys of fits.json that name the paper's numbers (analysis/README.md)."""
+    bounds, violated = [], []
+    for name, f in named_fits(r).items():
+        bounds += [{"fit": name, "what": w} for w in f.meta.get("at_bounds", [])]
+        violated += [{"fit": name, "what": w} for w in f.meta.get("violations", [])]
+    return {"phi": _exponent_list(r.phi, "phi"), "alpha": _exponent_list(r.alpha, "alpha"),
+            "alpha_drag": _exponent_list(r.alpha_drag, "alpha"), "crossovers": crossover_list(r),
+            "at_bounds": bounds, "violations": violated, "options": r.options.to_dict()}
 
 
 # Columns of the tables of fits.json (fits.fit_phi, fit_alpha, sum_rule), so that an empty
@@ -96,7 +210,12 @@ TABLE_COLUMNS = {
     "phi": [c.format("phi", "f", "D") for c in _EXPONENT],
     "alpha": [c.format("alpha", "g", "h") for c in _EXPONENT],
     "sum_rule": ["mu", "kn", "gamman", "phi", "phi_err", "alpha", "alpha_err", "sum", "sum_err"],
+    "alpha_drag": ALPHA_DRAG_COLUMNS,
+    "alpha_speeds": ALPHA_SPEED_COLUMNS,
+    "sum_rule_drag": ["mu", "kn", "gamman", "phi", "phi_err", "alpha", "alpha_err", "sum", "sum_err"],
 }
+TABLE_ATTR = {"phi": "phi", "alpha": "alpha", "sum_rule": "sums", "alpha_drag": "alpha_drag",
+              "alpha_speeds": "alpha_speeds", "sum_rule_drag": "sums_drag"}
 
 
 def _with_meta(fit, **meta):
@@ -105,25 +224,24 @@ def _with_meta(fit, **meta):
 
 def save_results(path, r):
     """Write every fit of r to the fit file path (fits.json)."""
-    fits = {
-        f"regimes_mu{mu:g}_{by}{key:g}": _with_meta(f, group=by, mu=float(mu), group_value=float(key))
-        for (by, mu, key), f in r.regimes.items()
-    }
-    fits.update({k: v for k, v in (("theta", r.theta), ("kappa", r.kappa)) if v is not None})
-    fits.update({f"saturation_D{D:g}": _with_meta(f, D=float(D)) for D, f in r.saturation.items()})
-    save_fits(path, laws=r.laws, fits=fits, tables={"phi": r.phi, "alpha": r.alpha, "sum_rule": r.sums},
-              notes=r.notes)
+    fits = {k: v for k, v in named_fits(r).items() if not k.startswith("law_")}
+    tables = {k: getattr(r, a) for k, a in TABLE_ATTR.items() if getattr(r, a) is not None}
+    save_fits(path, laws=r.laws, fits=fits, tables=tables, notes=r.notes, summary=summary(r))
 
 
 def _frame(records, columns):
     df = pd.DataFrame(records, columns=columns)
-    return df.astype(float) if df.empty else df.apply(pd.to_numeric)
+    if df.empty:
+        return df.astype(float)
+    num = [c for c in columns if c != "speeds"]
+    df[num] = df[num].apply(pd.to_numeric)
+    return df
 
 
 def load_results(path):
     """The Results written by save_results (FitFileError if path is not such a file)."""
     ff = load_fits(path)
-    r = Results(laws=ff.laws, notes=list(ff.notes))
+    r = Results(laws=ff.laws, notes=list(ff.notes), options=Options.from_dict(ff.summary.get("options")))
     for name, f in ff.fits.items():
         if name.startswith("regimes_"):
             r.regimes[(f.meta["group"], f.meta["mu"], f.meta["group_value"])] = f
@@ -131,6 +249,6 @@ def load_results(path):
             r.saturation[f.meta["D"]] = f
         elif name in ("theta", "kappa"):
             setattr(r, name, f)
-    tables = {k: _frame(ff.tables.get(k, []), cols) for k, cols in TABLE_COLUMNS.items()}
-    r.phi, r.alpha, r.sums = tables["phi"], tables["alpha"], tables["sum_rule"]
+    for k, cols in TABLE_COLUMNS.items():
+        setattr(r, TABLE_ATTR[k], _frame(ff.tables.get(k, []), cols))
     return r

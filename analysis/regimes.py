@@ -30,13 +30,28 @@ import numpy as np
 from .result import Fit, Param
 
 MIN_POINTS = {"I": 2, "I_power": 4, "II": 3, "III": 3}
-# Regime I of the frictionless law is sublinear (Table I: c'' = 0.22-0.77);
-# allowing c0 > 1 would let it mimic the linear regime II and swallow Fr1.
-C0_MAX = 1.0
-C0_GRID = np.linspace(0.1, C0_MAX, 7)
+# Bounds of the regime-I exponent c0 of a0 + b0 Fr^c0, from the model rather than from a
+# published fit: c0 > 0 so that regime I rises from a0 (a yield force), and c0 < 2, the
+# exponent of regime III (a regime I steeper than the inertial one is no longer the slow
+# regime). Within them the data decide; a fit that ends on a bound says so (at_bounds).
+C0_MIN, C0_MAX = 0.05, 2.0
+C0_GRID = np.linspace(0.1, 1.9, 10)
 # h_ii -> 1 only for a point that pins its segment almost alone; its residual
 # is then ~0 and says nothing about its noise, so it is not blown up further.
 H_MAX = 0.95
+
+
+def violations(best, errs=None):
+    """What the fitted law says that the model forbids, in words: drag falling with Fr in
+    regime II (b1 < 0) or III (b2 < 0). Empty when none."""
+    out = []
+    for k, name in (("b1", "II"), ("b2", "III")):
+        v = best.get(k)
+        if v is not None and v < 0:
+            e = (errs or {}).get(k, np.nan)
+            sig = f", {abs(v) / e:.1f} standard errors below 0" if np.isfinite(e) and e > 0 else ""
+            out.append(f"drag falls with Fr in regime {name} ({k} = {v:.3g}{sig})")
+    return out
 
 
 def regime_curve(Fr, a0, a1, b1, a2, b2, Fr1, Fr2, b0=0.0, c0=1.0):
@@ -65,7 +80,7 @@ def fit_regimes(Fr, drag, sigma=None, *, regime1="constant", continuous=True,
         resid = fitter.noise_residuals(x, y, w, best)
         reps = [fitter.fit(x, fitted + resid * rng.choice([-1.0, 1.0], size=len(x)), w)
                 for _ in range(n_boot)]
-    return fitter.result(x, best, reps, f"{n_boot} wild-bootstrap refits (seed {seed})")
+    return fitter.result(x, best, reps, f"{n_boot} wild-bootstrap refits (seed {seed})", y, w)
 
 
 class RegimeFitter:
@@ -77,6 +92,7 @@ class RegimeFitter:
             raise ValueError(f"regime1 must be 'constant' or 'power', not {regime1!r}")
         self.regime1 = regime1
         self.power, self.continuous, self.grid = regime1 == "power", continuous, grid
+        self.min_points = dict(MIN_POINTS)
 
     def prepare(self, Fr, drag, sigma=None):
         """Finite points sorted by Fr, with weights; raise if too few."""
@@ -132,7 +148,7 @@ class RegimeFitter:
         u = u[:, sv > 1e-10 * sv[0]]
         return np.sum(u * u, axis=1)
 
-    def result(self, x, best, reps, how):
+    def result(self, x, best, reps, how, y=None, w=None):
         """A Fit from the point estimate and the refits (dicts; None = failed)."""
         names = list(best)
         rows = [[r[k] for k in names] for r in reps if r is not None]
@@ -150,11 +166,43 @@ class RegimeFitter:
                    method="profile least squares over the crossovers; errors = standard "
                           f"deviation of {how}",
                    n_points=len(x), x_range=(float(x[0]), float(x[-1])),
-                   meta={"regime1": self.regime1, "continuous": self.continuous},
+                   meta={"regime1": self.regime1, "continuous": self.continuous,
+                         "at_bounds": [] if y is None else self.at_bounds(x, y, w, best),
+                         "violations": violations(best, errs)},
                    replicates=arr)
 
+    def at_bounds(self, x, y, w, best):
+        """The limits the best fit ended on, in words: c0 at C0_MIN or C0_MAX, or a
+        regime held at the fewest points it may have (MIN_POINTS) when, allowed one point
+        fewer, the fit would take it (the crossover is then pressed against that limit)."""
+        out = []
+        if self.power:
+            c0 = best["c0"]
+            for bound, name in ((C0_MIN, "lower"), (C0_MAX, "upper")):
+                if abs(c0 - bound) < 0.02:
+                    out.append(f"c0 = {c0:.3g} at its bound {bound:g} ({name})")
+        counts = self._regime_counts(x, best)
+        for name, n in counts.items():
+            key = "I_power" if (name == "I" and self.power) else name
+            if n > self.min_points[key]:
+                continue
+            relaxed = RegimeFitter(self.regime1, self.continuous, self.grid)
+            relaxed.min_points = {**self.min_points, key: self.min_points[key] - 1}
+            alt = relaxed.fit(x, y, w)
+            if alt is not None and relaxed._regime_counts(x, alt)[name] < n:
+                out.append(f"regime {name} held at its minimum of {n} points "
+                           f"(with {n - 1} allowed the fit takes {n - 1})")
+        return out
+
+    @staticmethod
+    def _regime_counts(x, best):
+        n1 = int(np.sum(x < best["Fr1"]))
+        n2 = int(np.sum(x < best["Fr2"])) - n1
+        return {"I": n1, "II": n2, "III": len(x) - n1 - n2}
+
     def min_total(self):
-        return MIN_POINTS["I_power" if self.power else "I"] + MIN_POINTS["II"] + MIN_POINTS["III"]
+        m = self.min_points
+        return m["I_power" if self.power else "I"] + m["II"] + m["III"]
 
     def gap_width(self, x, fr):
         ux = np.unique(x)
@@ -195,8 +243,9 @@ class RegimeFitter:
     def _counts_ok(self, x, f1, f2):
         n1 = np.searchsorted(x, f1, side="left")
         n2 = np.searchsorted(x, f2, side="left")
-        m1 = MIN_POINTS["I_power" if self.power else "I"]
-        return (n1 >= m1) & (n2 - n1 >= MIN_POINTS["II"]) & (len(x) - n2 >= MIN_POINTS["III"])
+        m = self.min_points
+        m1 = m["I_power" if self.power else "I"]
+        return (n1 >= m1) & (n2 - n1 >= m["II"]) & (len(x) - n2 >= m["III"])
 
     def _design(self, x, c):
         """Design matrices, shape (len(c), len(x), p), for candidate rows c."""
@@ -248,7 +297,7 @@ class RegimeFitter:
         offs = np.linspace(-1.0, 1.0, 7)
         for _ in range(4):
             axes = [best[0] + offs * step[0], best[1] + offs * step[1],
-                    np.clip(best[2] + offs * step[2], 0.02, C0_MAX) if self.power else [best[2]]]
+                    np.clip(best[2] + offs * step[2], C0_MIN, C0_MAX) if self.power else [best[2]]]
             g = np.array(np.meshgrid(*axes, indexing="ij")).reshape(3, -1).T
             c = np.column_stack([np.exp(g[:, 0]), np.exp(g[:, 1]), g[:, 2]])
             ok = (c[:, 0] < c[:, 1]) & self._counts_ok(x, c[:, 0], c[:, 1])
@@ -261,7 +310,7 @@ class RegimeFitter:
         return np.array([np.exp(best[0]), np.exp(best[1]), best[2]])
 
     def _refine_c0(self, x, y, w, start):
-        cs = np.linspace(max(start[2] - 0.2, 0.02), min(start[2] + 0.2, C0_MAX), 41)
+        cs = np.linspace(max(start[2] - 0.2, C0_MIN), min(start[2] + 0.2, C0_MAX), 41)
         c = np.column_stack([np.full_like(cs, start[0]), np.full_like(cs, start[1]), cs])
         return c[int(np.argmin(self._solve(x, y, w, c)[0]))]
 

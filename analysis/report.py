@@ -2,13 +2,20 @@
 
 Verdict for a number with a published value p (the paper gives no error
 bars, so only ours count):
+  inconclusive       no error bar, an error above INCONCLUSIVE (30 %) of the value,
+                     or a fit that breaks its model (drag falling with Fr in regime
+                     II or III): such a number could agree with anything
   within error bars  |fit - p| <= 2 standard errors
   qualitatively      otherwise, but |fit - p| <= 25 % of |p|
   not reproduced     otherwise (or no fit)
+The report counts each verdict apart. Beside every number it says whether its fit
+ended on a bound, how many replicate beds it rests on, and whether any of its
+runs lacked a plateau (table columns SEED_COLUMN and PLATEAU_COLUMN, when present).
 """
 import html
 import math
-from dataclasses import dataclass
+from collections import Counter
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -16,13 +23,18 @@ import numpy as np
 from . import paper
 from .figure_list import FIGURES, NAMES, Inputs, draw
 from .figures import not_drawn_reason
+from .fits import write_text_atomic
 from .fitset import Results, load_results, run_fits, save_results
 from .result import Param, format_pm
-from .table import reference_params
+from .table import YIELD_SPEED, reference_params, select, yield_rows
 
 __all__ = ["Results", "build_report", "comparisons", "run_fits", "verdict", "write_report"]
 
 SIGMAS, REL_TOL = 2.0, 0.25
+INCONCLUSIVE = 0.30        # relative error above which a number cannot confirm anything
+VERDICTS = ("reproduced within error bars", "reproduced qualitatively", "not reproduced", "inconclusive")
+SEED_COLUMN = "seed"         # replicate bed of a pull (absent: one bed per point)
+PLATEAU_COLUMN = "plateau"   # 1/True when the run's block-average error reached a plateau
 
 
 # --- comparisons ---------------------------------------------------------
@@ -34,65 +46,141 @@ class Row:
     published: str
     verdict: str
     sentence: str
+    notes: list = field(default_factory=list)   # bounds, model violations, beds, plateaus
 
 
-def verdict(p, published):
-    """Verdict and its reason for Param p against a published number."""
+def verdict(p, published, violations=()):
+    """Verdict and its reason for Param p against a published number; violations: what
+    the fit breaks of its model (regimes.violations), which makes it inconclusive."""
     if p is None or not math.isfinite(p.value):
         return "not reproduced", "no fit"
+    if violations:
+        return "inconclusive", "the fit breaks its model: " + "; ".join(violations)
+    if not (math.isfinite(p.err) and p.err > 0):
+        return "inconclusive", "no error bar"
+    if p.err > INCONCLUSIVE * abs(p.value):
+        return "inconclusive", f"error {p.err / abs(p.value):.0%} of the value, above {INCONCLUSIVE:.0%}"
     d = abs(p.value - published)
-    if math.isfinite(p.err) and p.err > 0 and d <= SIGMAS * p.err:
+    if d <= SIGMAS * p.err:
         return "reproduced within error bars", f"{d / p.err:.1f} standard errors away"
     if d <= REL_TOL * abs(published):
-        why = f"{d / p.err:.1f} standard errors" if math.isfinite(p.err) and p.err > 0 else "no error bar"
-        return "reproduced qualitatively", f"within {REL_TOL:.0%} but {why}"
+        return "reproduced qualitatively", f"within {REL_TOL:.0%} but {d / p.err:.1f} standard errors"
     return "not reproduced", f"off by {d / abs(published):.0%}" if published else "off"
 
 
-def _row(quantity, p, published, shown=None):
-    v, why = verdict(p, published)
+def _row(quantity, p, published, shown=None, fit=None, rows=None, extra=""):
+    meta = fit.meta if fit is not None else {}
+    v, why = verdict(p, published, meta.get("violations", ()))
     shown = shown or f"{published:g}"
+    notes = list(meta.get("at_bounds", [])) + list(meta.get("violations", []))
+    if rows is not None:
+        notes += _basis(rows)
+    tail = f" [{'; '.join(notes)}]" if notes else ""
     return Row(quantity, str(p) if p else "n/a", shown, v,
-               f"{quantity}: {p if p else 'n/a'} against {shown} — {v} ({why}).")
+               f"{quantity}: {p if p else 'n/a'} against {shown} — {v} ({why}){extra}.{tail}", notes)
 
 
-def comparisons(r):
+def _basis(rows):
+    """How many replicate beds the rows rest on and whether any of their runs lacked a plateau."""
+    if rows is None or len(rows) == 0:
+        return []
+    if SEED_COLUMN in rows.columns:
+        per = rows.groupby(["system", "D", "h", "mu", "kn", "gamman", "V"])[SEED_COLUMN].nunique()
+        beds = f"{per.min()}–{per.max()}" if per.min() != per.max() else f"{per.min()}"
+        out = [f"{beds} replicate bed(s) per point"]
+    else:
+        out = ["1 bed per point (no replicates)"]
+    if PLATEAU_COLUMN in rows.columns:
+        flat = rows[PLATEAU_COLUMN].astype(float)
+        bad = int((flat == 0).sum())
+        out.append(f"{bad} of {len(rows)} runs without a plateau of the block-average error"
+                   if bad else "every run reached a plateau")
+    return out
+
+
+def _moving(rows):
+    return rows[~np.isclose(rows.V, YIELD_SPEED)]
+
+
+def comparisons(r, df=None):
+    """Rows of the report's table; with the pull table df, each says what its fit rests on."""
+    ref = None
+    if df is not None:
+        kn, gn = reference_params(df)
+        ref = select(df, kn=kn, gamman=gn)
+    sub = (lambda **k: select(ref, **k)) if ref is not None else (lambda **k: None)
     rows = []
     for (label, mu, key), fit in sorted(r.regimes.items(), key=lambda kv: (kv[0][0], -kv[0][1], kv[0][2])):
         where = f"μ = {mu:g}, {label} = {key:.3g}"
-        rows.append(_row(f"Fr_1 ({where})", fit["Fr1"], paper.CROSSOVER_FR1, "≈ 1"))
-        rows.append(_row(f"Fr_2 ({where})", fit["Fr2"], paper.CROSSOVER_FR2, "≈ 5"))
+        basis = sub(mu=mu, system="I" if label == "D" else "II", **{label: key})
+        basis = None if basis is None else _moving(basis)
+        rows.append(_row(f"Fr_1 ({where})", fit["Fr1"], paper.CROSSOVER_FR1, "≈ 1", fit, basis))
+        rows.append(_row(f"Fr_2 ({where})", fit["Fr2"], paper.CROSSOVER_FR2, "≈ 5", fit, basis))
+    h_min = r.options.h_min
     for law in r.laws:
-        rows.append(_row(f"Fr_1 (Eq. 12 collapse, μ = {law.mu:g})", law.regimes["Fr1"], 1.0, "≈ 1"))
-        rows.append(_row(f"Fr_2 (Eq. 12 collapse, μ = {law.mu:g})", law.regimes["Fr2"], 5.0, "≈ 5"))
+        basis = sub(mu=law.mu)
+        if basis is not None:
+            basis = _moving(basis[basis.h >= h_min] if h_min else basis)
+        cut = f", h ≥ {h_min:g}" if h_min else ""
+        rows.append(_row(f"Fr_1 (Eq. 12 collapse, μ = {law.mu:g}{cut})", law.regimes["Fr1"], 1.0, "≈ 1",
+                         law.regimes, basis))
+        rows.append(_row(f"Fr_2 (Eq. 12 collapse, μ = {law.mu:g}{cut})", law.regimes["Fr2"], 5.0, "≈ 5",
+                         law.regimes, basis))
+    obs = sub(mu=0.5, system="I")
     if r.theta is not None:
         for k, name in (("U1", "Υ1"), ("U2", "Υ2"), ("U3", "Υ3")):
-            rows.append(_row(f"θ(Fr) {name} (Eq. 7)", r.theta[k], paper.THETA[k]))
+            rows.append(_row(f"θ(Fr) {name} (Eq. 7)", r.theta[k], paper.THETA[k], fit=r.theta, rows=obs))
     if r.kappa is not None:
         for k in ("k0", "k1"):
             rows.append(_row(f"κ(Fr) {'intercept' if k == 'k0' else 'slope'} (Fig. 8)",
-                             r.kappa[k], paper.KAPPA[k]))
+                             r.kappa[k], paper.KAPPA[k], fit=r.kappa, rows=obs))
     for D, fit in sorted(r.by("D", 0.0).items()):
         pub = paper.TABLE1.get(int(round(D))) if float(D).is_integer() else None
         if pub and "b0" in fit.params:
+            y = fit.meta.get("yield_pull")
+            beside = (f"; the yield pull, not in the fit: F_Y = {format_pm(y['drag'], y['drag_err'] or math.nan)}"
+                      if y else "")
+            basis = sub(mu=0.0, system="I", D=D)
             for k, name, v in zip(("a0", "b0", "c0"), ("a''", "b''", "c''"), pub):
-                rows.append(_row(f"Table I {name} (D = {D:g}d)", fit[k], v))
-    for tab, col, pub, name in ((r.phi, "phi", paper.PHI_0, "φ_0"), (r.alpha, "alpha", paper.ALPHA_0, "α_0")):
-        for _, t in tab[np.isclose(tab.mu, 0.0)].iterrows():
-            rows.append(_row(f"{name} (K_n = {t.kn:.3g})", Param(t[col], t[col + "_err"]), pub, f"≈ {pub:g}"))
-    for _, t in r.sums.iterrows():
-        rows.append(_row(f"α_μ + φ_μ (μ = {t.mu:g}, K_n = {t.kn:.3g})",
-                         Param(t["sum"], t["sum_err"]), paper.SUM_RULE, "≈ 3"))
+                rows.append(_row(f"Table I {name} (D = {D:g}d)", fit[k], v, fit=fit,
+                                 rows=None if basis is None else _moving(basis),
+                                 extra=beside if k == "a0" else ""))
+    yl = None if ref is None else yield_rows(df)
+    for tab, col, pub, name, system in ((r.phi, "phi", paper.PHI_0, "φ_0", "I"),
+                                        (r.alpha, "alpha", paper.ALPHA_0, "α_0 (yield force, Fig. 17)", "II")):
+        for _, t in (tab[np.isclose(tab.mu, 0.0)].iterrows() if tab is not None else []):
+            basis = None if yl is None else select(yl, mu=0.0, kn=t.kn, gamman=t.gamman, system=system)
+            rows.append(_row(f"{name} (K_n = {t.kn:.3g})", Param(t[col], t[col + "_err"]), pub,
+                             f"≈ {pub:g}", rows=basis))
+    ad = r.alpha_drag if r.alpha_drag is not None else []
+    for _, t in (ad[np.isclose(ad.mu, 0.0)].iterrows() if len(ad) else []):
+        rows.append(_row(f"α_0 (drag, averaged over speeds {t.speeds}; K_n = {t.kn:.3g})",
+                         Param(t.alpha, t.alpha_err), paper.ALPHA_0, f"≈ {paper.ALPHA_0:g}",
+                         rows=None if df is None else _moving(select(df, mu=0.0, kn=t.kn, gamman=t.gamman,
+                                                                      system="II"))))
+    for tab, how in ((r.sums, "α_μ from the yield force"), (r.sums_drag, "α_μ from the drag, averaged over speeds")):
+        for _, t in (tab.iterrows() if tab is not None else []):
+            rows.append(_row(f"α_μ + φ_μ ({how}; μ = {t.mu:g}, K_n = {t.kn:.3g})",
+                             Param(t["sum"], t["sum_err"]), paper.SUM_RULE, "≈ 3"))
     for D, fit in sorted(r.saturation.items()):
         rows.append(_saturation_row(D, fit))
     return rows
+
+
+def counts(rows):
+    """How many numbers got each verdict (inconclusive counted apart)."""
+    c = Counter(x.verdict for x in rows)
+    return {v: c.get(v, 0) for v in VERDICTS}
 
 
 def _saturation_row(D, fit):
     """F_Y saturates if 95 % of its rise (3 mu_c) happens inside the sampled mu."""
     mu_c, mu_max = fit["mu_c"], fit.x_range[1]
     err = mu_c.err if math.isfinite(mu_c.err) else math.inf
-    if 3 * (mu_c.value + SIGMAS * err) < mu_max:
+    notes = list(fit.meta.get("at_bounds", []))
+    if notes:
+        v = "inconclusive"
+    elif 3 * (mu_c.value + SIGMAS * err) < mu_max:
         v = "reproduced within error bars"
     elif 3 * mu_c.value < mu_max:
         v = "reproduced qualitatively"
@@ -100,9 +188,10 @@ def _saturation_row(D, fit):
         v = "not reproduced"
     q = f"F_Y saturating in μ (D = {D:g}d)"
     shown = "saturates (Fig. 12)"
+    tail = f" [{'; '.join(notes)}]" if notes else ""
     return Row(q, f"μ_c = {mu_c}", shown, v,
                f"{q}: rise scale μ_c = {mu_c} against sampled μ ≤ {mu_max:g} — {v} "
-               f"(saturated means 3 μ_c < μ_max).")
+               f"(saturated means 3 μ_c < μ_max).{tail}", notes)
 
 
 # --- document ------------------------------------------------------------
@@ -116,17 +205,33 @@ def _blocks(df, r, figs, n_boot, seed):
                f"squares, errors from {n_boot} wild-bootstrap refits (seed {seed}); other fits: "
                "least-squares covariance. Errors are one standard error."),
          ("p", _scale_text(df, kn)),
-         ("p", f"Verdicts: within error bars = within {SIGMAS:g} standard errors of the published "
+         ("p", f"Verdicts: inconclusive = no error bar, an error above {INCONCLUSIVE:.0%} of the "
+               "value, or a fit that breaks its model (drag falling with Fr in regime II or III); "
+               f"within error bars = within {SIGMAS:g} standard errors of the published "
                f"value; qualitatively = within {REL_TOL:.0%} of it; else not reproduced. "
-               "The paper publishes no error bars.")]
-    rows = comparisons(r)
+               "The paper publishes no error bars. Regime fits are made to the pulls at speed; "
+               "the yield pull (V = 0.01) is shown beside them, not in them (paper Figs. 5, 10)."
+               + (f" Eq. 12 and Fig. 19 use pulls at h ≥ {r.options.h_min:g} d only (h_min)."
+                  if r.options.h_min else " Eq. 12 and Fig. 19 use pulls at every depth (h_min = 0)."))]
+    rows = comparisons(r, df)
+    n = counts(rows)
     b += [("h2", "Fitted numbers beside the paper's"),
-          ("table", ["quantity", "fitted", "paper", "verdict"],
-           [[x.quantity, x.fitted, x.published, x.verdict] for x in rows])]
+          ("p", f"{len(rows)} numbers: " + ", ".join(f"{n[v]} {v}" for v in VERDICTS) + "."),
+          ("table", ["quantity", "fitted", "paper", "verdict", "fit notes"],
+           [[x.quantity, x.fitted, x.published, x.verdict, "; ".join(x.notes)] for x in rows])]
     b += [("h2", "In words"), ("ul", [x.sentence for x in rows] or ["No fit could be made."])]
     if len(r.sums) or len(r.phi) or len(r.alpha):
         b += [("h2", "Exponents of the yield force")]
         b += [("table", ["μ", "K_n", "φ_μ", "f(μ)", "α_μ", "g(μ)"], _exponent_rows(r))]
+    if r.alpha_drag is not None and len(r.alpha_drag):
+        b += [("h2", "α_μ from the drag at speed (Sec. III H, Fig. 18)"),
+              ("p", "The paper's α_μ: the depth exponent of the drag at V = "
+                    + ", ".join(f"{v:g}" for v in r.options.alpha_speeds)
+                    + " (a pulled speed within 25 % stands for each), averaged. Its error is the "
+                    "mean of the per-speed errors (the speeds share their beds: fully correlated); "
+                    "the spread is the standard deviation over the speeds."),
+              ("table", ["μ", "K_n", "α_μ (drag, averaged)", "spread", "speeds", "α_μ (yield force)"],
+               _alpha_drag_rows(r))]
     if r.laws:
         b += [("h2", "Scaling law (Eq. 12): λ coefficients"),
               ("p", "F*_drag / (h*^α_μ (D*+1)^φ_μ) = λ^I (Fr < Fr_1); λ_1^II Fr + λ_2^II "
@@ -179,6 +284,16 @@ def _exponent_rows(r):
             for _, row in m.iterrows()]
 
 
+def _alpha_drag_rows(r):
+    out = []
+    for _, t in r.alpha_drag.sort_values(["kn", "mu"]).iterrows():
+        a = r.alpha[np.isclose(r.alpha.mu, t.mu) & np.isclose(r.alpha.kn, t.kn) & np.isclose(r.alpha.gamman, t.gamman)]
+        out.append([f"{t.mu:g}", f"{t.kn:.3g}", format_pm(t.alpha, t.alpha_err),
+                    f"{t.spread:.2g}" if np.isfinite(t.spread) else "-", t.speeds,
+                    format_pm(a.alpha.iloc[0], a.alpha_err.iloc[0]) if len(a) else "-"])
+    return out
+
+
 def _markdown(blocks):
     out = []
     for kind, *a in blocks:
@@ -222,9 +337,18 @@ def _html(blocks):
     return "\n".join(out + ["</body></html>"])
 
 
+FIG1_CAPTION = ("Fig. 1: (a) a system I and (c) a system II bed with the intruder (red; frozen base "
+                "grey), the half in front of the intruder's plane cut away; (b) the slice of the "
+                "system I bed through the intruder's plane, grains as circles of their cut radius.")
+
+
 def figure_entries(outdir):
     """[(caption, png path or None, why not drawn)] of every figure in outdir, paper order."""
     out = []
+    fig1 = Path(outdir) / "fig01_beds.png"  # drawn by workflow/rules/fig1.smk, if it ran
+    if fig1.is_file():
+        note = fig1.with_suffix(".txt")
+        out.append((FIG1_CAPTION + (" " + note.read_text().strip() if note.is_file() else ""), fig1, ""))
     for fig in FIGURES:
         png = Path(outdir) / f"{fig.name}.png"
         why = not_drawn_reason(png) if png.is_file() else "no figure file"
@@ -237,12 +361,13 @@ def write_report(df, r, outdir, n_boot, seed):
     fits.json) and the figure files already in outdir. Returns the path of report.md."""
     outdir = Path(outdir)
     blocks = _blocks(df, r, figure_entries(outdir), n_boot, seed)
-    (outdir / "report.md").write_text(_markdown(blocks))
-    (outdir / "report.html").write_text(_html(blocks))
+    write_text_atomic(outdir / "report.md", _markdown(blocks))
+    write_text_atomic(outdir / "report.html", _html(blocks))
     return outdir / "report.md"
 
 
-def build_report(df, outdir, n_boot=200, seed=0, restitution=None, trace=None, coordination=None, flow=None):
+def build_report(df, outdir, n_boot=200, seed=0, restitution=None, trace=None, coordination=None, flow=None,
+                 options=None):
     """Fit, draw and write fits.json, every figure, report.md and report.html into outdir (what
     the workflow's fits, figure and report rules do one step at a time).
 
@@ -254,7 +379,7 @@ def build_report(df, outdir, n_boot=200, seed=0, restitution=None, trace=None, c
     """
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
-    save_results(outdir / "fits.json", run_fits(df, n_boot=n_boot, seed=seed))
+    save_results(outdir / "fits.json", run_fits(df, n_boot=n_boot, seed=seed, options=options))
     r = load_results(outdir / "fits.json")
     inputs = Inputs(table=df, restitution=restitution, trace=trace, coordination=coordination, flow=flow)
     for name in NAMES:

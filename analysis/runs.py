@@ -2,7 +2,8 @@
 
 A run file holds one pull: attributes on /run (D, depth, speed, froude, mu,
 kn, gamman, dt, steps), the observables under /observables (drag with its
-block-averaging error, intruder coordination n, contact angle theta, bulk
+standard error, that error's Student-t degrees of freedom `error_dof` and its
+convergence flag `plateau`, intruder coordination n, contact angle theta, bulk
 coordination Z, kappa, the force series) and the resolved parameters of the
 pull and of its bed, one typed attribute per key under /parameters/pull and
 /parameters/pour (`read_parameters`). `read_run` turns one file into a row of
@@ -23,6 +24,16 @@ kept as `h_requested` (NaN for beds placed by height, `z~`). Other
 `key~value` components that name a stored quantity (D, mu, kn, gn, Fr, V)
 are checked against the file, so a run copied to the wrong place is refused
 rather than filed under the wrong parameters.
+
+Sanity: a run file records its verdict, /sanity attribute `verdict`: "clean",
+or the first failure of a pull run with `--keep_going` (grains lost, an
+overlap over `max_overlap`, energy gained beyond the work done). A run whose
+verdict is not clean is refused (RunFileError naming the file and the
+verdict), so the table leaves it out and lists it with the other unusable
+files (results/table_problems.txt). Run files written before the verdict
+existed have none: they are read as before, with column `sanity` = "unknown"
+(granudrag then stopped only on NaN or exploding kinetic energy, so their
+overlaps were not bounded); new files have `sanity` = "clean".
 """
 import math
 import re
@@ -40,8 +51,9 @@ RUN_VERSIONS = (1, 2)   # 1: parameters as YAML text (legacy path), 2: parameter
 # check (requested depth, time step, how much of the pull was discarded) and
 # the scale of the run (box, grains poured, distance pulled; NaN when the file
 # does not record them).
-EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err",
-                 "lx", "ly", "grains", "distance", "path"]
+EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
+                 "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "sanity",
+                 "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
@@ -140,11 +152,14 @@ def read_run(path, system=None, root=None):
             return _number(_group(obs, name, path), attr, path, f"/observables/{name}")
 
         drag, drag_err = observable("drag"), observable("drag", "error")
+        drag_dof, plateau = _drag_convergence(_group(obs, "drag", path), drag_err)
         transient = observable("drag", "transient_distance")
         n = observable("coordination")
         theta, theta_err = observable("theta"), observable("theta", "error")
         Z, kappa = observable("bulk_coordination"), observable("kappa")
+        kappa_err = _kappa_error(obs, kappa, n, transient / get["speed"] if get["speed"] > 0 else 0.0)
         scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
+        sanity = _verdict(f, path)
     except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
         raise RunFileError(f"{path}: damaged run file: {exc}") from None
     finally:
@@ -172,6 +187,8 @@ def read_run(path, system=None, root=None):
     if not math.isclose(fr, get["froude"], rel_tol=1e-6, abs_tol=1e-12):
         raise RunFileError(f"{path}: stored Froude number {get['froude']:.6g} is not paper Eq. 4 "
                            f"of its speed and D ({fr:.6g})")
+    if sanity != "clean" and sanity != "unknown":
+        raise RunFileError(f"{path}: sanity verdict is not clean, left out: {sanity}")
     if not math.isfinite(drag):
         raise RunFileError(f"{path}: the pull produced no drag (value {drag}); see its log")
     h_requested = float(params["h"]) if "h" in params else math.nan
@@ -186,7 +203,66 @@ def read_run(path, system=None, root=None):
             "drag_err": drag_err, "n_contacts": n, "theta": theta, "Z": Z, "kappa": kappa,
             "run": str(run_dir), "h_requested": h_requested, "dt": get["dt"],
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
-            **scale, "distance": get["speed"] * get["steps"] * get["dt"], "path": str(path)}
+            "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
+            **scale, "distance": get["speed"] * get["steps"] * get["dt"], "sanity": sanity,
+            "path": str(path)}
+
+
+def _verdict(f, path):
+    """The run's sanity verdict: "clean", the failure it records, or "unknown" for a file
+    written before granudrag recorded one."""
+    group = f.get("sanity")
+    if group is None or "verdict" not in group.attrs:
+        return "unknown"
+    value = _attr(group, "verdict", path, "/sanity")
+    return value if value else "unknown"
+
+
+def _drag_convergence(group, drag_err):
+    """(error_dof, plateau) of the drag's error. Files before these attributes (block
+    averaging, no convergence test): (NaN, False), so a table never claims a converged error
+    that was not tested."""
+    dof = float(group.attrs.get("error_dof", math.nan))
+    plateau = bool(int(group.attrs.get("plateau", 0))) and math.isfinite(drag_err)
+    return dof, plateau
+
+
+def _seed(params, path):
+    """The bed's pour seed from the path's `seed~` component (NaN if the path has none): it
+    tells replicate beds of one point apart (analysis.table.combine_beds)."""
+    if "seed" not in params:
+        return math.nan
+    try:
+        return float(params["seed"])
+    except ValueError:
+        raise RunFileError(f"{path}: path component 'seed~{params['seed']}' is not a number") from None
+
+
+def block_error(x, min_blocks=8):
+    """Standard error of the mean of a correlated series by block averaging: the largest
+    standard error over pairwise blocking levels that keep at least min_blocks blocks."""
+    x = np.asarray(x, float)
+    best = np.std(x, ddof=1) / np.sqrt(len(x)) if len(x) > 1 else math.nan
+    while len(x) >= 2 * min_blocks:
+        x = 0.5 * (x[: len(x) // 2 * 2 : 2] + x[1 : len(x) // 2 * 2 : 2])
+        best = max(best, np.std(x, ddof=1) / np.sqrt(len(x)))
+    return float(best)
+
+
+def _kappa_error(obs, kappa, n, t0):
+    """Error of kappa = (Z/n)(D+d)^2/(2 sqrt(3)) from the block-averaging error of the
+    intruder coordination n, whose series the run file stores
+    (/observables/intruder_contacts, samples after the transient). The bulk Z has no
+    series in the file, so its sampling error is not included. NaN when unavailable."""
+    try:
+        g = obs["intruder_contacts"]
+        t, c = g["time"][()], g["value"][()].astype(float)
+    except KeyError:
+        return math.nan
+    c = c[t > t0]
+    if len(c) < 2 or not (math.isfinite(kappa) and n > 0):
+        return math.nan
+    return abs(kappa) * block_error(c) / n
 
 
 def _value(value):

@@ -149,3 +149,151 @@ def select(df, *, atol=1e-9, **equal):
         else:
             keep &= np.isclose(df[col].to_numpy(dtype=float), value, rtol=1e-9, atol=atol)
     return df[keep]
+
+
+# --- Replicate beds ------------------------------------------------------
+# A sweep with `seed: [1, 2, 3]` pours one bed per seed; every speed of the sweep is pulled
+# through each. The run table (one row per pull) then has several rows per point, told apart
+# by `seed`; `combine_beds` makes the point table (one row per point) the fits read, and
+# `bed_bootstrap` its resamples that keep the beds' correlations.
+
+def _point_and_series(run):
+    """(point, series) identifiers of a run directory: the directory without its `seed~`
+    component, and its parent (the bed) likewise. Runs outside the workflow's layout (no
+    `seed~` component) are each their own point and their own series."""
+    parts = Path(str(run)).parts
+    if not any(p.startswith("seed~") for p in parts):
+        return str(run), str(run)
+    kept = [p for p in parts if not p.startswith("seed~")]
+    return "/".join(kept), "/".join(kept[:-1])
+
+
+def _with_ids(runs):
+    ids = [_point_and_series(r) for r in runs["run"]]
+    return runs.assign(_point=[i[0] for i in ids], _series=[i[1] for i in ids])
+
+
+def _by_point(runs):
+    """(runs with ids, codes, k, first): each row's point index, beds per point, and the
+    first row of each point, in first-seen order."""
+    runs = _with_ids(runs).reset_index(drop=True)
+    codes, _ = pd.factorize(runs["_point"])
+    k = np.bincount(codes)
+    first = np.unique(codes, return_index=True)[1]
+    return runs, codes, k, first
+
+
+def _moments(codes, k, y, e):
+    """Per point: mean of y, var of y (ddof 1, NaN for one bed), W = mean(e^2)."""
+    m = np.bincount(codes, y) / k
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s2 = np.bincount(codes, (y - m[codes]) ** 2) / (k - 1)
+    return m, np.where(k >= 2, s2, np.nan), np.bincount(codes, e ** 2) / k
+
+
+def between_bed_scatter(runs):
+    """(r2, dof): the pooled relative between-bed variance sigma_B^2/drag^2 over the points
+    with two or more beds, and its degrees of freedom sum(k - 1); (NaN, 0) if none has."""
+    runs, codes, k, _ = _by_point(runs)
+    m, s2, W = _moments(codes, k, runs.drag.to_numpy(float), runs.drag_err.to_numpy(float))
+    rep = k >= 2
+    dof = int(np.sum(k[rep] - 1))
+    if not dof:
+        return np.nan, 0
+    sb2 = np.maximum(0.0, s2[rep] - W[rep])
+    return float(np.sum((k[rep] - 1) * sb2 / m[rep] ** 2) / dof), dof
+
+
+def combine_beds(runs, r2=None):
+    """The point table: one row per point of a run table, combining its replicate beds.
+
+    For a point with beds b = 1..k, drags y_b and within-run standard errors e_b:
+        drag = mean(y_b),  W = mean(e_b^2)  (within-run variance of one bed's drag),
+        s^2 = var(y_b) (k >= 2, ddof 1), sigma_B^2 = max(0, s^2 - W)  (between-bed variance),
+        drag_err^2 = (sigma_B^2 + W)/k = max(s^2, W)/k,
+    with drag_err_within = sqrt(W/k), drag_err_between = sqrt(sigma_B^2/k). A point with one
+    bed cannot measure sigma_B; it takes the pooled relative scatter r2 of the replicated
+    points (`between_bed_scatter`; or the r2 given): sigma_B^2 = r2 drag^2. drag_dof: k - 1
+    when the bed scatter dominates (s^2 > W), else the within-run dof combined (Satterthwaite);
+    n_beds: k; plateau: every bed's error converged; seeds: the beds' seeds, ';'-joined.
+    Other observables are means over the beds (theta_err combined as drag_err, without the
+    pooled term). Rows without a seed (runs outside the workflow's layout) pass unchanged.
+    """
+    if r2 is None:
+        r2, r2_dof = between_bed_scatter(runs)
+    else:
+        r2_dof = np.inf
+    runs, codes, k, first = _by_point(runs)
+    y, e = runs.drag.to_numpy(float), runs.drag_err.to_numpy(float)
+    nu = runs.drag_dof.to_numpy(float) if "drag_dof" in runs else np.full(len(runs), np.nan)
+    m, s2, W = _moments(codes, k, y, e)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        within_dof = k * k * W ** 2 / np.bincount(codes, e ** 4 / nu)
+        within_dof = np.where(np.isfinite(within_dof) & (W > 0), within_dof, np.nan)
+        y1 = m  # one bed: its drag
+        pooled = r2 * y1 ** 2 if np.isfinite(r2) else np.full(len(k), np.nan)
+        single_dof = (W + pooled) ** 2 / (W ** 2 / within_dof + pooled ** 2 / r2_dof)
+    rep = k >= 2
+    sb2 = np.where(rep, np.maximum(0.0, s2 - W), pooled)
+    dof = np.where(rep, np.where(s2 > W, k - 1.0, within_dof),
+                   np.where(np.isfinite(pooled), single_dof, within_dof))
+    out = runs.iloc[first].reset_index(drop=True).copy()
+    out["drag"] = m
+    out["drag_err"] = np.sqrt((np.nan_to_num(sb2) + W) / k)
+    out["drag_err_within"] = np.sqrt(W / k)
+    out["drag_err_between"] = np.sqrt(sb2 / k)
+    out["drag_dof"] = dof
+    out["n_beds"] = k
+    if "seed" in runs:
+        texts = [[] for _ in k]
+        for c, v in zip(codes, runs.seed.to_numpy(float)):
+            texts[c].append(f"{v:g}")
+        out["seeds"] = [";".join(t) for t in texts]
+    else:
+        out["seeds"] = ""
+    out["run"] = np.where(rep, out["_point"], out["run"].astype(str))
+    if "plateau" in runs:
+        out["plateau"] = np.bincount(codes, ~runs.plateau.astype(bool).to_numpy()) == 0
+    for c in ("h", "n_contacts", "Z", "kappa", "theta"):
+        out[c] = np.bincount(codes, runs[c].to_numpy(float)) / k
+    if "theta_err" in runs:
+        _, ts2, tW = _moments(codes, k, runs.theta.to_numpy(float), runs.theta_err.to_numpy(float))
+        out["theta_err"] = np.sqrt(np.maximum(np.nan_to_num(ts2), tW) / k)
+    out = out.drop(columns=["_point", "_series"])
+    return out.astype({"system": object, "run": object})
+
+
+def bed_bootstrap(runs, n_boot, seed=0):
+    """Yield n_boot point tables (combine_beds) resampled by bed, not by point.
+
+    A series is the set of points pulled through the same beds (one bed per seed). In each
+    resample, a series with k >= 2 beds draws k of its seeds with replacement and takes all
+    of their pulls (so a bed's points move together); a series with one bed keeps it and is
+    perturbed parametrically: drag_i + e_i z_i + sqrt(r2) drag_i z (z_i, z standard normal,
+    z shared by the series' points: a bed shifts every point it carries), r2 the pooled
+    between-bed scatter (0 if no point is replicated). The resamples' spread of any fitted
+    quantity is then its error including bed-to-bed scatter and its correlations.
+    """
+    rng = np.random.default_rng(seed)
+    r2, _ = between_bed_scatter(runs)
+    r = float(np.sqrt(r2)) if np.isfinite(r2) else 0.0
+    runs = _with_ids(runs).reset_index(drop=True)
+    series = list(runs.groupby("_series", sort=False))
+    for _ in range(n_boot):
+        parts = []
+        for _, g in series:
+            seeds = pd.unique(g.seed) if "seed" in g else np.array([np.nan])
+            if len(seeds) >= 2:
+                drawn = rng.choice(len(seeds), size=len(seeds), replace=True)
+                for j, i in enumerate(drawn):
+                    part = g[g.seed == seeds[i]].copy()
+                    part["seed"] = float(j)  # a bed drawn twice counts as two beds
+                    part["run"] = [f"{p}/seed~{j}" for p in part["_point"]]
+                    parts.append(part)
+            else:
+                part = g.copy()
+                y, e = part.drag.to_numpy(float), part.drag_err.to_numpy(float)
+                part["drag"] = y + e * rng.standard_normal(len(y)) + r * y * rng.standard_normal()
+                parts.append(part)
+        sample = pd.concat(parts, ignore_index=True).drop(columns=["_point", "_series"])
+        yield combine_beds(sample, r2=r2 if np.isfinite(r2) else None)

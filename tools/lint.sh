@@ -3,8 +3,8 @@
 #   clang-format  src/ and tests/cpp against .clang-format (fix: clang-format -i FILE)
 #   ruff          the Python code, configured in pyproject.toml (fix: ruff check --fix, or by hand)
 #   snakefmt      the workflow's Snakefile and rules (fix: snakefmt workflow/)
-# ruff and snakefmt come from a private virtual environment, .venv-lint/, made with Debian's
-# interpreter from the pinned, hashed tools/requirements-lint.txt when missing or out of date.
+# ruff and snakefmt come from the project environment .venv/ (pinned and hashed in
+# requirements/project.txt; tools/install-deps.sh makes it when missing or out of date).
 #   tools/lint.sh
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -21,18 +21,12 @@ else
   echo "lint: clang-format: ${#cxx[@]} C++ files formatted"
 fi
 
-# 2. The pinned Python linters, installed once.
-venv=.venv-lint
-req=tools/requirements-lint.txt
-if ! cmp -s "$req" "$venv/requirements-lint.txt"; then
-  echo "lint: installing the pinned linters into $venv/ (from $req)"
-  rm -rf "$venv"
-  if ! { /usr/bin/python3 -m venv "$venv" &&
-         "$venv/bin/pip" install -q --disable-pip-version-check --require-hashes --only-binary :all: \
-           -r "$req" && cp "$req" "$venv/requirements-lint.txt"; }; then
-    echo "lint: FAILED to install the linters into $venv/ (python3-venv missing? offline?)"
-    exit 1
-  fi
+# 2. The pinned Python linters: the project environment's (.venv/, made by
+# tools/install-deps.sh from requirements/project.txt when missing or out of date).
+venv=.venv
+if ! tools/install-deps.sh venv; then
+  echo "lint: FAILED to make $venv/ (python3-venv missing? offline?)"
+  exit 1
 fi
 
 # 3. Python lint (rules and paths from pyproject.toml).

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
-# Runs the study end to end: installs the missing Debian packages (sudo when not root),
-# builds the engine in build/, runs the Snakemake workflow with every core, and says where
-# the report is. Arguments go to Snakemake, e.g.
+# Runs the study end to end: installs the missing Debian packages (sudo when not root) and
+# the project environment .venv/ (Snakemake 9, pinned), builds the engine in build/, runs the
+# Snakemake workflow with every core, and says where the report is. Arguments go to
+# Snakemake, e.g.
 #   tools/study.sh                                   # the default study (config/config.yaml)
 #   tools/study.sh --configfile config/paper.yaml --profile workflow/profiles/slurm
 #   tools/study.sh --dry-run                         # list the jobs, run nothing
+# SNAKEMAKE=/usr/bin/snakemake tools/study.sh ...    runs Debian's Snakemake 7.21 instead (its
+# SLURM profile: workflow/profiles/slurm-v7).
 # Interrupted? Run it again: finished jobs are kept, a killed pull resumes from its checkpoint.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,5 +16,5 @@ tools/install-deps.sh study
 # only builds a missing binary, and does not make finished results out of date.
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "$(nproc)" --target granudrag >/dev/null
-# Debian's Snakemake (on Debian's /usr/bin/python3), not whichever comes first on PATH.
-/usr/bin/snakemake --cores all --rerun-incomplete "$@"
+# The project environment's Snakemake (or $SNAKEMAKE), not whichever comes first on PATH.
+"${SNAKEMAKE:-.venv/bin/snakemake}" --cores all --rerun-incomplete "$@"

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
-# Runs every test: installs missing Debian packages; the format and lint checks
-# (tools/lint.sh); builds in build/ (warnings are errors) and runs the GoogleTest suite and the
-# command-line tests (ctest: bad input, kill + resume, parity with LAMMPS); builds the unit
-# tests with AddressSanitizer + UndefinedBehaviorSanitizer in build-asan/ and runs them; the
-# Python tests (analysis, workflow smoke study, incremental sweeps) with Debian's interpreter;
-# and the SLURM profile on a real one-node cluster. Prints how long each step took.
+# Runs every test: installs missing Debian packages and the project environment .venv/
+# (tools/install-deps.sh); the format and lint checks (tools/lint.sh); builds in build/
+# (warnings are errors) and runs the GoogleTest suite and the command-line tests (ctest: bad
+# input, kill + resume, parity with LAMMPS); builds the unit tests with AddressSanitizer +
+# UndefinedBehaviorSanitizer in build-asan/ and runs them; the Python tests (analysis, workflow
+# smoke study, incremental sweeps, snakemake --lint, --report) twice: with Debian's interpreter
+# and Snakemake 7.21, and with the project environment's Python and Snakemake 9; and the
+# smoke study through both SLURM profiles on a real one-node cluster with accounting.
+# Prints how long each step took.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install-deps.sh test
@@ -50,10 +53,17 @@ OMP_WAIT_POLICY=passive \
 took "unit tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 
 # Python: the analysis package, then the workflow (lint, smoke study end to end, incremental
-# sweeps) on the binary just built.
-GRANUDRAG="$PWD/build/granudrag" "$PY" -m pytest -q tests/python tests/workflow
-took "Python tests"
-# The SLURM profile on a real one-node cluster started here (needs root or passwordless sudo).
+# sweeps, report) on the binary just built, under each Snakemake generation: Debian's
+# interpreter and /usr/bin/snakemake 7.21 (Debian's packages only), then the project
+# environment (.venv/: pinned NumPy, pandas, SciPy, ... and Snakemake 9).
+GRANUDRAG="$PWD/build/granudrag" "$PY" -m pytest -q -p no:cacheprovider tests/python tests/workflow
+took "Python tests, Debian's Python and Snakemake 7.21"
+GRANUDRAG="$PWD/build/granudrag" GRANUDRAG_SNAKEMAKE="$PWD/.venv/bin/snakemake" \
+  .venv/bin/python -m pytest -q -p no:cacheprovider tests/python tests/workflow
+took "Python tests, project environment and Snakemake 9"
+# Both SLURM profiles on a real one-node cluster with accounting (slurmdbd, MariaDB) started
+# here (needs root or passwordless sudo): the smoke study through Snakemake 9 + the executor
+# plugin and through 7.21 + slurm-v7, and a pull killed at its time limit that resumes.
 tests/workflow/slurm/test_slurm.sh build/granudrag
-took "SLURM profile test"
+took "SLURM tests (both profiles)"
 echo "all tests passed in $((SECONDS - start)) s"

@@ -12,11 +12,12 @@ Snakemake, so it is tested on its own (tests/workflow/test_study.py).
 The names below are the library's interface: `from analysis import study; study.plan(config)`.
 """
 
-from .commands import checkpoint_interval, pour_args, pull_args
-from .config import SCHEMA, ConfigError, resolve_binary, validate_config
+from .commands import checkpoint_interval, pour_args, pour_checkpoint_interval, pull_args
+from .config import SCHEMA, ConfigError, fit_options, resolve_binary, validate_config
 from .cost import (
     bed_cost,
     bed_dt,
+    bed_retries,
     job_attempts,
     job_resources,
     job_seconds,
@@ -50,8 +51,10 @@ __all__ = [
     "Pull",
     "bed_cost",
     "bed_dt",
+    "bed_retries",
     "bed_file",
     "checkpoint_interval",
+    "fit_options",
     "flow_pulls",
     "fmt",
     "job_attempts",
@@ -63,6 +66,7 @@ __all__ = [
     "parse_speed",
     "plan",
     "pour_args",
+    "pour_checkpoint_interval",
     "pull_args",
     "pull_cost",
     "pull_distance",

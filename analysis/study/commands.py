@@ -2,7 +2,7 @@
 
 import math
 
-from .cost import job_seconds, pull_cost, pull_distance
+from .cost import bed_cost, job_seconds, pull_cost, pull_distance
 from .paths import Pull, fmt, parse_speed
 
 
@@ -25,7 +25,28 @@ def pour_args(bed, config):
     args = ["--lx", fmt(sysc["lx"]), "--ly", fmt(sysc["ly"]), "--grains", str(int(sysc["grains"]))]
     args += ["--intruder_diameter", bed.D, "--depth" if bed.place == "h" else "--intruder_z", bed.pos]
     args += ["--mu", bed.mu, "--kn", bed.kn, "--gamman", bed.gn, "--seed", bed.seed]
-    return args + _flags(sysc.get("pour") or {})
+    settings = dict(sysc.get("pour") or {})
+    if not settings.get("checkpoint_interval"):
+        interval = pour_checkpoint_interval(bed, config)
+        if interval:
+            settings["checkpoint_interval"] = interval
+    return args + _flags(settings)
+
+
+def pour_checkpoint_interval(bed, config):
+    """Simulated time between a pour's checkpoints when its settling may take longer than
+    `checkpoint_minutes` of estimated wall time (or a quarter of max_runtime), else None: no
+    checkpoints, and the bed is the same as one poured without them. Simulated time, as for
+    pulls: a pour resumed over several jobs gives the bed an uninterrupted pour gives."""
+    minutes = job_seconds(bed_cost(bed, config), config) / 60.0
+    gap = float(config.get("checkpoint_minutes", 60))
+    if config.get("max_runtime"):
+        gap = min(gap, int(config["max_runtime"]) / 4.0)  # several checkpoints per job
+    pieces = math.ceil(minutes / gap)
+    if pieces <= 1:
+        return None
+    t = float((config["systems"][bed.system].get("pour") or {}).get("max_settle_time", 100.0))
+    return float(f"{t / pieces:.4g}")
 
 
 def pull_args(bed, speed, plan_):

@@ -39,3 +39,15 @@ def resolve_binary(config, repo=REPO):
     """The config's `granudrag`, relative to the repository unless absolute."""
     path = Path(str(config["granudrag"]))
     return path if path.is_absolute() else (Path(repo) / path)
+
+
+def fit_options(config):
+    """The fits' options (analysis.fitset.Options) from a validated config's `report` keys:
+    n_boot, seed, h_min (Eq. 12 and Fig. 19 depth cut) and alpha_speeds."""
+    from ..fits import ALPHA_SPEEDS
+    from ..fitset import Options
+
+    rep = config.get("report") or {}
+    return Options(n_boot=int(rep.get("n_boot", 200)), seed=int(rep.get("seed", 0)),
+                   h_min=float(rep.get("h_min", 0.0) or 0.0),
+                   alpha_speeds=tuple(float(v) for v in rep.get("alpha_speeds", ALPHA_SPEEDS)))

@@ -77,6 +77,17 @@ def pull_retries(plan_):
     return max(1, job_attempts(1.5 * worst + 5, config) - 1)
 
 
+def bed_retries(plan_):
+    """Retries of the bed rule, as pull_retries: None without max_runtime, else enough for
+    the longest pour (its max_settle_time) to finish in pieces, each resuming from the last
+    checkpoint."""
+    config = plan_.config
+    if not config.get("max_runtime") or not plan_.beds:
+        return None
+    worst = max(job_seconds(bed_cost(b, config), config) for b in plan_.beds.values()) / 60.0
+    return max(1, job_attempts(1.5 * worst + 5, config) - 1)
+
+
 def summary(plan_):
     """Numbers of jobs and estimated particle-steps and core-hours."""
     config = plan_.config

@@ -31,8 +31,20 @@ class Plan:
         return dict(p.settings) if p else {}
 
 
+def _replicates(mapping, where):
+    """`seeds: [1, 2, 3]` (replicate beds, one poured per seed) is `seed` by another name."""
+    if "seeds" not in mapping:
+        return mapping
+    if "seed" in mapping:
+        raise ConfigError(f"{where}: give 'seed' or 'seeds', not both (both list the beds' seeds)")
+    out = {k: v for k, v in mapping.items() if k != "seeds"}
+    out["seed"] = mapping["seeds"]
+    return out
+
+
 def _sweep_values(sweep, defaults, name, i):
     where = f"sweeps[{i}] ({name})"
+    sweep, defaults = _replicates(sweep, where), _replicates(defaults, "defaults")
     merged = {k: defaults[k] for k in SWEEP_AXES if k in defaults}
     # A sweep's placement or damping replaces the defaults' as a whole.
     if "depth" in sweep or "z" in sweep:

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/command.hpp"
+#include "app/output_paths.hpp"
 #include "core/error.hpp"
 #include "io/lammps_io.hpp"
 #include "protocol/bench.hpp"
@@ -98,6 +99,13 @@ int bench_command(const std::vector<std::string>& args) {
                     prefix.c_str(), dt);
       return std::string(line);
     };
+  }
+  std::vector<OutputLock> locks;
+  if (par->is_set("lammps")) {
+    const std::string prefix = par->text("lammps");
+    check_output_dir(prefix, "lammps");
+    locks = claim_outputs(config_inputs(args), {{"the data file", prefix + ".data", "text"},
+                                                {"the input script", prefix + ".in", "text"}});
   }
   run_bench(o);
   return 0;

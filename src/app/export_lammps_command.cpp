@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "app/command.hpp"
+#include "app/output_paths.hpp"
 #include "core/error.hpp"
 #include "io/lammps_io.hpp"
 #include "io/run_files.hpp"
@@ -28,10 +29,14 @@ int export_lammps_command(const std::vector<std::string>& args) {
       "the same pull with gran/hertz/history (run it as: cd DIR && lmp -in PREFIX.in)",
       args);
   if (!par) return 0;
-  const Bed bed = load_bed(par->text("bed"));
-  if (bed.intruder < 0) throw Error("bed '" + par->text("bed") + "' has no intruder to pull");
   const std::string prefix = par->text("output");
   check_output_dir(prefix, "output");
+  std::vector<InputFile> inputs = config_inputs(args);
+  inputs.push_back({"bed", par->text("bed")});
+  const auto locks = claim_outputs(
+      inputs, {{"the data file", prefix + ".data", "text"}, {"the input script", prefix + ".in", "text"}});
+  const Bed bed = load_bed(par->text("bed"));
+  if (bed.intruder < 0) throw Error("bed '" + par->text("bed") + "' has no intruder to pull");
   Particles p = bed.state.particles;
   const double speed = par->number("speed");
   p.v[bed.intruder] = Vec3(speed, 0, 0);

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "app/command.hpp"
+#include "app/output_paths.hpp"
 #include "core/error.hpp"
 #include "engine/simulation.hpp"
 #include "io/lammps_io.hpp"
@@ -47,6 +48,10 @@ int import_lammps_command(const std::vector<std::string>& args) {
   if (!par) return 0;
   const std::string out = par->text("output");
   check_output_dir(out, "output");
+  std::vector<InputFile> inputs = config_inputs(args);
+  inputs.push_back({"data", par->text("data")});
+  const auto locks = claim_outputs(
+      inputs, {{"output", out, "granudrag-bed"}, {"the sidecar", out + ".xdmf", "text", false}});
   const LammpsData data = read_lammps_data(par->text("data"), static_cast<int>(par->integer("frozen_type")),
                                            static_cast<int>(par->integer("intruder_type")));
   Bed bed;

@@ -3,9 +3,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "app/command.hpp"
+#include "app/output_paths.hpp"
 #include "core/error.hpp"
+#include "engine/run_guard.hpp"
+#include "io/pour_checkpoint.hpp"
 #include "io/run_files.hpp"
 #include "protocol/pour.hpp"
 
@@ -20,6 +24,15 @@ std::vector<ParameterSpec> pour_command_keys() {
   keys.push_back(quiet_key());
   for (const auto& k : contact_keys()) keys.push_back(k);
   keys.push_back(skin_key());
+  keys.push_back(max_overlap_key());
+  keys.push_back(Key::number("checkpoint_interval")
+                     .unit("sqrt(d/g)")
+                     .default_value("0")
+                     .at_least(0)
+                     .help("simulated time between checkpoints (<output>.checkpoint.h5), rounded up to whole "
+                           "check_intervals; 0: none"));
+  keys.push_back(Key::flag("resume").default_value("false").help(
+      "continue from <output>.checkpoint.h5 if it exists (bitwise as if never stopped, same threads)"));
   keys.push_back(threads_key());
   return keys;
 }
@@ -46,26 +59,55 @@ PourSpec pour_spec(const Parameters& par) {
   s.check_interval = par.number("check_interval");
   s.base_height = par.number("base_height");
   s.seed = static_cast<std::uint64_t>(par.integer("seed"));
+  s.max_overlap = par.number("max_overlap");
   return s;
 }
 
 }  // namespace
 
 int pour_command(const std::vector<std::string>& args) {
-  const auto par = read_parameters("pour", pour_command_keys(),
-                                   "granudrag pour — pour and settle a bed around a fixed intruder\n\n"
-                                   "  granudrag pour --output bed.h5 [--config pour.yaml] [--key value ...]\n"
-                                   "  granudrag pour --schema    (the keys as a JSON Schema)",
-                                   args);
+  const auto par =
+      read_parameters("pour", pour_command_keys(),
+                      "granudrag pour — pour and settle a bed around a fixed intruder\n\n"
+                      "  granudrag pour --output bed.h5 [--config pour.yaml] [--key value ...]\n"
+                      "  granudrag pour --schema    (the keys as a JSON Schema)\n\n"
+                      "A pour stops (exit 1, the last checkpoint kept) at NaN or inf, a grain out of the\n"
+                      "box (below the wall, 10 d above the starting column), an overlap > max_overlap, or\n"
+                      "a gain of the grains' energy of more than 1 rho g d^4 per grain; it is checked every\n"
+                      "check_interval. With checkpoint_interval > 0, --resume continues a killed pour\n"
+                      "bit for bit as if it had not been stopped (same thread count).",
+                      args);
   if (!par) return 0;
   set_threads(*par);
   const PourSpec s = pour_spec(*par);
   const std::string out = par->text("output");
   check_output_dir(out, "output");
+  const std::string checkpoint = out + ".checkpoint.h5";
+  const auto locks = claim_outputs(
+      config_inputs(args), {{"output", out, "granudrag-bed"},
+                            {"the sidecar", out + ".xdmf", "text", false},
+                            {"the checkpoint", checkpoint, "granudrag-pour-checkpoint", false, true}});
 
   const double t0 = omp_get_wtime();
-  const Bed bed = pour(s, !par->flag("quiet"));
+  PourCheckpoints checkpoints;
+  PourState resumed;
+  if (par->number("checkpoint_interval") > 0) {
+    const double every = std::ceil(par->number("checkpoint_interval") / s.check_interval - 1e-9);
+    checkpoints.every = std::max(1L, static_cast<long>(every));
+    checkpoints.save = [&](const PourState& state) {
+      save_pour_checkpoint(checkpoint, state, state.dt, *par);
+    };
+  }
+  if (par->flag("resume") && std::filesystem::exists(checkpoint)) {
+    if (auto c = load_pour_checkpoint_or_move_aside(checkpoint, *par, {"resume", "quiet", "threads"})) {
+      resumed = std::move(*c);
+      checkpoints.resume_from = &resumed;
+      std::fprintf(stderr, "pour: resuming from %s at step %ld\n", checkpoint.c_str(), resumed.state.steps);
+    }
+  }
+  const Bed bed = pour(s, !par->flag("quiet"), checkpoints);
   save_bed(out, bed, *par);
+  std::filesystem::remove(checkpoint);
   write_bed_xdmf(out, bed.state.particles.size());
   std::printf("bed: %s\n  grains %ld (%zu frozen in the base), box %g x %g, dt %.4g\n", out.c_str(), s.grains,
               bed.state.particles.count(Species::Frozen), s.lx, s.ly, bed.dt);

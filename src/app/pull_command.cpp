@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app/command.hpp"
+#include "app/output_paths.hpp"
 #include "core/error.hpp"
 #include "io/run_files.hpp"
 #include "protocol/pull.hpp"
@@ -31,6 +32,12 @@ std::vector<ParameterSpec> pull_command_keys() {
           .help("simulated time between checkpoints (<output>.checkpoint.h5); 0: every tenth of the pull"),
       Key::flag("resume").default_value("false").help("continue from <output>.checkpoint.h5 if it exists"),
       skin_key(),
+      max_overlap_key(),
+      Key::flag("keep_going")
+          .default_value("false")
+          .help(
+              "on a sanity failure (grains lost, overlap, energy; not NaN) finish the pull and record it as "
+              "the run file's /sanity verdict, which the analysis leaves out, instead of stopping"),
       Key::flag("fresh_start")
           .default_value("false")
           .help(
@@ -49,13 +56,24 @@ int pull_command(const std::vector<std::string>& args) {
       "pull", pull_command_keys(),
       "granudrag pull — pull the intruder of a bed at constant speed and record the drag\n\n"
       "  granudrag pull --bed bed.h5 --output run.h5 [--speed V | --froude Fr] [--key value ...]\n"
-      "  granudrag pull --schema    (the keys as a JSON Schema)",
+      "  granudrag pull --schema    (the keys as a JSON Schema)\n\n"
+      "A speed the bed cannot resolve is refused before any work, with the largest that works: the\n"
+      "undamped Hertz overlap of one impact of the intruder on the largest grain at rest must be\n"
+      "<= max_overlap; the impact on the smallest grain must last >= 16 steps of the bed's dt; and\n"
+      "V dt <= skin/10. A running pull stops (exit 1, the last checkpoint kept) at NaN or inf, a grain\n"
+      "out of the box, an overlap > max_overlap, or a gain of the grains' energy over the work done\n"
+      "on them of more than 1 rho g d^4 per grain; the run file records its verdict in /sanity.",
       args);
   if (!found) return 0;
   const Parameters& par = *found;
   set_threads(par);
   const std::string bed_path = par.text("bed"), out = par.text("output");
   check_output_dir(out, "output");
+  std::vector<InputFile> inputs = config_inputs(args);
+  inputs.push_back({"bed", bed_path});
+  const auto locks = claim_outputs(
+      inputs, {{"output", out, "granudrag-run"},
+               {"the checkpoint", out + ".checkpoint.h5", "granudrag-checkpoint", false, true}});
   ParameterRecord bed_parameters;
   const Bed bed = load_bed(bed_path, &bed_parameters);
   if (bed.intruder < 0) throw Error("bed '" + bed_path + "' has no intruder to pull");
@@ -70,6 +88,8 @@ int pull_command(const std::vector<std::string>& args) {
   spec.slab_half_width = par.number("slab_half_width");
   spec.skin = par.number("skin");
   spec.fresh_start = par.flag("fresh_start");
+  spec.max_overlap = par.number("max_overlap");
+  spec.keep_going = par.flag("keep_going");
   {
     const double distance = spec.distance > 0 ? spec.distance : bed.box.lx;
     const double total_time = distance / spec.speed;
@@ -82,10 +102,13 @@ int pull_command(const std::vector<std::string>& args) {
   const double t0 = omp_get_wtime();
   auto save = [&](const Pull& p) { save_checkpoint(checkpoint, p, par, bed_parameters); };
   std::unique_ptr<Pull> pull;
-  if (par.flag("resume") && std::filesystem::exists(checkpoint)) {
-    // A resumed pull must match every option but the run controls, and the bed itself.
-    Checkpoint c = load_checkpoint(checkpoint, bed, par, {"resume", "quiet", "threads"});
-    pull = std::make_unique<Pull>(bed, spec, c.state, std::move(c.record));
+  // A resumed pull must match every option but the run controls, and the bed itself; an
+  // unreadable checkpoint is moved aside and the pull starts over.
+  std::optional<Checkpoint> c;
+  if (par.flag("resume") && std::filesystem::exists(checkpoint))
+    c = load_checkpoint_or_move_aside(checkpoint, bed, par, {"resume", "quiet", "threads"});
+  if (c) {
+    pull = std::make_unique<Pull>(bed, spec, c->state, std::move(c->record));
     std::fprintf(stderr, "pull: resuming from %s at step %ld\n", checkpoint.c_str(),
                  pull->simulation().steps_done());
   } else {
@@ -103,7 +126,7 @@ int pull_command(const std::vector<std::string>& args) {
               r.drag_error, r.transient_distance, r.transient_samples, pull->record().fx.size());
   std::printf("  n = %.3f, theta = %.4f +- %.2g rad, Z = %.3f, kappa = %.4f\n", r.coordination, r.theta,
               r.theta_error, r.bulk_coordination, r.kappa);
-  std::printf("%s", sanity.c_str());
+  std::printf("%s  verdict: %s\n", sanity.c_str(), pull->verdict().c_str());
   std::printf("%s", pull->timing_report().c_str());
   return 0;
 }

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "app/command.hpp"
+#include "app/output_paths.hpp"
 #include "io/atomic_file.hpp"
 #include "io/lammps_io.hpp"
 #include "protocol/pour.hpp"
@@ -48,6 +49,7 @@ int restitution_command(const std::vector<std::string>& args) {
   if (par->is_set("dt")) check_time_step(par->number("dt"), c, 0.5 * d);
   const std::string out = par->text("output");
   check_output_dir(out, "output");
+  const auto locks = claim_outputs(config_inputs(args), {{"output", out, "text"}});
   std::ostringstream csv;
   csv << std::setprecision(10) << "v_n,e_dem,e_theory\n";
   for (double v : par->numbers("speeds")) {

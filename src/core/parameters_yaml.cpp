@@ -57,6 +57,28 @@ void Parameters::load_yaml(const std::string& path) {
   if (in.bad()) throw Error("cannot read the " + file + ": read error");
 
   std::vector<YAML::Node> documents;
+  // yaml-cpp 0.7 allocates without end on a document whose first token is ',' (found by
+  // tests/cpp/test_fuzz_readers.cpp): refuse that before parsing. A document starts at the top,
+  // after a '---' or '...' line; blank, comment and directive lines do not count.
+  {
+    std::istringstream lines(content.str());
+    std::string line;
+    bool at_start = true;
+    int number = 0;
+    while (std::getline(lines, line)) {
+      ++number;
+      const std::string t = trim(line);
+      if (t.rfind("---", 0) == 0 || t.rfind("...", 0) == 0) {
+        at_start = true;
+        continue;
+      }
+      if (t.empty() || t[0] == '#' || t[0] == '%') continue;
+      if (at_start && t[0] == ',')
+        throw Error("YAML syntax error in the " + file + ", line " + std::to_string(number) +
+                    ": a line cannot start with ',' (each line is 'key: value')");
+      at_start = false;
+    }
+  }
   try {
     documents = YAML::LoadAll(content.str());
   } catch (const YAML::Exception& e) {

@@ -113,7 +113,8 @@ Bed load_bed(const std::string& path, ParameterRecord* parameters) {
 
 void write_bed_xdmf(const std::string& bed_path, std::size_t particles) {
   const std::string name = bed_path.substr(bed_path.find_last_of('/') + 1);
-  write_xdmf(bed_path + ".xdmf", name, "all", particles, {"radius"}, {"velocity", "angular_velocity"});
+  write_xdmf(bed_path + ".xdmf", name, "all", particles, {"radius"}, {"velocity", "angular_velocity"},
+             {"species"});
 }
 
 }  // namespace granudrag

@@ -28,6 +28,8 @@ void write_pull_record(h5::File& f, const PullRecord& r) {
   f.write("/pull/z_histogram", std::vector<std::int64_t>(r.z_histogram.begin(), r.z_histogram.end()));
   f.write("/pull/energy", std::vector<double>{r.work, r.max_overlap, r.energy_start, r.contact_sum});
   f.write_rows("/pull/force_sum", std::vector<Vec3>{r.force_sum});
+  f.set_attr("/pull", "grains_lost", static_cast<std::int64_t>(r.grains_lost));
+  f.set_attr("/pull", "verdict", r.verdict);
   f.set_attr("/pull", "snapshots", static_cast<std::int64_t>(r.snapshots.size()));
   write_snapshots(f, "/pull/snapshot_", r.snapshots);
 }
@@ -56,6 +58,9 @@ PullRecord read_pull_record(const h5::File& f) {
   r.energy_start = en.at(2);
   r.contact_sum = en.at(3);
   r.force_sum = f.read_vec3("/pull/force_sum").at(0);
+  // Checkpoints written before the run guard have neither: clean so far.
+  if (f.has_attr("/pull", "grains_lost")) r.grains_lost = f.get_attr_int64("/pull", "grains_lost");
+  if (f.has_attr("/pull", "verdict")) r.verdict = f.get_attr_string("/pull", "verdict");
   const std::int64_t ns = f.get_attr_int64("/pull", "snapshots");
   if (ns < 0) throw Error("negative snapshot count under /pull");
   r.snapshots = read_snapshots(f, "/pull/snapshot_", static_cast<std::size_t>(ns));
@@ -95,17 +100,26 @@ void save_checkpoint(const std::string& path, const Pull& pull, const Parameters
 
 Checkpoint load_checkpoint(const std::string& path, const Bed& bed, const Parameters& now,
                            const std::vector<std::string>& run_controls) {
-  const h5::File f = h5::File::open(path);
-  check_file_header(f, kFormat, kFileVersion, "delete it to start the pull over");
   Checkpoint c;
   std::string differences;
+  bool other_bed = false;  // readable, but not this pull's: an Error, not UnreadableCheckpoint
   try {
-    const Bed saved = read_bed_groups(f);
-    if (saved.state.particles.size() != bed.state.particles.size() || saved.box.lx != bed.box.lx ||
-        saved.contact.kn != bed.contact.kn || saved.dt != bed.dt)
-      throw Error("it belongs to another bed (particle count, box, stiffness or time step differ)");
-    c.state = saved.state;
-    c.record = read_pull_record(f);
+    const h5::File f = h5::File::open(path);
+    check_file_header(f, kFormat, kFileVersion, "delete it to start the pull over");
+    Bed saved;
+    try {
+      saved = read_bed_groups(f);
+      c.state = saved.state;
+      c.record = read_pull_record(f);
+    } catch (const Error& e) {
+      throw Error(std::string("it cannot be read: ") + e.what());
+    }
+    other_bed = saved.state.particles.size() != bed.state.particles.size() || saved.box.lx != bed.box.lx ||
+                saved.contact.kn != bed.contact.kn || saved.dt != bed.dt;
+    if (other_bed)
+      throw Error("checkpoint '" + path +
+                  "' cannot be used: it belongs to another bed (particle count, box, stiffness or time step "
+                  "differ); delete it to start the pull over");
     const ParameterRecord then = read_parameters(f, "pull");
     differences = describe_differences(then, ParameterRecord::of(now), run_controls, "checkpoint", "now");
     const std::string saved_bed = f.get_attr_string("/pull", "bed_fingerprint");
@@ -113,15 +127,22 @@ Checkpoint load_checkpoint(const std::string& path, const Bed& bed, const Parame
     if (saved_bed != this_bed)
       differences +=
           "\n  checkpoint: bed_fingerprint: " + saved_bed + "\n  now:        bed_fingerprint: " + this_bed;
-  } catch (const Error& e) {
-    throw Error("checkpoint '" + path + "' cannot be used: " + e.what());
   } catch (const std::out_of_range&) {
-    throw Error("checkpoint '" + path + "' is damaged (short arrays under /pull)");
+    throw UnreadableCheckpoint("checkpoint '" + path + "' is damaged (short arrays under /pull)");
+  } catch (const Error& e) {
+    if (other_bed) throw;
+    throw UnreadableCheckpoint("checkpoint '" + path + "' cannot be used: " + e.what());
   }
   if (!differences.empty())
     throw Error("checkpoint '" + path + "' was written by a pull with other options or another bed:" +
                 differences + "\nrerun with the same options, or delete the checkpoint to start over");
   return c;
+}
+
+std::optional<Checkpoint> load_checkpoint_or_move_aside(const std::string& path, const Bed& bed,
+                                                        const Parameters& now,
+                                                        const std::vector<std::string>& run_controls) {
+  return load_or_move_aside(path, [&] { return load_checkpoint(path, bed, now, run_controls); });
 }
 
 }  // namespace granudrag

@@ -1,6 +1,11 @@
 #include "io/file_header.hpp"
 
+#include <hdf5.h>
+
+#include <filesystem>
+
 #include "core/error.hpp"
+#include "io/hdf5_internals.hpp"
 
 namespace granudrag {
 
@@ -28,6 +33,27 @@ std::int64_t check_file_header(const h5::File& file, const std::string& format, 
                 readable + " of " + format + " files: " + remedy);
   }
   return version;
+}
+
+std::string file_kind(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st)) return "missing";
+  if (fs::is_directory(st)) return "directory";
+  if (fs::is_regular_file(st) && fs::file_size(path, ec) == 0 && !ec) return "empty";
+  h5::detail::silence_hdf5();
+  htri_t is_hdf5 = -1;
+  H5E_BEGIN_TRY { is_hdf5 = H5Fis_hdf5(path.c_str()); }
+  H5E_END_TRY;
+  if (is_hdf5 <= 0) return "other";
+  try {
+    const h5::File f = h5::File::open(path);
+    if (!f.has_attr("/granudrag", "format")) return "hdf5";
+    return f.get_attr_string("/granudrag", "format");
+  } catch (const Error&) {
+    return "unreadable-hdf5";
+  }
 }
 
 }  // namespace granudrag

@@ -22,4 +22,10 @@ void write_file_header(h5::File& file, const std::string& format);
 std::int64_t check_file_header(const h5::File& file, const std::string& format, std::int64_t oldest,
                                const std::string& remedy);
 
+// What is at `path`, for refusing to overwrite a file of another kind: "missing", "directory",
+// "empty", the /granudrag format of a granudrag file ("granudrag-bed", ...), "hdf5" (an HDF5 file
+// without one), "unreadable-hdf5" (an HDF5 signature but it cannot be opened: truncated or
+// corrupt) or "other" (not HDF5: text, say). Never throws for what the file holds.
+std::string file_kind(const std::string& path);
+
 }  // namespace granudrag

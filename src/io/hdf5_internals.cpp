@@ -16,7 +16,14 @@ herr_t keep_deepest(unsigned, const H5E_error2_t* e, void* out) {
 // HDF5 prints its whole error stack to stderr by default; we report one line instead.
 void silence_hdf5() {
   static std::once_flag once;
-  std::call_once(once, [] { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); });
+  std::call_once(once, [] {
+    // No library shutdown at exit: after a write failed half-way (disk full), HDF5 keeps the
+    // file it could not close and its shutdown then crashed on it (SIGSEGV in H5F__close_cb)
+    // after the error was printed. Every file is closed by its h5::File before exit anyway.
+    // Must come before any other HDF5 call.
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  });
 }
 
 // The innermost message of HDF5's error stack (the most specific: "truncated file: eof = ...")
@@ -25,6 +32,12 @@ std::string hdf5_reason() {
   std::string reason;
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, keep_deepest, &reason);
   H5Eclear2(H5E_DEFAULT);
+  // A failed write says much ("file write failed: time = ..., filename = ..., errno = 27,
+  // error message = 'File too large', buf = ..."): keep what it was and the system's reason.
+  if (const auto at = reason.find("error message = '"); at != std::string::npos) {
+    const auto start = at + 17, end = reason.find('\'', start);
+    reason = reason.substr(0, reason.find(':')) + ": " + reason.substr(start, end - start);
+  }
   return reason.empty() ? std::string() : " (HDF5: " + reason + ")";
 }
 

@@ -50,7 +50,12 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
     f.set_attr("/observables/" + name, "meaning", meaning);
   };
   scalar("drag", res.drag, res.drag_error,
-         "-<F_x> after the transient (rho d^3 g); error by block averaging (Flyvbjerg-Petersen)");
+         "-<F_x> after the transient (rho d^3 g); error: standard error of the mean from the "
+         "integrated autocorrelation time (automatic window, mean-subtraction bias corrected)");
+  // Student-t degrees of freedom of the error, and 1 when it converged (0: the series is short
+  // for its correlations and the error is a conservative bound).
+  f.set_attr("/observables/drag", "error_dof", res.drag_dof);
+  f.set_attr("/observables/drag", "plateau", static_cast<std::int64_t>(res.drag_plateau ? 1 : 0));
   f.set_attr("/observables/drag", "transient_distance", res.transient_distance);
   f.set_attr("/observables/drag", "transient_samples", static_cast<std::int64_t>(res.transient_samples));
   scalar("coordination", res.coordination, NAN, "n: mean number of grains touching the intruder");
@@ -68,6 +73,10 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
   f.set_attr("/sanity", "report", sanity);
   f.set_attr("/sanity", "max_overlap", r.max_overlap);
   f.set_attr("/sanity", "work", r.work);
+  // "clean", or the first failure of a keep_going pull; the analysis uses clean runs only.
+  f.set_attr("/sanity", "verdict", pull.verdict());
+  f.set_attr("/sanity", "grains_lost", static_cast<std::int64_t>(r.grains_lost));
+  f.set_attr("/sanity", "max_overlap_bound", pull.spec().max_overlap);
   f.commit();
 }
 

@@ -3,9 +3,11 @@
 //   /run                      D, depth, speed, froude, mu, kn, gamman, dt, steps
 //   /observables              intruder_force and intruder_contacts (H5MD series per sample
 //                             interval), cumulative_drag, and drag, coordination (n), theta,
-//                             bulk_coordination (Z, with P(Z)), kappa: value, error, meaning
+//                             bulk_coordination (Z, with P(Z)), kappa: value, error, meaning;
+//                             drag also error_dof (Student-t) and plateau (1: error converged)
 //   /snapshots/<k>            velocity snapshots of the slab through the intruder
-//   /sanity                   the sanity report, max_overlap, work
+//   /sanity                   the sanity report, max_overlap, work, verdict ("clean" or the
+//                             first failure of a keep_going pull), grains_lost, max_overlap_bound
 //   /parameters/pull          the pull's resolved parameters; /parameters/pour: its bed's,
 //                             copied from the bed file (io/parameter_record.hpp)
 #include <string>

@@ -36,12 +36,13 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
-// All granudrag particle data are 64-bit floats; ParaView needs the type spelled out.
-std::string data_item(const std::string& h5_file, const std::string& dataset, std::size_t n, bool vector) {
+// Particle data are 64-bit floats, species unsigned bytes; ParaView needs the type spelled out.
+std::string data_item(const std::string& h5_file, const std::string& dataset, std::size_t n, bool vector,
+                      bool byte = false) {
   std::ostringstream s;
-  s << "<DataItem Dimensions=\"" << n << (vector ? " 3" : "")
-    << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << xml_escape(h5_file) << ':'
-    << xml_escape(dataset) << "</DataItem>";
+  s << "<DataItem Dimensions=\"" << n << (vector ? " 3" : "") << "\" NumberType=\""
+    << (byte ? "UChar\" Precision=\"1" : "Float\" Precision=\"8") << "\" Format=\"HDF\">"
+    << xml_escape(h5_file) << ':' << xml_escape(dataset) << "</DataItem>";
   return s.str();
 }
 
@@ -70,8 +71,8 @@ void check_name(const std::string& name, const char* what, const std::string& xd
 
 void write_xdmf(const std::string& xdmf_path, const std::string& h5_file_name,
                 const std::string& particle_group, std::size_t n_particles,
-                const std::vector<std::string>& scalar_fields,
-                const std::vector<std::string>& vector_fields) {
+                const std::vector<std::string>& scalar_fields, const std::vector<std::string>& vector_fields,
+                const std::vector<std::string>& byte_fields) {
   if (h5_file_name.empty() || h5_file_name.find(':') != std::string::npos)
     throw Error("cannot write '" + xdmf_path + "': the HDF5 file name '" + h5_file_name +
                 "' is empty or contains ':', which XDMF uses to separate file and dataset");
@@ -79,6 +80,7 @@ void write_xdmf(const std::string& xdmf_path, const std::string& h5_file_name,
   check_name(particle_group, "particle group", xdmf_path);
   for (const auto& f : scalar_fields) check_name(f, "field", xdmf_path);
   for (const auto& f : vector_fields) check_name(f, "field", xdmf_path);
+  for (const auto& f : byte_fields) check_name(f, "field", xdmf_path);
 
   const std::string group = "/particles/" + particle_group + "/";
   std::ostringstream s;
@@ -94,14 +96,15 @@ void write_xdmf(const std::string& xdmf_path, const std::string& h5_file_name,
     << "      <Geometry GeometryType=\"XYZ\">\n"
     << "        " << data_item(h5_file_name, group + "position/value", n_particles, true) << "\n"
     << "      </Geometry>\n";
-  auto attribute = [&](const std::string& field, bool vector) {
+  auto attribute = [&](const std::string& field, bool vector, bool byte = false) {
     s << "      <Attribute Name=\"" << xml_escape(field) << "\" AttributeType=\""
       << (vector ? "Vector" : "Scalar") << "\" Center=\"Node\">\n"
-      << "        " << data_item(h5_file_name, group + field + "/value", n_particles, vector) << "\n"
+      << "        " << data_item(h5_file_name, group + field + "/value", n_particles, vector, byte) << "\n"
       << "      </Attribute>\n";
   };
   for (const auto& f : scalar_fields) attribute(f, false);
   for (const auto& f : vector_fields) attribute(f, true);
+  for (const auto& f : byte_fields) attribute(f, false, true);
   s << "    </Grid>\n"
     << "  </Domain>\n"
     << "</Xdmf>\n";

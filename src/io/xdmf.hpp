@@ -10,7 +10,8 @@ namespace granudrag {
 // Writes `xdmf_path` (atomically: tmp + rename) describing the particles of
 // `h5_file_name:/particles/<particle_group>` as n_particles Polyvertex points located by
 // position/value (an N x 3 double dataset), with one point attribute per field:
-// `<field>/value`, N doubles for each scalar field and N x 3 doubles for each vector field.
+// `<field>/value`, N doubles for each scalar field, N x 3 doubles for each vector field and N
+// unsigned bytes for each byte field (species: 0 mobile grain, 1 frozen base, 2 intruder).
 // Each dataset holds one frame: its rank must be exactly the declared one (ParaView's Xdmf3
 // reader aborts on [1 x N x 3] declared as [N x 3]). The vertex list 0..N-1 is written out,
 // about 6 bytes per particle, because the Xdmf3 readers make no cells without it.
@@ -18,6 +19,7 @@ namespace granudrag {
 // together; it must not contain ':' (XDMF splits file and dataset there).
 void write_xdmf(const std::string& xdmf_path, const std::string& h5_file_name,
                 const std::string& particle_group, std::size_t n_particles,
-                const std::vector<std::string>& scalar_fields, const std::vector<std::string>& vector_fields);
+                const std::vector<std::string>& scalar_fields, const std::vector<std::string>& vector_fields,
+                const std::vector<std::string>& byte_fields = {});
 
 }  // namespace granudrag

@@ -4,11 +4,24 @@
 
 namespace granudrag {
 
-// Standard error of the mean of a correlated series by block averaging (Flyvbjerg & Petersen
-// 1989): the series is halved by pairwise averaging until fewer than 8 blocks remain, and the
-// largest standard error over those levels is returned (the plateau, or an upper bound if the
-// blocks never become independent). NaN for fewer than 8 samples.
+// The mean of a correlated series and its standard error, honest down to a few correlation
+// times of data (see observables.cpp for the method and its measured coverage).
+struct MeanError {
+  double mean = 0.0 / 0.0;
+  double error = 0.0 / 0.0;  // standard error of the mean
+  double dof = 0.0 / 0.0;    // effective degrees of freedom of `error`: quote mean +- t_dof * error
+  long window = 0;           // summation window of the autocorrelation, samples
+  bool plateau = false;      // the error is converged (see observables.cpp); else a conservative bound
+};
+
+// NaN error for fewer than 8 samples.
+MeanError mean_error(const std::vector<double>& x);
+
+// The standard error of mean_error (kept for callers that want the number only).
 double block_average_error(const std::vector<double>& x);
+
+// Quantile of Student's t distribution with nu >= 1 (real) degrees of freedom, 0 < p < 1.
+double student_t_quantile(double p, double nu);
 
 // Running mean x_0, (x_0 + x_1)/2, ... (paper Fig. 4, thick line).
 std::vector<double> cumulative_average(const std::vector<double>& x);

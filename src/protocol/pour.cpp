@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "engine/run_guard.hpp"
 
 namespace granudrag {
 
@@ -120,7 +121,7 @@ Particles place_grains(const PourSpec& s, double intruder_z, double* column_top)
   return sorted;
 }
 
-Bed pour(const PourSpec& s, bool show_progress) {
+Bed pour(const PourSpec& s, bool show_progress, const PourCheckpoints& checkpoints) {
   s.validate();
   Bed bed;
   bed.box = Box{s.lx, s.ly, true};
@@ -149,10 +150,27 @@ Bed pour(const PourSpec& s, bool show_progress) {
   // stop before the top of the column could have fallen to the wall (t = sqrt(2 z_top / g)).
   const double min_settle_time = std::min(s.max_settle_time, std::sqrt(2.0 * column_top));
   const long grains = s.grains;
+  GuardLimits limits;
+  limits.max_overlap = s.max_overlap;
+  limits.z_max = column_top + 10.0;  // the grains start at rest below column_top
+  const PourState* resume = checkpoints.resume_from;
+  if (resume) {
+    if (resume->state.particles.size() != sim.particles().size() || resume->state.steps % chunk != 0)
+      throw Error("the pour checkpoint does not fit this pour (particle count or check interval)");
+    sim.restore(resume->state);
+  } else {
+    sim.setup();
+  }
+  RunGuard guard(limits, resume ? resume->energy_start : sim.energy().total());
+  if (resume) guard.restore(resume->max_overlap_seen, resume->grains_lost);
   const double t0 = omp_get_wtime();
+  const long steps0 = sim.steps_done();
   bed.stop_reason = "max_time";
   while (true) {
     sim.run(chunk);
+    // A failure stops the pour here, before a checkpoint could save it.
+    const std::string why = guard.check(sim, 0.0);
+    if (!why.empty()) throw Error("the pour stopped: " + why + ". The last good checkpoint, if any, is kept");
     const Energy e = sim.energy();
     bed.kinetic_energy = (e.kinetic + e.rotational) / grains;
     if (show_progress) {
@@ -161,7 +179,8 @@ Bed pour(const PourSpec& s, bool show_progress) {
                    "pour: t = %.1f of at most %.0f sqrt(d/g), kinetic energy per grain %.3g "
                    "(target %.3g), %.3g particle-steps/s, elapsed %.0f s\n",
                    sim.time(), s.max_settle_time, bed.kinetic_energy, s.ke_threshold,
-                   sim.particles().size() * static_cast<double>(sim.steps_done()) / elapsed, elapsed);
+                   sim.particles().size() * static_cast<double>(sim.steps_done() - steps0) / elapsed,
+                   elapsed);
     }
     if (!std::isfinite(bed.kinetic_energy))
       throw Error("the pour blew up at t = " + std::to_string(sim.time()) +
@@ -171,6 +190,11 @@ Bed pour(const PourSpec& s, bool show_progress) {
       break;
     }
     if (sim.time() >= s.max_settle_time) break;
+    if (checkpoints.every > 0 && (sim.steps_done() / chunk) % checkpoints.every == 0 && checkpoints.save) {
+      sim.rebuild_lists();
+      checkpoints.save(PourState{sim.state(), guard.energy_start(), guard.max_overlap_seen(),
+                                 guard.grains_lost(), sim.dt()});
+    }
   }
   bed.settle_time = sim.time();
   {
@@ -184,7 +208,8 @@ Bed pour(const PourSpec& s, bool show_progress) {
     report << "sanity: grains lost " << lost << " of " << grains << "; largest overlap "
            << sim.contacts().max_overlap(q, bed.box) << " d; energy of the grains: kinetic "
            << e.kinetic + e.rotational << ", gravitational " << e.potential << ", elastic " << e.elastic
-           << " (rho g d^4); " << q.size() * static_cast<double>(sim.steps_done()) / std::max(elapsed, 1e-9)
+           << " (rho g d^4); "
+           << q.size() * static_cast<double>(sim.steps_done() - steps0) / std::max(elapsed, 1e-9)
            << " particle-steps/s\n";
     bed.sanity = report.str();
   }

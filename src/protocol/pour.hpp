@@ -5,6 +5,7 @@
 // below 0.6 d are frozen into the rough base and the free surface is measured.
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,7 @@ struct PourSpec {
   double check_interval = 0.5;   // sqrt(d/g) between kinetic-energy checks
   double base_height = 0.6;      // grains below are frozen into the rough base
   std::uint64_t seed = 1;
+  double max_overlap = 0.1;  // d: the pour stops when an overlap exceeds it (engine/run_guard.hpp)
 
   // Every field within its key's range (pour_keys()), and what no single range says: the intruder
   // inside the box, exactly one of depth and intruder_z, not too many grains for the box, the
@@ -83,6 +85,25 @@ constexpr double kSurfaceOffset = -0.35;
 // The intruder height for the requested depth, from the estimated packing fraction.
 double intruder_height_for_depth(const PourSpec& spec);
 
-Bed pour(const PourSpec& spec, bool show_progress);
+// Where a pour stands between two kinetic-energy checks: enough to continue it bit for bit.
+struct PourState {
+  Simulation::State state;  // taken right after a forced list rebuild
+  double energy_start = 0;  // of the grains after setup, for the run guard
+  double max_overlap_seen = 0;
+  long grains_lost = 0;
+  double dt = 0;  // the pour's time step (recorded, not restored)
+};
+
+// Periodic checkpoints of a pour. Every `every` kinetic-energy checks (0: none) the lists are
+// rebuilt and `save` is called with the state; a pour resumed from that state with the same
+// spec and `every` continues bitwise identically to one never interrupted (same thread count).
+struct PourCheckpoints {
+  long every = 0;
+  std::function<void(const PourState&)> save;
+  const PourState* resume_from = nullptr;
+};
+
+// Throws Error, naming the failure (engine/run_guard.hpp), when the pour runs away.
+Bed pour(const PourSpec& spec, bool show_progress, const PourCheckpoints& checkpoints = {});
 
 }  // namespace granudrag

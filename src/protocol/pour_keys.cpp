@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "engine/run_guard.hpp"
 #include "protocol/pour.hpp"
 
 namespace granudrag {
@@ -78,6 +79,7 @@ void PourSpec::validate() const {
       {"base_height", base_height},
       {"seed", static_cast<double>(seed)},
       {"skin", skin},
+      {"max_overlap", max_overlap},
   };
   if (intruder_diameter > 0) {
     values.emplace_back("intruder_x", intruder_x);
@@ -89,6 +91,7 @@ void PourSpec::validate() const {
   if (!std::isnan(packing_estimate)) values.emplace_back("packing_estimate", packing_estimate);
   std::vector<ParameterSpec> keys = pour_keys();
   keys.push_back(skin_key());
+  keys.push_back(max_overlap_key());
   check_ranges(keys, values, "pour settings");
 
   // What no single key's range can say.

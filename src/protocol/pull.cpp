@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/progress.hpp"
 #include "protocol/observables.hpp"
+#include "protocol/speed_limit.hpp"
 
 namespace granudrag {
 
@@ -26,9 +27,13 @@ double froude_number(double speed, double diameter) {
 }
 
 Pull::Pull(const Bed& bed, const PullSpec& spec)
-    : bed_(bed), spec_(spec), sim_(bed.state.particles, bed.box, bed.contact, pull_settings(bed, spec)) {
+    : bed_(bed),
+      spec_(spec),
+      sim_(bed.state.particles, bed.box, bed.contact, pull_settings(bed, spec)),
+      guard_(GuardLimits{}, 0.0) {
   spec_.validate();
   if (bed_.intruder < 0) throw Error("the bed has no intruder to pull: pour it with intruder_diameter > 0");
+  check_pull_speed(spec_.speed, bed_, sim_.dt(), spec_.skin, spec_.max_overlap);
   if (spec_.fresh_start) {
     sim_.particles().v[bed_.intruder] = Vec3(spec_.speed, 0, 0);
     sim_.setup();
@@ -50,6 +55,14 @@ Pull::Pull(const Bed& bed, const PullSpec& spec)
   record_.total_steps = (steps + k - 1) / k * k;
   const Energy e = sim_.energy();
   record_.energy_start = e.total();
+  GuardLimits limits;
+  limits.max_overlap = spec_.max_overlap;
+  // Above the highest grain by more than a grain hit at V could fly (2V: an elastic bounce off
+  // the driven intruder, rising (2V)^2 / 2g) and 10 d to spare.
+  double top = 0;
+  for (const Vec3& x : bed_.state.particles.x) top = std::max(top, x.z());
+  limits.z_max = top + 10.0 + 2.0 * spec_.speed * spec_.speed;
+  guard_ = RunGuard(limits, record_.energy_start);
   if (spec_.transient >= 0 && spec_.transient >= distance) {
     std::ostringstream msg;
     msg << "'transient' = " << spec_.transient << " d leaves nothing of a pull of " << distance
@@ -62,6 +75,8 @@ Pull::Pull(const Bed& bed, const PullSpec& spec, const Simulation::State& state,
     : Pull(bed, spec) {
   sim_.restore(state);
   record_ = std::move(record);
+  guard_ = RunGuard(guard_.limits(), record_.energy_start);
+  guard_.restore(record_.max_overlap, record_.grains_lost);
 }
 
 double Pull::transient_distance() const {
@@ -142,17 +157,18 @@ void Pull::end_of_interval() {
   record_.contacts.push_back(record_.contact_sum / k);
   record_.force_sum.setZero();
   record_.contact_sum = 0;
-  record_.max_overlap = std::max(record_.max_overlap, sim_.contacts().max_overlap(p, bed_.box));
-
-  // A blow-up stops the run here, before a checkpoint could save it.
-  const Energy e = sim_.energy();
-  const double ke = (e.kinetic + e.rotational) / static_cast<double>(p.size());
-  if (!std::isfinite(ke) || ke > 100.0 * std::max(1.0, spec_.speed * spec_.speed)) {
-    std::ostringstream msg;
-    msg << "the run blew up at t = " << sim_.time() << ": kinetic energy per grain " << ke
-        << " (rho g d^4). The time step dt = " << sim_.dt() << " is too large for kn = " << bed_.contact.kn
-        << ", or the bed was overlapping; the last good checkpoint, if any, is kept";
-    throw Error(msg.str());
+  // A failure stops the run here, before a checkpoint could save it.
+  const std::string why = guard_.check(sim_, record_.work);
+  record_.max_overlap = guard_.max_overlap_seen();
+  record_.grains_lost = guard_.grains_lost();
+  if (!why.empty()) {
+    if (!spec_.keep_going || why.rfind("non-finite", 0) == 0)
+      throw Error("the pull stopped: " + why + ". The last good checkpoint, if any, is kept");
+    if (record_.verdict.empty()) {
+      record_.verdict = why;
+      std::fprintf(stderr, "pull: warning: %s; going on (keep_going), the run file records it\n",
+                   why.c_str());
+    }
   }
 
   const double travelled = sim_.steps_done() * sim_.dt() * spec_.speed;
@@ -204,8 +220,11 @@ PullResult Pull::result() const {
   std::vector<double> resistance(record_.fx.size());
   for (std::size_t k = 0; k < resistance.size(); ++k) resistance[k] = -record_.fx[k];
   r.cumulative_drag = cumulative_average(resistance);
-  r.drag = mean(fx);
-  r.drag_error = block_average_error(fx);
+  const MeanError drag = mean_error(fx);
+  r.drag = drag.mean;
+  r.drag_error = drag.error;
+  r.drag_dof = drag.dof;
+  r.drag_plateau = drag.plateau;
   r.coordination = mean(n);
   if (record_.theta_count > 0) {
     const double m = record_.theta_sum / record_.theta_count;

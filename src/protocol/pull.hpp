@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/run_guard.hpp"
 #include "engine/simulation.hpp"
 #include "protocol/pour.hpp"
 
@@ -25,6 +26,10 @@ struct PullSpec {
   // Drop the bed's contact histories and recompute the forces before the first step, as a
   // LAMMPS run starting from a data file does: for like-for-like comparisons.
   bool fresh_start = false;
+  double max_overlap = 0.1;  // d: refused above (one impact at V), stopped above (any overlap)
+  // On a sanity failure other than a non-finite number: finish the pull and record the failure
+  // as the run's verdict instead of stopping.
+  bool keep_going = false;
 
   // Every field within its key's range (pull_keys(), skin_key()); throws Error naming the key.
   void validate() const;
@@ -56,6 +61,8 @@ struct PullRecord {
   std::vector<Snapshot> snapshots;
   double work = 0;          // done by the intruder on the grains
   double max_overlap = 0;   // largest overlap seen at a sample, d
+  long grains_lost = 0;     // most grains out of the box at a sample
+  std::string verdict;      // the first sanity failure (keep_going), "" while clean
   double energy_start = 0;  // of the mobile grains
   // Running sums over the current interval.
   Vec3 force_sum = Vec3::Zero();
@@ -64,8 +71,10 @@ struct PullRecord {
 
 struct PullResult {
   // The drag: -<F_x> after the transient (positive when it resists the motion along +x), and
-  // its block-averaging error. The record keeps the raw force components.
-  double drag = NAN, drag_error = NAN;
+  // its standard error (mean_error, protocol/observables.hpp) with its effective degrees of
+  // freedom and whether the error converged. The record keeps the raw force components.
+  double drag = NAN, drag_error = NAN, drag_dof = NAN;
+  bool drag_plateau = false;
   double transient_distance = 0;
   long transient_samples = 0;
   std::vector<double> cumulative_drag;  // running mean of -F_x over all samples (Fig. 4)
@@ -87,7 +96,8 @@ class Pull {
 
   // Runs to the end. on_checkpoint is called every spec.checkpoint_every steps, right after
   // the forced rebuild that makes a resumed run bitwise identical. Throws Error when the run
-  // blows up (NaN or exploding kinetic energy).
+  // guard (engine/run_guard.hpp) finds a failure at the end of a sample interval, before a
+  // checkpoint could save it; with spec.keep_going only a non-finite number stops it.
   void run(bool show_progress, const std::function<void(const Pull&)>& on_checkpoint = {});
 
   PullResult result() const;
@@ -104,6 +114,8 @@ class Pull {
   std::string timing_report() const;
   double loop_seconds() const { return loop_seconds_; }
   long loop_steps() const { return loop_steps_; }
+  // "clean", or the first sanity failure of a keep_going pull.
+  std::string verdict() const { return record_.verdict.empty() ? "clean" : record_.verdict; }
 
  private:
   void after_step();
@@ -115,6 +127,7 @@ class Pull {
   PullSpec spec_;
   Simulation sim_;
   PullRecord record_;
+  RunGuard guard_;
   std::vector<int> scratch_;
   std::vector<int> counts_;
   double loop_seconds_ = 0;

@@ -44,6 +44,7 @@ const std::vector<ParameterSpec>& pull_keys() {
 void PullSpec::validate() const {
   std::vector<ParameterSpec> keys = pull_keys();
   keys.push_back(skin_key());
+  keys.push_back(max_overlap_key());
   check_ranges(keys,
                {{"speed", speed},
                 {"distance", distance},
@@ -52,7 +53,8 @@ void PullSpec::validate() const {
                 {"shell", shell},
                 {"snapshots", snapshots},
                 {"slab_half_width", slab_half_width},
-                {"skin", skin}},
+                {"skin", skin},
+                {"max_overlap", max_overlap}},
                "pull settings");
   // Not a key: `granudrag pull` derives it from checkpoint_interval.
   if (checkpoint_every < 0)

@@ -162,3 +162,59 @@ TEST(Pour, PackingEstimateFollowsTheMeasuredTable) {
   b.packing_estimate = 0.657;  // an explicit estimate wins over the table
   EXPECT_DOUBLE_EQ(intruder_height_for_depth(a), intruder_height_for_depth(b));
 }
+
+namespace {
+PourSpec small_pour() {
+  PourSpec s;
+  s.lx = s.ly = 8;
+  s.intruder_x = s.intruder_y = 4;
+  s.grains = 500;
+  s.depth = 3;
+  s.contact = ContactParams{}.with_stiffness(2e4);
+  s.ke_threshold = 1e-9;  // runs to max_settle_time
+  s.max_settle_time = 6;
+  return s;
+}
+}  // namespace
+
+TEST(Pour, ResumedFromACheckpointItEndsBitwiseAsAnUninterruptedPour) {
+  const PourSpec s = small_pour();
+  std::vector<PourState> saved;
+  PourCheckpoints every2;
+  every2.every = 2;  // every second check: t = 1, 2, ...
+  every2.save = [&](const PourState& state) { saved.push_back(state); };
+  const Bed whole = pour(s, false, every2);
+  ASSERT_GE(saved.size(), 5u);
+  for (std::size_t k : {std::size_t{0}, std::size_t{3}}) {
+    PourCheckpoints resume;
+    resume.every = 2;
+    resume.save = [](const PourState&) {};
+    resume.resume_from = &saved[k];
+    const Bed again = pour(s, false, resume);
+    const Particles& a = whole.state.particles;
+    const Particles& b = again.state.particles;
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      ASSERT_EQ(a.x[i], b.x[i]) << k << " " << i;
+      ASSERT_EQ(a.v[i], b.v[i]) << k << " " << i;
+      ASSERT_EQ(a.omega[i], b.omega[i]) << k << " " << i;
+      ASSERT_EQ(a.species[i], b.species[i]) << k << " " << i;
+    }
+    EXPECT_EQ(whole.surface_height, again.surface_height);
+    EXPECT_EQ(whole.settle_time, again.settle_time);
+  }
+}
+
+TEST(Pour, AnOverlapOverTheBoundStopsThePour) {
+  // Grains falling ~5 d onto the wall at kn = 2e4 overlap it by ~0.05 d: over a 0.02 d bound.
+  PourSpec s = small_pour();
+  s.max_overlap = 0.02;
+  try {
+    pour(s, false);
+    FAIL() << "the pour ran past an overlap over its bound";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("exceeds max_overlap = 0.02 d"), std::string::npos) << e.what();
+  }
+  s.max_overlap = 0.1;
+  EXPECT_NO_THROW(pour(s, false));
+}

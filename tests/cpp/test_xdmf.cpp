@@ -47,10 +47,11 @@ TEST(Xdmf, PointsAtDatasetsThatExistWithTheDeclaredShapes) {
     f.write_rows("/particles/all/position/value", std::vector<Vec3>(n, Vec3(1, 2, 3)));
     f.write_rows("/particles/all/velocity/value", std::vector<Vec3>(n, Vec3(0, 0, -1)));
     f.write("/particles/all/radius/value", std::vector<double>(n, 0.5));
+    f.write("/particles/all/species/value", std::vector<std::uint8_t>(n, 2));
     f.commit();
   }
   const std::string xdmf_path = dir.file("bed.xdmf");
-  write_xdmf(xdmf_path, "bed.h5", "all", n, {"radius"}, {"velocity"});
+  write_xdmf(xdmf_path, "bed.h5", "all", n, {"radius"}, {"velocity"}, {"species"});
   EXPECT_FALSE(fs::exists(xdmf_path + ".tmp"));
   const std::string xml = read_text(xdmf_path);
 
@@ -61,6 +62,8 @@ TEST(Xdmf, PointsAtDatasetsThatExistWithTheDeclaredShapes) {
   EXPECT_MENTIONS(xml, "<Geometry GeometryType=\"XYZ\">");
   EXPECT_MENTIONS(xml, "<Attribute Name=\"radius\" AttributeType=\"Scalar\" Center=\"Node\">");
   EXPECT_MENTIONS(xml, "<Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">");
+  EXPECT_MENTIONS(xml, "<Attribute Name=\"species\" AttributeType=\"Scalar\" Center=\"Node\">");
+  EXPECT_MENTIONS(xml, "<DataItem Dimensions=\"250\" NumberType=\"UChar\" Precision=\"1\" Format=\"HDF\">");
   std::string why;
   EXPECT_TRUE(tags_balanced(xml, why)) << why << "\n" << xml;
   // Explicit vertex i = point i: without it ParaView's Xdmf3 readers load points but no cells.
@@ -85,6 +88,9 @@ TEST(Xdmf, PointsAtDatasetsThatExistWithTheDeclaredShapes) {
     EXPECT_TRUE(f.exists(dataset)) << dataset;
     if (dims == "250 3") {
       EXPECT_EQ(f.read_vec3(dataset).size(), n) << dataset;
+    } else if (dataset.find("species") != std::string::npos) {
+      EXPECT_EQ(dims, "250");
+      EXPECT_EQ(f.read_uint8(dataset).size(), n) << dataset;
     } else {
       EXPECT_EQ(dims, "250");
       EXPECT_EQ(f.read_doubles(dataset).size(), n) << dataset;
@@ -92,7 +98,7 @@ TEST(Xdmf, PointsAtDatasetsThatExistWithTheDeclaredShapes) {
   }
   EXPECT_EQ(datasets,
             (std::vector<std::string>{"/particles/all/position/value", "/particles/all/radius/value",
-                                      "/particles/all/velocity/value"}));
+                                      "/particles/all/velocity/value", "/particles/all/species/value"}));
 }
 
 TEST(Xdmf, RefusesWhatParaViewCouldNotRead) {

@@ -74,7 +74,8 @@ def make_table(seed=0, noise=0.02, mus=(0.0, 0.1, 0.3, 0.5, 0.9), kn_variants=Tr
                          gamman=gamman, V=float(V), Fr=Fr, drag=F, drag_err=noise * abs(F),
                          n_contacts=n,
                          theta=-0.15 * Fr ** 0.38 + np.pi / 2.45 + 0.005 * rng.standard_normal(),
-                         Z=kappa * n * 2 * np.sqrt(3) / (D + 1.0) ** 2, kappa=kappa,
+                         theta_err=0.005,
+                         Z=kappa * n * 2 * np.sqrt(3) / (D + 1.0) ** 2, kappa=kappa, kappa_err=0.01,
                          run=f"{system}/mu{mu:g}/D{D:g}/h{h:g}/V{V:.4g}{tag}"))
 
     for mu in mus:                                   # yield forces, Figs. 12-14

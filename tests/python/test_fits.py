@@ -149,3 +149,84 @@ def test_fit_file_errors(tmp_path):
     bad.write_text(json.dumps({"format": "granudrag-fits", "version": 1, "laws": [{"mu": 0.5}]}))
     with pytest.raises(FitFileError, match="damaged fit file"):
         load_fits(bad)
+
+
+def test_config_h_min_and_alpha_speeds_reach_the_fits():
+    # paper.yaml cuts Eq. 12 / Fig. 19 at h >= 45 as the paper; the default keeps every depth
+    # (its beds are all shallower), and both average alpha over the paper's five speeds.
+    import yaml
+
+    from analysis.study import fit_options, validate_config
+    root = synth.__file__.rsplit("/tests/", 1)[0]
+    opts = {}
+    for name in ("paper.yaml", "config.yaml", "smoke.yaml"):
+        with open(f"{root}/config/{name}") as fh:
+            cfg = yaml.safe_load(fh)
+        validate_config(cfg)
+        opts[name] = fit_options(cfg)
+    assert opts["paper.yaml"].h_min == 45 and opts["config.yaml"].h_min == 0
+    assert opts["smoke.yaml"].h_min == 0                       # schema default
+    assert opts["paper.yaml"].alpha_speeds == (0.5, 1.0, 2.0, 4.0, 6.0)
+    # the paper's Fig. 18a K_n sweep pulls at those speeds, not at the yield speed
+    with open(f"{root}/config/paper.yaml") as fh:
+        sweeps = {s["name"]: s for s in yaml.safe_load(fh)["sweeps"]}
+    assert sweeps["alpha_kn"]["V"] == [0.5, 1, 2, 4, 6] == sweeps["alpha_speeds"]["V"]
+
+
+def test_scaling_law_h_min_drops_shallow_pulls(table):
+    phi, alpha = fit_phi(table), fit_alpha(table)
+    deep = fit_scaling_law(table, phi, alpha, mu=0.5, n_boot=0, h_min=45)
+    every = fit_scaling_law(table, phi, alpha, mu=0.5, n_boot=0)
+    moving = table[(table.mu == 0.5) & (table.kn == synth.KN) & (table.gamman == synth.GAMMAN)
+                   & (table.V > 0.02)]
+    assert every.regimes.n_points == len(moving)
+    assert deep.regimes.n_points == len(moving[moving.h >= 45])
+    assert deep.ranges["h"][0] == 45 and deep.regimes.meta["h_min"] == 45
+    with pytest.raises(ValueError, match="h >= 100"):
+        fit_scaling_law(table, phi, alpha, mu=0.5, n_boot=0, h_min=100)
+
+
+def test_theta_fit_from_data_not_from_the_paper():
+    # A theta(Fr) far from Eq. 7's numbers (rising, steeper, another static angle), with
+    # per-point errors that differ 10-fold: the fit must find it from its own start, and
+    # weight the points (half of them carry 10x the noise and 10x the error).
+    rng = np.random.default_rng(11)
+    Fr = np.geomspace(0.1, 10, 40)
+    truth = dict(U1=0.04, U2=1.3, U3=4.0)
+    sigma = np.where(np.arange(40) % 2, 0.002, 0.02)
+    theta = 0.04 * Fr ** 1.3 + np.pi / 4.0 + sigma * rng.standard_normal(40)
+    from analysis.fits import theta_start
+    start = theta_start(Fr, theta, sigma)
+    assert abs(start[1] - 1.3) < 0.2                        # the grid start is already close
+    fit = fit_theta(Fr, theta, sigma)
+    for k, v in truth.items():
+        assert within(fit[k], v), (k, fit[k])
+    assert fit.meta["weighted"] and fit.meta["at_bounds"] == []
+    unweighted = fit_theta(Fr, theta)
+    assert fit["U2"].err < unweighted["U2"].err               # the weights are used
+
+
+def test_kappa_fit_weighted_by_its_errors(table):
+    # Outliers that carry large errors must not pull the weighted line.
+    t = table.dropna(subset=["kappa"]).copy()
+    bad = t.index[::7]
+    t.loc[bad, "kappa"] += 0.5
+    t.loc[bad, "kappa_err"] = 5.0
+    fit = fit_kappa(t)
+    assert fit.meta["weighted"] and within(fit["k1"], 0.185) and within(fit["k0"], 0.887)
+    assert not within(fit_kappa(t.drop(columns="kappa_err"))["k0"], 0.887)
+
+
+def test_regime_fits_leave_the_yield_pull_out():
+    # At mu = 0 the yield pull alone would fix a'' of a'' + b'' Fr^c''. Tripling it changes
+    # no regime fit; it is reported beside the fit instead.
+    from analysis.fitset import run_fits
+    df = synth.make_table(seed=5, mus=(0.0, 0.5), kn_variants=False)
+    moved = df.copy()
+    y = (moved.system == "I") & (moved.V == 0.01) & (moved.D == 2.0) & (moved.mu == 0.0)
+    moved.loc[y, "drag"] *= 3
+    a, b = run_fits(df, n_boot=0), run_fits(moved, n_boot=0)
+    fa, fb = a.regimes[("D", 0.0, 2.0)], b.regimes[("D", 0.0, 2.0)]
+    assert fa.values() == fb.values()
+    assert fa.n_points == len(synth.FR_GRID)
+    assert fb.meta["yield_pull"]["drag"] == pytest.approx(float(moved.loc[y, "drag"].iloc[0]))

@@ -33,7 +33,7 @@ RANGE_KEYWORDS = ("minimum", "exclusiveMinimum", "maximum", "exclusiveMaximum")
 # axes (each a number or a list of numbers) become pour options, a sweep's speeds pull options.
 SYSTEM_KEYS = {"lx": "lx", "ly": "ly", "grains": "grains"}
 AXES = {"D": "intruder_diameter", "depth": "depth", "z": "intruder_z", "mu": "mu", "kn": "kn",
-        "gamman": "gamman", "seed": "seed"}
+        "gamman": "gamman", "seed": "seed", "seeds": "seed"}
 SPEEDS = {"Fr": "froude", "V": "speed"}
 # Not an option: the workflow turns it into gamman (gamman_ratio * kn^0.6).
 NOT_OPTIONS = {"gamman_ratio"}

@@ -130,3 +130,34 @@ def test_errors_are_nan_without_bootstrap_and_too_few_points_raise():
         fit_regimes(FR[:7], y[:7])
     with pytest.raises(ValueError, match="regime1"):
         fit_regimes(FR, y, regime1="cubic")
+
+
+def test_fit_on_a_bound_says_so():
+    # Regime I flatter than any exponent allowed (c0 = 0.02 < C0_MIN): the fit ends on the
+    # lower bound and says so; a series inside the bounds reports none.
+    from analysis.regimes import C0_MIN
+    p = dict(synth.G_params(0.0), c0=0.02)
+    y = regime_curve(FR, **p) * (1 + 0.002 * np.random.default_rng(0).standard_normal(len(FR)))
+    fit = fit_regimes(FR, y, 0.002 * y, regime1="power", n_boot=0)
+    assert fit["c0"].value == pytest.approx(C0_MIN)
+    assert fit.meta["at_bounds"] == [f"c0 = {C0_MIN:.3g} at its bound {C0_MIN:g} (lower)"]
+    y, s = noisy(0.0, 0.005, seed=3)
+    assert fit_regimes(FR, y, s, regime1="power", n_boot=0).meta["at_bounds"] == []
+
+
+def test_a_regime_pressed_to_its_fewest_points_is_reported():
+    # The quadratic regime starting at Fr = 9.2, past all but two points: regime III may not
+    # hold fewer than 3, so the fit stops there and says so (allowed 2, it takes 2).
+    y = regime_curve(FR, **synth.G_params(0.5, Fr1=1.0, Fr2=9.2))
+    fit = fit_regimes(FR, y, 0.001 * y, n_boot=0)
+    assert fit.meta["at_bounds"] == ["regime III held at its minimum of 3 points "
+                                     "(with 2 allowed the fit takes 2)"]
+    y, s = noisy(0.5, 0.02, seed=0)
+    assert fit_regimes(FR, y, s, n_boot=0).meta["at_bounds"] == []
+
+
+def test_falling_regime_is_a_violation():
+    from analysis.regimes import violations
+    assert violations({"b1": 0.3, "b2": 0.1}) == []
+    v = violations({"b1": -2.0, "b2": 0.1}, {"b1": 0.5})
+    assert v == ["drag falls with Fr in regime II (b1 = -2, 4.0 standard errors below 0)"]

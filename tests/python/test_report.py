@@ -19,9 +19,34 @@ FIGURES = ["fig02_restitution", "fig04_force_trace", "fig05_drag_vs_Fr_mu0.5",
 def test_verdict_rules():
     assert verdict(Param(1.05, 0.05), 1.0)[0] == "reproduced within error bars"
     assert verdict(Param(1.2, 0.01), 1.0)[0] == "reproduced qualitatively"
-    assert verdict(Param(1.2, math.nan), 1.0)[0] == "reproduced qualitatively"
     assert verdict(Param(2.0, 0.1), 1.0)[0] == "not reproduced"
     assert verdict(None, 1.0)[0] == "not reproduced"
+    # An error that could cover anything, or none at all, confirms nothing.
+    assert verdict(Param(1.2, math.nan), 1.0)[0] == "inconclusive"
+    assert verdict(Param(0.25, 0.39), 1.0) == ("inconclusive", "error 156% of the value, above 30%")
+    assert verdict(Param(1.0, 2.6), 5.0)[0] == "inconclusive"
+    assert verdict(Param(1.0, 0.31), 1.0)[0] == "inconclusive"
+    assert verdict(Param(1.0, 0.29), 1.0)[0] == "reproduced within error bars"
+    # A fit with drag falling in regime II is inconclusive whatever its numbers.
+    v, why = verdict(Param(1.0, 0.05), 1.0, ["drag falls with Fr in regime II (b1 = -3)"])
+    assert v == "inconclusive" and "regime II" in why
+
+
+def test_falling_regime_ii_is_flagged_and_counted_apart():
+    # The default study's D = 1, mu = 0.5 series: a plateau at 135, then down to 95 at Fr = 1,
+    # then rising (the shape the issue reports). The fit must flag it; the report counts it
+    # as inconclusive, apart from the other verdicts.
+    from analysis.fitset import Results
+    from analysis.regimes import fit_regimes
+    from analysis.report import counts
+    Fr = np.array([0.25, 0.5, 0.75, 1.0, 1.5, 2.5, 3.5, 4.5, 6.0, 8.0, 10.0])
+    drag = np.array([135, 134, 136, 95, 100, 108, 117, 125, 160, 230, 330.0])
+    fit = fit_regimes(Fr, drag, 0.03 * drag, n_boot=30)
+    assert fit.meta["violations"] and "regime II" in fit.meta["violations"][0]
+    rows = comparisons(Results(regimes={("D", 0.5, 1.0): fit}, phi=None, alpha=None, sums=None))
+    assert [x.verdict for x in rows] == ["inconclusive", "inconclusive"]
+    assert "drag falls with Fr" in rows[0].sentence
+    assert counts(rows)["inconclusive"] == 2 and counts(rows)["not reproduced"] == 0
 
 
 def test_report_has_every_figure_and_file(report_dir):
@@ -41,7 +66,9 @@ def test_report_compares_with_paper_values(report_dir):
     md = (report_dir / "report.md").read_text()
     for needle in ("Fr_1 (μ = 0.5, D = 4)", "Fr_2 (Eq. 12 collapse, μ = 0.5)", "θ(Fr) Υ2 (Eq. 7)",
                    "κ(Fr) slope (Fig. 8)", "Table I c'' (D = 2d)", "φ_0", "α_0",
-                   "α_μ + φ_μ (μ = 0.5", "F_Y saturating in μ (D = 4d)", "λ_1^II"):
+                   "α_μ + φ_μ (α_μ from the yield force; μ = 0.5",
+                   "α_μ + φ_μ (α_μ from the drag, averaged over speeds; μ = 0.5",
+                   "F_Y saturating in μ (D = 4d)", "λ_1^II"):
         assert needle in md, needle
     # Synthetic data built on the paper's numbers must be judged reproduced.
     for line in md.splitlines():
@@ -67,3 +94,21 @@ def test_shifted_crossovers_are_reported_as_not_reproduced():
         assert rows[q].verdict == "not reproduced", rows[q].sentence
     # ...while the other laws, which did not move, still are.
     assert rows["κ(Fr) slope (Fig. 8)"].verdict.startswith("reproduced")
+
+
+def test_each_number_says_what_it_rests_on(table):
+    # Replicate beds (column seed) and runs without a plateau (column plateau) are stated
+    # beside every number whose fit uses them; without the columns, one bed per point.
+    r = run_fits(table, n_boot=0)
+    plain = {x.quantity: x for x in comparisons(r, table)}
+    assert "1 bed per point (no replicates)" in plain["Fr_1 (μ = 0.5, D = 4)"].notes
+    t = table.assign(seed=1, plateau=1)
+    extra = t[(t.system == "I") & (t.D == 4.0) & (t.mu == 0.5) & (t.V > 0.02)].assign(seed=2)
+    extra.loc[extra.index[0], "plateau"] = 0
+    import pandas as pd
+    both = pd.concat([t, extra], ignore_index=True)
+    rows = {x.quantity: x for x in comparisons(r, both)}
+    notes = rows["Fr_1 (μ = 0.5, D = 4)"].notes
+    assert "2 replicate bed(s) per point" in notes
+    assert f"1 of {2 * len(extra)} runs without a plateau of the block-average error" in notes
+    assert "every run reached a plateau" in rows["Fr_1 (μ = 0.5, D = 2)"].notes

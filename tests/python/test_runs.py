@@ -49,7 +49,8 @@ def write_parameters_v1(f):
 
 
 def write_run(path, D=2.0, depth=9.87, speed=0.75, mu=0.5, kn=2e4, gamman=199.05359,
-              drag=111.1, fmt="granudrag-run", version=2, skip=None, n_samples=50):
+              drag=111.1, fmt="granudrag-run", version=2, skip=None, n_samples=50,
+              drag_err=2.5, convergence=(6.5, 1), verdict="clean"):
     """A run file with the attributes and datasets of src/io/run_file.cpp save_run."""
     path.parent.mkdir(parents=True, exist_ok=True)
     with h5py.File(path, "w") as f:
@@ -70,8 +71,11 @@ def write_run(path, D=2.0, depth=9.87, speed=0.75, mu=0.5, kn=2e4, gamman=199.05
         o.create_dataset("intruder_force/value", data=force)
         o.create_dataset("intruder_force/step", data=np.arange(1, n_samples + 1) * 48)
         o.create_dataset("cumulative_drag/value", data=np.cumsum(-fx) / np.arange(1, n_samples + 1))
-        for name, attrs in {"drag": dict(value=drag, error=2.5, transient_distance=0.5,
-                                         transient_samples=np.int64(10 if skip is None else skip)),
+        conv = {} if convergence is None else dict(error_dof=convergence[0],
+                                                   plateau=np.int64(convergence[1]))
+        for name, attrs in {"drag": dict(value=drag, error=drag_err, transient_distance=0.5,
+                                         transient_samples=np.int64(10 if skip is None else skip),
+                                         **conv),
                             "coordination": dict(value=10.0, error=math.nan),
                             "theta": dict(value=1.55, error=0.1),
                             "bulk_coordination": dict(value=3.7, error=math.nan, shell=2.0),
@@ -87,6 +91,8 @@ def write_run(path, D=2.0, depth=9.87, speed=0.75, mu=0.5, kn=2e4, gamman=199.05
             for c, v in zip(("dx", "dz", "vx", "vz"), (1.0, -2.0, -speed, 0.1 * (k + 1))):
                 s.create_dataset(c, data=np.full(3 + k, v))
         f.create_group("sanity").attrs["report"] = "sanity: grains lost 0"
+        if verdict is not None:      # None: a file written before the verdict existed
+            f["sanity"].attrs["verdict"] = verdict
     return path
 
 
@@ -193,14 +199,30 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     run = tmp_path / "system~I" / "run.h5"
     run.parent.mkdir()
     subprocess.run([str(BINARY), "pull", "--bed", str(tmp_path / "bed.h5"), "--output", str(run),
-                    "--distance", "0.1", "--quiet"], check=True, capture_output=True)
+                    "--distance", "0.5", "--quiet"], check=True, capture_output=True)
     params = read_parameters(run)
     assert params["pour"]["grains"] == 150 and params["pour"]["lx"] == 5.0
     assert params["pour"]["quiet"] is True and "intruder_z" not in params["pour"]   # unset: absent
-    assert params["pull"]["bed"] == str(tmp_path / "bed.h5") and params["pull"]["distance"] == 0.1
+    assert params["pull"]["bed"] == str(tmp_path / "bed.h5") and params["pull"]["distance"] == 0.5
     assert params["pull"]["resume"] is False and params["pull"]["snapshots"] == 3
     row = read_run(run)
     assert (row["lx"], row["ly"], row["grains"]) == (5.0, 4.5, 150.0)
+    assert row["sanity"] == "clean"
+    # The drag error's Student-t dof and convergence flag: a 0.5 d pull is far too short.
+    assert row["drag_dof"] >= 1 and row["plateau"] is False
+
+
+def test_drag_error_convergence_and_seed_are_read(tmp_path):
+    p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5", convergence=(3.2, 0))
+    row = read_run(p, root=tmp_path)
+    assert row["drag_dof"] == 3.2 and row["plateau"] is False and row["seed"] == 1.0
+    p = write_run(tmp_path / "b" / "system~I" / "run.h5", convergence=(40.0, 1))
+    row = read_run(p)
+    assert row["plateau"] is True and math.isnan(row["seed"])
+    # A file from before the convergence test claims no plateau.
+    p = write_run(tmp_path / "c" / "system~I" / "run.h5", convergence=None)
+    row = read_run(p)
+    assert row["plateau"] is False and math.isnan(row["drag_dof"])
 
 
 def test_load_runs_gives_a_valid_table(tmp_path):
@@ -340,3 +362,58 @@ def test_coordination_distribution_and_snapshots(tmp_path):
     text.write_text("not hdf5")
     with pytest.raises(RunFileError, match="not an HDF5 file"):
         read_snapshots(text)
+
+
+def test_a_run_whose_verdict_is_not_clean_is_left_out_by_name(tmp_path):
+    good = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5")
+    old = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5", speed=1.5, verdict=None)
+    bad = write_run(tmp_path / "pulls" / BED / "Fr~3" / "run.h5", speed=2.25,
+                    verdict="overlap 0.1541 d at t = 0.08057 exceeds max_overlap = 0.15 d")
+    assert read_run(good)["sanity"] == "clean"
+    assert read_run(old)["sanity"] == "unknown"      # before the verdict: read, marked unknown
+    with pytest.raises(RunFileError, match="sanity verdict is not clean.*exceeds max_overlap"):
+        read_run(bad)
+    df, problems = load_runs([good, old, bad], errors="collect")
+    assert list(df.sanity) == ["clean", "unknown"]
+    assert len(problems) == 1 and problems[0].startswith(f"{bad}: sanity verdict is not clean")
+
+
+def test_the_engine_records_a_failed_verdict_and_the_table_leaves_the_run_out(tmp_path):
+    """A real pull that breaks its overlap bound: without --keep_going it stops (exit 1, no run
+    file); with it, it finishes and records the failure, and load_runs lists it by name."""
+    bed = tmp_path / "bed.h5"
+    subprocess.run([str(BINARY), "pour", "--output", str(bed), "--grains", "150", "--lx", "5", "--ly", "4.5",
+                    "--intruder_diameter", "1.5", "--depth", "1.5", "--kn", "2e4", "--max_settle_time", "0.5",
+                    "--quiet"], check=True, capture_output=True)
+    run = tmp_path / "system~I" / "run.h5"
+    run.parent.mkdir()
+    # Grains still settling overlap by ~0.01-0.03 d at kn = 2e4: over a 0.005 d bound.
+    pull = [str(BINARY), "pull", "--bed", str(bed), "--output", str(run), "--distance", "0.1",
+            "--speed", "0.1", "--max_overlap", "0.005", "--quiet"]
+    r = subprocess.run(pull, capture_output=True, text=True)
+    assert r.returncode == 1 and "exceeds max_overlap = 0.005 d" in r.stderr, r.stderr
+    assert not run.exists()
+    subprocess.run([*pull, "--keep_going"], check=True, capture_output=True)
+    df, problems = load_runs([run], errors="collect")
+    assert df.empty
+    assert len(problems) == 1 and problems[0].startswith(f"{run}: sanity verdict is not clean")
+    assert "exceeds max_overlap = 0.005 d" in problems[0]
+
+
+def test_kappa_error_from_the_coordination_series(tmp_path):
+    # kappa = (Z/n)(D+d)^2/(2 sqrt 3): its error is kappa times the relative block-averaging
+    # error of n, from the intruder_contacts series after the transient (0.5 d at V = 0.75:
+    # t > 0.667). White noise of standard deviation 2 about n = 10 over 1000 samples: the
+    # analytic standard error of the mean is 2/sqrt(N); block averaging's largest level
+    # lands within [0.8, 1.6] of it.
+    p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5")
+    assert math.isnan(read_run(p)["kappa_err"])          # no series: no error
+    rng = np.random.default_rng(0)
+    t = np.linspace(0.0, 20.0, 1034)
+    with h5py.File(p, "a") as f:
+        f["observables/intruder_contacts/time"] = t
+        f["observables/intruder_contacts/value"] = 10.0 + 2.0 * rng.standard_normal(len(t))
+    n_after = int(np.sum(t > 0.5 / 0.75))
+    row = read_run(p)
+    expected = 0.96 * (2.0 / np.sqrt(n_after)) / 10.0
+    assert 0.8 < row["kappa_err"] / expected < 1.6, row["kappa_err"] / expected

@@ -4,12 +4,16 @@ Checks the report, figures and table, that a finished study has nothing left to
 do, that adding a grid value re-runs only the new pulls (beds reused), and that
 a bad config names the bad key. About a minute on 2 cores.
 
-The engine: $GRANUDRAG if set, else build/granudrag (tools/test.sh builds it).
+The engine: $GRANUDRAG if set, else build/granudrag (tools/test.sh builds it). The Snakemake:
+$GRANUDRAG_SNAKEMAKE if set (tools/test.sh runs this file with the project environment's
+Snakemake 9, .venv/bin/snakemake, and with Debian's 7.21), else Debian's /usr/bin/snakemake.
 """
+import json
 import os
 import re
 import shutil
 import subprocess
+import zipfile
 from pathlib import Path
 
 import pandas as pd
@@ -19,17 +23,23 @@ import yaml
 from analysis import study
 
 ROOT = Path(__file__).resolve().parents[2]
-SNAKEMAKE = "/usr/bin/snakemake"  # Debian's, run by Debian's /usr/bin/python3
+SNAKEMAKE = os.environ.get("GRANUDRAG_SNAKEMAKE", "/usr/bin/snakemake")
 BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag")).resolve()
 
 pytestmark = [
-    pytest.mark.skipif(not Path(SNAKEMAKE).exists(), reason="Debian's snakemake is not installed"),
+    pytest.mark.skipif(not Path(SNAKEMAKE).exists(), reason=f"no Snakemake at {SNAKEMAKE}"),
     pytest.mark.skipif(not BINARY.exists(), reason=f"no granudrag binary at {BINARY} (build it first)"),
 ]
 
 FIGURES = ["fig02_restitution", "fig04_force_trace", "fig05_drag_vs_Fr_mu0.5", "fig06_theta_vs_Fr",
            "fig07_coordination_distribution", "fig08_kappa_vs_Fr", "fig09_flow_field",
            "fig12_yield_vs_mu", "fig16_drag_vs_Fr_depth", "fig17_yield_vs_h", "fig20_kn_gamman"]
+
+
+def snakemake_major():
+    """The major version of SNAKEMAKE (7 for Debian's 7.21, 9 for the project environment's)."""
+    r = subprocess.run([SNAKEMAKE, "--version"], capture_output=True, text=True, timeout=120)
+    return int(r.stdout.strip().split(".")[0])
 
 
 def snakemake(workdir, configfile, *args, check=True):
@@ -53,7 +63,7 @@ def job_counts(output):
         if line.startswith("job ") and "count" in line:
             in_table = True
             continue
-        m = re.match(r"^(\w+)\s+(\d+)\s+\d+\s+\d+\s*$", line)
+        m = re.match(r"^(\w+)\s+(\d+)(\s+\d+\s+\d+)?\s*$", line)
         if in_table and m and m.group(1) != "total":
             counts[m.group(1)] = int(m.group(2))
     return counts
@@ -84,9 +94,17 @@ def test_report_and_figures(smoke):
 def test_table_has_one_row_per_planned_pull(smoke):
     workdir, _, config = smoke
     plan = study.plan(config)
+    runs = pd.read_csv(workdir / config["results"] / "runs.csv", dtype={"system": str, "run": str})
+    assert len(runs) == len(plan.pulls) == 13
+    assert set(runs.run) == {f"pulls/{key}" for key in plan.pulls}
+    # The kn sweep's point has two beds (seeds 1, 2): one row of the point table, combined.
     df = pd.read_csv(workdir / config["results"] / "table.csv", dtype={"system": str, "run": str})
-    assert len(df) == len(plan.pulls) == 12
-    assert set(df.run) == {f"pulls/{key}" for key in plan.pulls}
+    assert len(df) == 12
+    two = df[df.n_beds == 2]
+    assert len(two) == 1 and two.kn.iloc[0] == 5e4
+    pair = runs[runs.kn == 5e4].drag.to_numpy()
+    assert two.drag.iloc[0] == pytest.approx(pair.mean())
+    assert two.drag_err.iloc[0] >= abs(pair[0] - pair[1]) / 2 * (1 - 1e-9)   # sqrt(s^2/2) at least
     assert df.drag.notna().all() and (df.drag > 0).all()
     assert set(df.system) == {"I", "II"}
     assert sorted(df[df.V == 0.01].h_requested.tolist()) == [3, 4, 5]
@@ -112,27 +130,69 @@ def test_finished_study_has_nothing_to_do(smoke):
     assert "Nothing to be done" in r.stdout + r.stderr
 
 
-def test_snakemake_report_has_every_figure(smoke):
-    # Snakemake's own --report (the report: directive), written offline: 7.21 would download
-    # its page assets; offline_report.py runs the same report without them.
+def caption_start(name):
+    """The first words of a figure's caption (workflow/report/NAME.rst) up to any markup."""
+    first = (ROOT / "workflow" / "report" / f"{name}.rst").read_text().splitlines()[0]
+    return re.split(r"[`*_|\\]", first)[0].strip()
+
+
+def test_snakemake_report_has_every_figure_and_caption(smoke, tmp_path):
+    """Snakemake's own --report (the report: directive), written with no network."""
     workdir, configfile, _ = smoke
-    out = workdir / "snakemake_report.html"
-    cmd = ["/usr/bin/python3", str(ROOT / "workflow" / "scripts" / "offline_report.py"),
-           "--snakefile", str(ROOT / "workflow" / "Snakefile"), "--directory", str(workdir),
-           "--configfile", str(configfile), "--report", str(out)]
-    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
-    assert r.returncode == 0, r.stderr[-3000:]
-    html = out.read_text()
+    if snakemake_major() >= 8:
+        # A self-contained zip (the page's scripts are in Snakemake's package), written here
+        # in a network namespace of its own: no network at all.
+        out = tmp_path / "report.zip"
+        cmd = ["unshare", "--net", SNAKEMAKE, "--snakefile", str(ROOT / "workflow" / "Snakefile"),
+               "--directory", str(workdir), "--configfile", str(configfile), "--report", str(out)]
+        if os.geteuid() != 0:
+            cmd = cmd[2:]  # a network namespace needs root; then the same report with network
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+        assert r.returncode == 0, r.stderr[-3000:]
+        with zipfile.ZipFile(out) as z:
+            names = z.namelist()
+            html = z.read(next(n for n in names if n.endswith("/report.html") and "/data/" not in n)).decode()
+        for name in FIGURES:
+            assert any(n.endswith(f"/{name}.png") for n in names), name
+    else:
+        # 7.21 would download its page assets; offline_report.py runs the same report without
+        # them.
+        out = workdir / "snakemake_report.html"
+        cmd = ["/usr/bin/python3", str(ROOT / "workflow" / "scripts" / "offline_report.py"),
+               "--snakefile", str(ROOT / "workflow" / "Snakefile"), "--directory", str(workdir),
+               "--configfile", str(configfile), "--report", str(out)]
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+        assert r.returncode == 0, r.stderr[-3000:]
+        html = out.read_text()
+        for name in FIGURES:
+            assert f"{name}.png" in html, name
     for name in FIGURES:
-        assert f"{name}.png" in html, name
+        # The caption, as text or as the JSON string the report's page holds.
+        start = caption_start(name)
+        assert len(start) > 10 and (start in html or json.dumps(start)[1:-1] in html), name
 
 
 def test_one_figure_reruns_alone(smoke):
     """Redrawing one figure family re-runs its rule and the report's assembly, not the fits
     (their bootstraps) nor the other figures."""
     workdir, configfile, _ = smoke
-    r = snakemake(workdir, configfile, "--dry-run", "--quiet", "--forcerun", "figures_yield")
+    r = snakemake(workdir, configfile, "--dry-run", "--quiet", "rules", "--forcerun", "figures_yield")
     assert job_counts(r.stdout + r.stderr) == {"figures_yield": 1, "report": 1, "all": 1}
+
+
+def test_rerun_triggers(smoke):
+    """As the README says: a changed rule parameter (here report.n_boot, a param of the fits
+    rule) re-runs that rule and what follows; with --rerun-triggers mtime only newer input
+    files count, so nothing is re-run."""
+    workdir, _, config = smoke
+    changed = yaml.safe_load(yaml.safe_dump(config))
+    changed["report"]["n_boot"] = config["report"]["n_boot"] + 1
+    configfile = write_config(workdir / "n_boot.yaml", changed)
+    dry = snakemake(workdir, configfile, "--dry-run", "--quiet", "rules")
+    counts = job_counts(dry.stdout + dry.stderr)
+    assert counts.get("fits") == 1 and "pull" not in counts and "bed" not in counts, counts
+    r = snakemake(workdir, configfile, "--dry-run", "--rerun-triggers", "mtime")
+    assert "Nothing to be done" in r.stdout + r.stderr
 
 
 def test_figure_without_data_is_a_note_in_the_report(smoke):
@@ -163,7 +223,7 @@ def test_extending_a_grid_reruns_only_the_new_pulls(smoke):
     extended["sweeps"][0]["Fr"] = extended["sweeps"][0]["Fr"] + [3]      # drag: D = 1.5, 2
     configfile = write_config(workdir / "extended.yaml", extended)
 
-    dry = snakemake(workdir, configfile, "--dry-run", "--quiet")
+    dry = snakemake(workdir, configfile, "--dry-run", "--quiet", "rules")
     counts = job_counts(dry.stdout + dry.stderr)
     assert counts.get("pull") == 2, counts
     assert "bed" not in counts, counts
@@ -182,9 +242,12 @@ def test_extending_a_grid_reruns_only_the_new_pulls(smoke):
 
 @pytest.mark.skipif(shutil.which("sbatch") is None, reason="no SLURM client")
 def test_slurm_profile_parses(smoke):
-    """The SLURM profile is read and the jobs it would submit are listed (no cluster needed)."""
+    """The SLURM profile of this Snakemake generation (slurm: the executor plugin, Snakemake >= 8;
+    slurm-v7: sbatch from the cluster: line) is read and the jobs it would submit are listed
+    (no cluster needed)."""
     workdir, configfile, _ = smoke
-    r = snakemake(workdir, configfile, "--profile", str(ROOT / "workflow" / "profiles" / "slurm"),
+    profile = "slurm" if snakemake_major() >= 8 else "slurm-v7"
+    r = snakemake(workdir, configfile, "--profile", str(ROOT / "workflow" / "profiles" / profile),
                   "--dry-run", "--forcerun", "pull")
     assert "pull" in job_counts(r.stdout + r.stderr)
 
@@ -195,11 +258,11 @@ def test_test_directory_holds_the_smoke_config(tmp_path):
     assert (ROOT / "config" / "smoke.yaml").resolve() == (ROOT / ".test" / "config" / "config.yaml").resolve()
     shutil.copytree(ROOT / ".test", tmp_path / ".test")
     cmd = [SNAKEMAKE, "--snakefile", str(ROOT / "workflow" / "Snakefile"), "--directory", str(tmp_path / ".test"),
-           "--dry-run", "--quiet", "--config", f"granudrag={BINARY}"]
+           "--dry-run", "--quiet", "rules", "--config", f"granudrag={BINARY}"]
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
     counts = job_counts(r.stdout + r.stderr)
-    assert (counts.get("bed"), counts.get("pull")) == (5, 12), counts
+    assert (counts.get("bed"), counts.get("pull")) == (6, 13), counts
 
 
 @pytest.mark.parametrize("name", ["smoke.yaml", "config.yaml", "paper.yaml"])

@@ -50,6 +50,24 @@ def test_beds_are_shared_and_pulls_are_bed_times_speed():
     assert study.Bed.parse(key) == plan.beds[key]
 
 
+def test_seeds_give_replicate_beds_each_pulled_at_every_speed():
+    config = copy.deepcopy(BASE)
+    config["sweeps"][0]["seeds"] = [1, 2, 3]
+    study.validate_config(config, SCHEMA)
+    plan = study.plan(config)
+    gn = study.fmt(physics.gamman_for(2e4))
+    for D in ("1", "2"):
+        beds = [f"system~I/D~{D}/h~4/mu~0.5/kn~2e4/gn~{gn}/seed~{s}" for s in (1, 2, 3)]
+        assert all(b in plan.beds for b in beds)
+        for b in beds:
+            assert {p.speed for p in plan.pulls.values() if p.bed.key == b} >= {"Fr~0.5", "Fr~1"}
+    # seed 1's D = 2 bed is still shared with the yield sweep: 2 D x 3 seeds + mu = 0.
+    assert len(plan.beds) == 2 * 3 + 1
+    config["sweeps"][0]["seed"] = 4
+    with pytest.raises(study.ConfigError, match="'seed' or 'seeds', not both"):
+        study.plan(config)
+
+
 def test_adding_a_grid_value_only_adds_jobs():
     before = study.plan(copy.deepcopy(BASE))
     config = copy.deepcopy(BASE)

@@ -7,6 +7,7 @@ rule table:
         ALL_RUNS,
     output:
         table=f"{RESULTS}/table.csv",
+        runs=f"{RESULTS}/runs.csv",
         problems=f"{RESULTS}/table_problems.txt",
         coordination=f"{RESULTS}/coordination.csv",
     log:
@@ -81,8 +82,9 @@ rule flow_field:
 
 
 # Every fit of the report, once: the regime fits with their wild bootstrap (report.n_boot
-# refits), theta(Fr), kappa(Fr), phi_mu, alpha_mu, the sum rule, F_Y(mu) saturation, and
-# the lambdas of Eq. 12.
+# refits), theta(Fr), kappa(Fr), phi_mu, alpha_mu (from F_Y, and the paper's average over
+# report.alpha_speeds), the sum rules, F_Y(mu) saturation, and the lambdas of Eq. 12 (pulls
+# at h >= report.h_min). The same as `python -m analysis fit` with those options.
 rule fits:
     input:
         f"{RESULTS}/table.csv",
@@ -97,7 +99,6 @@ rule fits:
     conda:
         "../envs/analysis.yaml"
     params:
-        n_boot=config["report"]["n_boot"],
-        seed=config["report"]["seed"],
+        options=study.fit_options(config).to_dict(),
     script:
         "../scripts/fits.py"

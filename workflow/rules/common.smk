@@ -29,6 +29,7 @@ REPORT = f"{RESULTS}/report"
 GRANUDRAG = str(study.resolve_binary(config, REPO))
 THREADS = config["threads"]
 PULL_RETRIES = study.pull_retries(PLAN)  # None: the profile's restart-times
+BED_RETRIES = study.bed_retries(PLAN)
 
 
 wildcard_constraints:

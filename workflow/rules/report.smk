@@ -7,6 +7,7 @@ rule report:
         table=f"{RESULTS}/table.csv",
         fits=f"{REPORT}/fits.json",
         figures=[f"{REPORT}/{name}.png" for name in figure_list.NAMES],
+        fig1=f"{REPORT}/fig01_beds.png",
     output:
         html=report(
             f"{REPORT}/report.html",

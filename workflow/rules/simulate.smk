@@ -10,7 +10,9 @@ rule build_granudrag:
         f"{LOGS}/build_granudrag.log",
     conda:
         "../envs/granudrag.yaml"
-    threads: workflow.cores
+    # Snakemake lowers it to the cores given (--cores); workflow.cores is not set under
+    # Snakemake 9 without --cores (--report, a cluster executor).
+    threads: 16
     params:
         source=REPO,
         build=lambda wildcards, output: Path(output[0]).parent,
@@ -19,6 +21,11 @@ rule build_granudrag:
         " && cmake --build {params.build} -j {threads} --target granudrag) > {log} 2>&1"
 
 
+# A pour checkpoints only when its settling may outlast `checkpoint_minutes` of
+# estimated wall time (or a quarter of max_runtime); a rerun after a killed job
+# resumes from the checkpoint, unless the arguments changed, and ends with the
+# bed an uninterrupted pour gives. With max_runtime, a pour longer than that
+# runs over several jobs (retries: enough for the longest).
 rule bed:
     input:
         granudrag=ancient(GRANUDRAG),
@@ -28,6 +35,7 @@ rule bed:
         f"{LOGS}/beds/{{bed}}.log",
     benchmark:
         f"{RESULTS}/benchmarks/beds/{{bed}}.tsv"
+    retries: BED_RETRIES
     conda:
         "../envs/granudrag.yaml"
     threads: THREADS
@@ -37,7 +45,17 @@ rule bed:
     params:
         args=pour_args,
     shell:
-        "{input.granudrag} pour --output {output} --threads {threads} {params.args} > {log} 2>&1"
+        """
+        ckpt={output}.checkpoint.h5
+        args="{params.args}"
+        if [ -e "$ckpt" ] && [ "$(cat "$ckpt.args" 2>/dev/null)" != "$args" ]; then
+            rm -f "$ckpt"
+        fi
+        echo "$args" >"$ckpt.args"
+        rm -f {output}.lock
+        {input.granudrag} pour --output {output} --threads {threads} --resume $args >{log} 2>&1
+        rm -f "$ckpt.args"
+        """
 
 
 # A pull checkpoints every tenth of its travel, or every `checkpoint_minutes` of
@@ -45,6 +63,8 @@ rule bed:
 # crash), the rerun resumes from the checkpoint, unless the bed is newer than
 # the checkpoint or the arguments changed. With max_runtime, a pull longer than
 # that runs over several jobs (retries: enough for the longest).
+# Snakemake runs one job per output, so an output lock left beside it is a dead
+# job's (possibly on another node, where granudrag cannot tell): the rule removes it.
 rule pull:
     input:
         granudrag=ancient(GRANUDRAG),
@@ -72,6 +92,7 @@ rule pull:
             rm -f "$ckpt"
         fi
         echo "$args" >"$ckpt.args"
+        rm -f {output}.lock
         {input.granudrag} pull --bed {input.bed} --output {output} --threads {threads} --resume $args >{log} 2>&1
         rm -f "$ckpt.args"
         """

@@ -1,12 +1,14 @@
 """Rule fits: every fit of the report, bootstraps included -> fits.json (analysis.fitset)."""
 
-from analysis.fitset import run_fits, save_results
+from analysis.fitset import Options, run_fits, save_results
 from analysis.study.script import start
 from analysis.table import load_csv
 
 log = start(snakemake)
-r = run_fits(load_csv(snakemake.input[0]), n_boot=snakemake.params.n_boot, seed=snakemake.params.seed)
+options = Options.from_dict(dict(snakemake.params.options))
+r = run_fits(load_csv(snakemake.input[0]), options=options)
 save_results(snakemake.output[0], r)
-log.info(f"fits: {len(r.regimes)} regime fits, {len(r.laws)} scaling laws, {len(r.notes)} not made")
+log.info(f"fits ({options.to_dict()}): {len(r.regimes)} regime fits, {len(r.laws)} scaling laws, "
+         f"{len(r.alpha_drag)} averaged alpha_mu, {len(r.notes)} not made")
 for note in r.notes:
     log.info(note)

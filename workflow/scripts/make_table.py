@@ -1,5 +1,6 @@
-"""Rule table: every run file of the study -> results/table.csv (analysis.runs), and the P(Z)
-of every pull in it (Fig. 7)."""
+"""Rule table: every run file of the study -> results/runs.csv (one row per pull, analysis.runs),
+results/table.csv (one row per point: replicate beds combined, analysis.table.combine_beds),
+and the P(Z) of every pull (Fig. 7)."""
 
 import sys
 from pathlib import Path
@@ -8,7 +9,7 @@ import pandas as pd
 
 from analysis.runs import load_runs, read_coordination_distribution
 from analysis.study.script import start
-from analysis.table import save_csv, write_csv
+from analysis.table import combine_beds, save_csv, write_csv
 
 sm = snakemake
 log = start(sm)
@@ -31,7 +32,17 @@ if len(off):
         f"depth: measured minus requested from {-off.max():.3f} to {-off.min():.3f} d "
         f"(largest: requested {worst.h_requested:g}, measured {worst.h:.3f}, {worst.run})"
     )
-save_csv(df, sm.output.table)
+save_csv(df, sm.output.runs)
+points = combine_beds(df)
+replicated = points[points.n_beds > 1]
+log.info(
+    f"table: {len(points)} points, {len(replicated)} with replicate beds; "
+    f"{(~df.plateau.astype(bool)).sum()} of {len(df)} pulls without a converged drag error"
+)
+if len(replicated):
+    rel = (replicated.drag_err_between / replicated.drag).median()
+    log.info(f"between-bed error of the mean, median relative: {rel:.3g}")
+save_csv(points, sm.output.table)
 
 # P(Z) of every pull in the table (Fig. 7), long format: one row per run and Z.
 parts = []

@@ -1,11 +1,24 @@
 #!/usr/bin/env bash
-# The SLURM path for real: starts a one-node SLURM cluster on this machine (cluster.sh), runs
-# the smoke study through workflow/profiles/slurm, checks that the simulations ran as SLURM
-# jobs and that the table of results equals a local run's, and shuts the cluster down.
-#   test_slurm.sh [path/to/granudrag]
+# The SLURM paths for real: starts a one-node SLURM cluster with accounting on this machine
+# (cluster.sh: slurmctld, slurmd, slurmdbd on a MariaDB server), then
+#   1. runs the smoke study through workflow/profiles/slurm with Snakemake 9 (the project
+#      environment's, .venv/bin/snakemake, and its SLURM executor plugin, which follows the jobs
+#      through sacct), and through workflow/profiles/slurm-v7 with Debian's Snakemake 7.21;
+#      checks that the beds and pulls ran as SLURM jobs that accounting (sacct) knows as
+#      COMPLETED, under the account and partition given by SBATCH_ACCOUNT/SBATCH_PARTITION, and
+#      that each table of results equals a local run's;
+#   2. with a 1-minute time limit on the pull rule (--set-resources pull:runtime=1, as
+#      max_runtime gives on a cluster; the config's max_runtime is 10 minutes at least), runs one
+#      pull that needs longer, through each profile: SLURM kills the first job at its time limit
+#      (sacct: TIMEOUT), Snakemake submits the next attempt, which resumes from the checkpoint
+#      and completes;
+# and shuts the cluster down. Prints how long each path took.
+#   test_slurm.sh [path/to/granudrag]      (GRANUDRAG_SNAKEMAKE9: another Snakemake >= 8)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../../.." && pwd)
 gd=$(realpath "${1:-$root/build/granudrag}")
+sm9=${GRANUDRAG_SNAKEMAKE9:-$root/.venv/bin/snakemake}
+sm7=/usr/bin/snakemake
 if [ "$(id -u)" -ne 0 ] && ! sudo -n true 2>/dev/null; then
   echo "SKIPPED: the SLURM daemons need root (run as root or with passwordless sudo)"
   exit 0
@@ -16,51 +29,104 @@ work=$(mktemp -d)
 cluster="$work/cluster"
 cleanup() { $sudo "$root/tests/workflow/slurm/cluster.sh" stop "$cluster" >/dev/null 2>&1 || true; rm -rf "$work"; }
 trap cleanup EXIT
+t0=$SECONDS
 eval "$($sudo "$root/tests/workflow/slurm/cluster.sh" start "$cluster")"
-echo "cluster up: $(sinfo -h -o '%P %D %t %c cpus')"
+# The SLURM executor plugin's job step drops every SLURM_* variable but the job's ids before
+# it calls srun inside the job, SLURM_CONF too: srun then looks for the machine's
+# /etc/slurm/slurm.conf, which a real cluster has and this test cluster leaves alone. An srun
+# first on PATH (sbatch passes PATH to the job) gives it the test cluster's config back.
+mkdir -p "$work/bin"
+printf '#!/bin/sh\nSLURM_CONF=%s exec %s "$@"\n' "$SLURM_CONF" "$(command -v srun)" > "$work/bin/srun"
+chmod +x "$work/bin/srun"
+export PATH="$work/bin:$PATH"
+echo "cluster up in $((SECONDS - t0)) s: $(sinfo -h -o '%P %D %t %c cpus'); accounting: $(sacctmgr -n -P list cluster format=cluster)"
 
-/usr/bin/python3 - "$root/config/smoke.yaml" "$work/smoke.yaml" "$gd" <<'PY'
+# The smoke config on this binary; the time-limit config: one pull of 200 box lengths at
+# Fr = 0.5 (about two minutes on one thread).
+/usr/bin/python3 - "$root/config/smoke.yaml" "$work" "$gd" <<'PY'
 import sys, yaml
-config = yaml.safe_load(open(sys.argv[1]))
-config["granudrag"] = sys.argv[3]
-yaml.safe_dump(config, open(sys.argv[2], "w"), sort_keys=False)
+src, work, gd = sys.argv[1:4]
+config = yaml.safe_load(open(src))
+config["granudrag"] = gd
+yaml.safe_dump(config, open(f"{work}/smoke.yaml", "w"), sort_keys=False)
+config["systems"]["I"]["pull"]["distance"] = 200
+config["sweeps"] = [dict(name="long", system="I", D=2, depth=4, Fr=0.5)]
+yaml.safe_dump(config, open(f"{work}/timelimit.yaml", "w"), sort_keys=False)
 PY
-run() {  # run DIR extra-args...
-  local dir=$1; shift
+run() {  # run DIR SNAKEMAKE CONFIG extra-args...: a run, its log in DIR/snakemake.log
+  local dir=$1 sm=$2 cfg=$3; shift 3
   mkdir -p "$dir"
-  /usr/bin/snakemake --snakefile "$root/workflow/Snakefile" --directory "$dir" \
-    --configfile "$work/smoke.yaml" "$@" > "$dir/snakemake.log" 2>&1 \
-    || { echo "FAIL: snakemake $* failed:"; tail -30 "$dir/snakemake.log"; exit 1; }
+  "$sm" --snakefile "$root/workflow/Snakefile" --directory "$dir" --configfile "$cfg" "$@" \
+    > "$dir/snakemake.log" 2>&1 || { echo "FAIL: $sm $* failed:"; tail -30 "$dir/snakemake.log"; exit 1; }
 }
-t0=$(date +%s)
-run "$work/slurm" --profile "$root/workflow/profiles/slurm" --jobs 4 --cores 2
-echo "smoke study through SLURM: $(( $(date +%s) - t0 )) s"
-run "$work/local" --cores 2
+# `sacct` of this test's jobs: id|name|state|account|partition, one line per job.
+jobs_of() { sacct -n -X -P -S now-2hours -o JobID,JobName,State,Account,Partition; }
 
-# The simulations ran as SLURM jobs: each has a SLURM log named after its rule and job id,
-# and the controller (which keeps finished jobs for MinJobAge) knows the ids as COMPLETED.
-logs=$(ls "$work/slurm/logs/slurm/" 2>/dev/null | grep -cE '^(bed|pull)-[0-9]+\.log$' || true)
-[ "$logs" -gt 0 ] || { echo "FAIL: no SLURM job logs of the bed and pull rules"; exit 1; }
-ids=$(ls "$work/slurm/logs/slurm/" | sed -nE 's/^(bed|pull)-([0-9]+)\.log$/\2/p')
-completed=0
-for id in $ids; do
-  scontrol show job "$id" 2>/dev/null | grep -q "JobState=COMPLETED" && completed=$((completed + 1))
+export SBATCH_ACCOUNT=granudrag SBATCH_PARTITION=debug
+# The plugin asks sacct 40 s after a submission, then every 40 s or more: right for a cluster,
+# slow for jobs of seconds; 3 s here.
+fast=(--slurm-init-seconds-before-status-checks 3)
+declare -A took
+for gen in 9 7; do
+  t=$SECONDS
+  before=$(jobs_of | wc -l)
+  if [ "$gen" = 9 ]; then
+    run "$work/slurm9" "$sm9" "$work/smoke.yaml" --profile "$root/workflow/profiles/slurm" --jobs 4 "${fast[@]}"
+  else
+    run "$work/slurm7" "$sm7" "$work/smoke.yaml" --profile "$root/workflow/profiles/slurm-v7" --jobs 4 --cores 2
+  fi
+  took[$gen]=$((SECONDS - t))
+  # Accounting: the run's jobs (beds, pulls, and under 9 the analysis rules too) as COMPLETED
+  # under the account and partition asked for. Snakemake 9 names its jobs after the run's id,
+  # 7's profile after the rule.
+  sleep 2   # slurmctld sends the last job's end to slurmdbd asynchronously
+  new=$(jobs_of | tail -n +$((before + 1)))
+  n=$(grep -c . <<<"$new" || true)
+  done_ok=$(grep -cE '\|COMPLETED\|granudrag\|debug$' <<<"$new" || true)
+  echo "Snakemake $gen through SLURM: ${took[$gen]} s, $n jobs in accounting, $done_ok COMPLETED under account granudrag, partition debug"
+  # 5 beds + 12 pulls at least
+  [ "$done_ok" -ge 17 ] && [ "$done_ok" -eq "$n" ] || { echo "FAIL: sacct:"; echo "$new"; exit 1; }
 done
-echo "SLURM jobs of the bed and pull rules: $logs logs, $completed known to the controller as COMPLETED"
-[ "$completed" -gt 0 ] || { echo "FAIL: the controller knows none of the jobs as completed"; exit 1; }
+t=$SECONDS
+run "$work/local" "$sm7" "$work/smoke.yaml" --cores 2
+echo "local run (reference): $((SECONDS - t)) s"
 
 # Same results as the local run (the smoke simulations use one thread each: bitwise).
-/usr/bin/python3 - "$work/slurm" "$work/local" <<'PY'
+/usr/bin/python3 - "$work/slurm9" "$work/slurm7" "$work/local" <<'PY'
 import sys
 from pathlib import Path
 import pandas as pd
-a, b = (next(Path(d).glob("results/**/table.csv")) for d in sys.argv[1:3])
-ta, tb = pd.read_csv(a), pd.read_csv(b)
-assert len(ta) == len(tb) > 0, f"{len(ta)} vs {len(tb)} rows"
-cols = [c for c in ("D", "h", "mu", "V", "Fr", "drag", "drag_err", "n_contacts", "theta", "Z", "kappa") if c in ta]
-key = [c for c in ("system", "D", "h", "mu", "kn", "V") if c in ta]
-ta, tb = ta.sort_values(key).reset_index(drop=True), tb.sort_values(key).reset_index(drop=True)
-pd.testing.assert_frame_equal(ta[cols], tb[cols], check_exact=True)
-print(f"table: {len(ta)} pulls, identical to the local run in {', '.join(cols)}")
+def table(d):
+    t = pd.read_csv(next(Path(d).glob("results/**/table.csv")))
+    key = [c for c in ("system", "D", "h", "mu", "kn", "V") if c in t]
+    return t.sort_values(key).reset_index(drop=True)
+local = table(sys.argv[3])
+cols = [c for c in ("D", "h", "mu", "V", "Fr", "drag", "drag_err", "n_contacts", "theta", "Z", "kappa") if c in local]
+for d, name in zip(sys.argv[1:3], ("Snakemake 9 + slurm", "Snakemake 7.21 + slurm-v7")):
+    t = table(d)
+    assert len(t) == len(local) > 0, f"{name}: {len(t)} vs {len(local)} rows"
+    pd.testing.assert_frame_equal(t[cols], local[cols], check_exact=True)
+    print(f"table through {name}: {len(t)} pulls, identical to the local run in {', '.join(cols)}")
 PY
-echo "PASS: the smoke study ran through SLURM and matches the local run"
+
+# A pull longer than the time limit: killed (TIMEOUT), resumed by the next attempt.
+limit=(--set-resources pull:runtime=1 --restart-times 3)
+for gen in 9 7; do
+  t=$SECONDS
+  before=$(jobs_of | wc -l)
+  if [ "$gen" = 9 ]; then
+    run "$work/limit9" "$sm9" "$work/timelimit.yaml" --profile "$root/workflow/profiles/slurm" --jobs 2 "${fast[@]}" "${limit[@]}" pulls
+  else
+    run "$work/limit7" "$sm7" "$work/timelimit.yaml" --profile "$root/workflow/profiles/slurm-v7" --jobs 2 --cores 2 "${limit[@]}" pulls
+  fi
+  sleep 2
+  new=$(jobs_of | tail -n +$((before + 1)))
+  timeouts=$(grep -c '|TIMEOUT|' <<<"$new" || true)
+  log=$(find "$work/limit$gen/logs" -path '*pulls*' -name '*.log' | head -1)
+  run_file=$(find "$work/limit$gen/results" -name run.h5 | head -1)
+  echo "Snakemake $gen, a pull over its 1-minute limit: $((SECONDS - t)) s, $timeouts job(s) killed at the limit; $(grep -m1 'resuming from' "$log" | sed 's/ from .* at/ at/')"
+  [ "$timeouts" -ge 1 ] || { echo "FAIL: no job reached its time limit:"; echo "$new"; exit 1; }
+  grep -qE 'resuming from .* at step [1-9]' "$log" || { echo "FAIL: the last attempt did not resume:"; tail "$log"; exit 1; }
+  [ -f "$run_file" ] || { echo "FAIL: the pull did not finish"; exit 1; }
+done
+echo "PASS: the smoke study ran through SLURM with Snakemake 9 and 7.21 and matches the local run; a pull killed at its time limit resumed"

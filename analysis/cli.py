@@ -1,0 +1,123 @@
+"""`python -m analysis`: refit a pull table, write its report, predict a drag.
+
+    python -m analysis fit TABLE.csv --output fits.json [--n-boot 200] [--seed 0]
+                                     [--h-min 45] [--alpha-speeds 0.5,1,2,4,6]
+    python -m analysis report TABLE.csv --fits fits.json --output-dir DIR [--trace trace.csv ...]
+    python -m analysis predict --fits fits.json --D 4 --h 50 --mu 0.5 --V 2
+
+`fit` does what the workflow's `fits` rule does, on any table with the columns of
+results/table.csv (analysis.table.COLUMNS); the file it writes is described in
+analysis/README.md. `report` draws every figure and writes report.md and report.html as the
+workflow's figure and report rules do (figures whose data are not given are listed as not
+drawn). `predict` is `python -m analysis.predict`. Errors go to standard error with exit
+status 2; outputs are written under a temporary name and renamed when complete.
+"""
+import argparse
+import sys
+from pathlib import Path
+
+from .fits import ALPHA_SPEEDS, FitFileError
+
+
+def _speeds(text):
+    try:
+        v = tuple(float(x) for x in text.split(",") if x.strip())
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--alpha-speeds: {text!r} is not a comma-separated "
+                                         "list of speeds, e.g. 0.5,1,2,4,6") from None
+    if not v or min(v) <= 0:
+        raise argparse.ArgumentTypeError("--alpha-speeds: give one or more positive speeds")
+    return v
+
+
+def _non_negative(kind, name):
+    def parse(text):
+        try:
+            v = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name}: {text!r} is not a number") from None
+        if v < 0:
+            raise argparse.ArgumentTypeError(f"{name}: must be >= 0, got {text}")
+        return v
+    return parse
+
+
+def _fit(args):
+    from .fitset import Options, run_fits, save_results
+    from .table import load_csv
+
+    df = load_csv(args.table)
+    if Path(args.output).resolve() == Path(args.table).resolve():
+        raise ValueError(f"--output {args.output} is the input table; name another file")
+    opt = Options(n_boot=args.n_boot, seed=args.seed, h_min=args.h_min, alpha_speeds=args.alpha_speeds)
+    r = run_fits(df, options=opt)
+    save_results(args.output, r)
+    print(f"{args.output}: {len(r.regimes)} regime fits, {len(r.laws)} scaling laws, "
+          f"{len(r.alpha)} alpha (F_Y), {len(r.alpha_drag)} alpha (drag), {len(r.phi)} phi; "
+          f"{len(r.notes)} fits not made")
+    for note in r.notes:
+        print(f"note: {note}", file=sys.stderr)
+    return 0
+
+
+def _report(args):
+    from .figure_list import NAMES, draw, read_inputs
+    from .fitset import load_results
+    from .report import write_report
+
+    results = load_results(args.fits)
+    inputs = read_inputs(table=args.table, restitution=args.restitution, theory=args.theory,
+                         trace=args.trace, coordination=args.coordination, flow=args.flow)
+    out = Path(args.output_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    for name in NAMES:
+        draw(name, inputs, results, out)
+    md = write_report(inputs.table, results, out, results.options.n_boot, results.options.seed)
+    print(f"{md} and {md.with_suffix('.html')}")
+    return 0
+
+
+def _predict(argv):
+    from .predict import main as predict_main
+
+    return predict_main(argv)
+
+
+def parser():
+    ap = argparse.ArgumentParser(prog="python -m analysis", description=__doc__.split("\n")[0])
+    sub = ap.add_subparsers(dest="command", required=True, metavar="{fit,report,predict}")
+    f = sub.add_parser("fit", help="every fit of the report -> fits.json")
+    f.add_argument("table", help="pull table (CSV with the columns of results/table.csv)")
+    f.add_argument("--output", required=True, help="fit file to write (JSON, analysis/README.md)")
+    f.add_argument("--n-boot", type=_non_negative(int, "--n-boot"), default=200,
+                   help="bootstrap refits of the regime fits (default 200)")
+    f.add_argument("--seed", type=_non_negative(int, "--seed"), default=0, help="bootstrap seed")
+    f.add_argument("--h-min", type=_non_negative(float, "--h-min"), default=0.0,
+                   help="Eq. 12 and Fig. 19 use pulls at depth h >= this only [d] (paper: 45; 0 = all)")
+    f.add_argument("--alpha-speeds", type=_speeds, default=ALPHA_SPEEDS,
+                   help="speeds the paper's alpha_mu is averaged over (default 0.5,1,2,4,6)")
+    r = sub.add_parser("report", help="every figure, report.md and report.html")
+    r.add_argument("table", help="pull table (CSV)")
+    r.add_argument("--fits", required=True, help="fit file written by `fit`")
+    r.add_argument("--output-dir", required=True, help="directory of the figures and the report")
+    for name, what in (("restitution", "granudrag restitution CSV (Fig. 2)"),
+                       ("theory", "restitution theory CSV (Fig. 2)"), ("trace", "force trace CSV (Fig. 4)"),
+                       ("coordination", "P(Z) CSV (Fig. 7)"), ("flow", "velocity-field CSV (Fig. 9)")):
+        r.add_argument(f"--{name}", help=what)
+    sub.add_parser("predict", help="drag from a fit file (python -m analysis predict --help)",
+                   add_help=False)
+    return ap
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] == "predict":
+        return _predict(argv[1:])
+    args = parser().parse_args(argv)
+    from .table import TableError
+
+    try:
+        return {"fit": _fit, "report": _report}[args.command](args)
+    except (TableError, FitFileError, ValueError, OSError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2

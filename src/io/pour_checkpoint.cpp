@@ -1,0 +1,58 @@
+#include "io/pour_checkpoint.hpp"
+
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "io/file_header.hpp"
+#include "io/parameter_record.hpp"
+#include "io/particle_data.hpp"
+#include "io/unreadable_checkpoint.hpp"
+
+namespace granudrag {
+
+namespace {
+const char* kFormat = "granudrag-pour-checkpoint";
+}
+
+void save_pour_checkpoint(const std::string& path, const PourState& s, double dt,
+                          const Parameters& pour_parameters) {
+  h5::File f = h5::File::create(path);
+  write_file_header(f, kFormat);
+  write_parameters(f, ParameterRecord::of(pour_parameters));
+  write_particle_state(f, s.state, dt);
+  f.set_attr("/pour", "energy_start", s.energy_start);
+  f.set_attr("/pour", "max_overlap_seen", s.max_overlap_seen);
+  f.set_attr("/pour", "grains_lost", static_cast<std::int64_t>(s.grains_lost));
+  f.commit();
+}
+
+PourState load_pour_checkpoint(const std::string& path, const Parameters& now,
+                               const std::vector<std::string>& run_controls) {
+  PourState s;
+  std::string differences;
+  try {
+    const h5::File f = h5::File::open(path);
+    check_file_header(f, kFormat, kFileVersion, "delete it to start the pour over");
+    s.state = read_particle_state(f);
+    s.energy_start = f.get_attr_double("/pour", "energy_start");
+    s.max_overlap_seen = f.get_attr_double("/pour", "max_overlap_seen");
+    s.grains_lost = f.get_attr_int64("/pour", "grains_lost");
+    const ParameterRecord then = read_parameters(f, "pour");
+    differences = describe_differences(then, ParameterRecord::of(now), run_controls, "checkpoint", "now");
+  } catch (const std::out_of_range&) {
+    throw UnreadableCheckpoint("checkpoint '" + path + "' is damaged (short arrays)");
+  } catch (const Error& e) {
+    throw UnreadableCheckpoint("checkpoint '" + path + "' cannot be used: " + e.what());
+  }
+  if (!differences.empty())
+    throw Error("checkpoint '" + path + "' was written by a pour with other options:" + differences +
+                "\nrerun with the same options, or delete the checkpoint to start over");
+  return s;
+}
+
+std::optional<PourState> load_pour_checkpoint_or_move_aside(const std::string& path, const Parameters& now,
+                                                            const std::vector<std::string>& run_controls) {
+  return load_or_move_aside(path, [&] { return load_pour_checkpoint(path, now, run_controls); });
+}
+
+}  // namespace granudrag

@@ -1,0 +1,47 @@
+"""The analysis package as installed: its command-line entry and its import without the
+repository on sys.path.
+
+Runs under whichever interpreter runs pytest: Debian's /usr/bin/python3 (the package in the
+user site) and the project environment's .venv/bin/python (tools/test.sh runs both).
+"""
+import subprocess
+import sys
+import sysconfig
+from pathlib import Path
+
+import tomllib
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_pyproject_declares_the_analysis_command():
+    scripts = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]
+    assert scripts["granudrag-analysis"] == "analysis.cli:main"
+
+
+def test_python_m_analysis_offers_fit_report_predict():
+    r = subprocess.run([sys.executable, "-m", "analysis", "--help"], capture_output=True, text=True,
+                       timeout=120, cwd=ROOT)
+    assert r.returncode == 0, r.stderr[-2000:]
+    for command in ("fit", "report", "predict"):
+        assert command in r.stdout, command
+
+
+def test_granudrag_analysis_command_is_installed():
+    """The console script pip made from [project.scripts], beside the interpreter (a venv)
+    or in the user's scripts folder (Debian's interpreter, user site), runs analysis.cli."""
+    in_venv = sys.prefix != sys.base_prefix
+    scripts = Path(sysconfig.get_path("scripts") if in_venv else sysconfig.get_path("scripts", "posix_user"))
+    command = scripts / "granudrag-analysis"
+    assert command.is_file(), f"{command} missing: run tools/install-deps.sh"
+    r = subprocess.run([str(command), "--help"], capture_output=True, text=True, timeout=120, cwd="/")
+    assert r.returncode == 0, r.stderr[-2000:]
+    for sub in ("fit", "report", "predict"):
+        assert sub in r.stdout, sub
+
+
+def test_workflow_does_not_touch_sys_path():
+    """The workflow imports the installed package; nothing in it edits sys.path."""
+    offenders = [str(p.relative_to(ROOT)) for p in (ROOT / "workflow").rglob("*")
+                 if p.is_file() and p.suffix in (".py", ".smk", "") and "sys.path" in p.read_text(errors="ignore")]
+    assert offenders == []
