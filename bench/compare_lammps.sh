@@ -1,49 +1,143 @@
 #!/usr/bin/env bash
-# granudrag vs LAMMPS gran/hertz/history on the same bed, contact law and steps, in one session.
+# granudrag vs LAMMPS gran/hertz/history on the real workload: the pull of an intruder through a
+# poured bed, the same bed, contact law, steps and force sampling in both codes.
 #
-#   bench/compare_lammps.sh [GRAINS] [STEPS] [SETTLE]     (defaults 20000 2000 15000)
+#   bench/compare_lammps.sh [--size quick|7.7k|30k|70k] [--bed BED.h5] [--steps N] [--pairs P]
+#                           [--cores "1 2"] [--every K] [--binary build/granudrag]
 #
-# granudrag collapses an fcc lattice into a bed in contact (SETTLE untimed steps), writes that
-# state as a LAMMPS data file plus an input script, then times STEPS steps on 1 and 2 OpenMP
-# threads. LAMMPS (Debian's `lmp`, which has no OPENMP package) runs the same STEPS from the
-# same state serially and on 2 MPI ranks. Both report the final kinetic energies per grain, a
-# check that they computed the same thing. Needs: apt-get install lammps openmpi-bin.
+# 1. Pours the bed with `granudrag pour` (grains 0.9-1.1 d, frozen base, a D = 2 intruder at
+#    depth 9 d, K_n = 2e5 with the paper's ratios, dt = 5e-4), cached in bench/out/, or takes --bed.
+# 2. Exports it with `granudrag export-lammps` (data file + input running the same pull).
+# 3. Times the pull, whole process (/usr/bin/time) and loop alone (granudrag's "timing:" line,
+#    LAMMPS's "Loop time"), granudrag on 1 and 2 OpenMP threads, LAMMPS (Debian's `lmp`, no
+#    OPENMP package) on 1 and 2 MPI ranks, interleaved: granudrag, LAMMPS, granudrag, LAMMPS ...
+#    for P pairs per core count. Prints the medians, the median of the per-pair ratios, peak
+#    memory and bytes per particle, and granudrag's time split by phase.
+# Both codes average the force on the intruder over K steps (granudrag --sample_interval K dt,
+# LAMMPS fix ave/time), and granudrag writes its checkpoints (every tenth of the pull) as a real
+# job does. OMP_WAIT_POLICY is passed through unchanged (libgomp's default: spin, then sleep);
+# on a machine shared with other jobs OMP_WAIT_POLICY=passive gives steadier figures.
+# Needs: apt-get install lammps openmpi-bin.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-grains=${1:-20000}
-steps=${2:-2000}
-settle=${3:-15000}
+size=7.7k bed="" steps="" pairs=3 cores="1 2" every=200 gd=build/granudrag
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --size) size=$2; shift 2 ;;
+    --bed) bed=$2; shift 2 ;;
+    --steps) steps=$2; shift 2 ;;
+    --pairs) pairs=$2; shift 2 ;;
+    --cores) cores=$2; shift 2 ;;
+    --every) every=$2; shift 2 ;;
+    --binary) gd=$2; shift 2 ;;
+    -h | --help) sed -n '2,21p' "$0"; exit 0 ;;
+    *) echo "compare_lammps.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+case "$size" in  # grains, box side (d), default steps
+  quick) set -- 2000 12 1000 ;;
+  7.7k) set -- 7700 20 4000 ;;
+  30k) set -- 30000 40 2000 ;;
+  70k) set -- 70000 60 1000 ;;
+  *) echo "compare_lammps.sh: --size must be quick, 7.7k, 30k or 70k (got '$size')" >&2; exit 2 ;;
+esac
+grains=$1 side=$2
+steps=${steps:-$3}
+command -v lmp >/dev/null || { echo "LAMMPS not found: apt-get install lammps openmpi-bin" >&2; exit 1; }
+[ -x "$gd" ] || { cmake -S . -B build >/dev/null && cmake --build build -j "$(nproc)" >/dev/null; }
+gd=$(realpath "$gd")
 out=bench/out
 mkdir -p "$out"
-command -v lmp >/dev/null || { echo "LAMMPS not found: apt-get install lammps openmpi-bin" >&2; exit 1; }
-[ -x build/granudrag ] || { cmake -S . -B build >/dev/null && cmake --build build -j "$(nproc)" >/dev/null; }
-
-echo "== granudrag ($(build/granudrag version))"
-build/granudrag bench --grains "$grains" --steps "$steps" --settle "$settle" --threads 1,2 \
-  --lammps "$out/bed" 2>/dev/null | tee "$out/granudrag.txt"
-
+if [ -z "$bed" ]; then
+  bed=$out/bed-$size.h5
+  if [ ! -f "$bed" ]; then
+    echo "pouring $bed ($grains grains, $side x $side d) ..." >&2
+    "$gd" pour --output "$bed" --grains "$grains" --lx "$side" --ly "$side" --intruder_diameter 2 \
+      --depth 9 --kn 2e5 --dt 5e-4 --ke_threshold 1e-4 --max_settle_time 15 --quiet >/dev/null
+  fi
+fi
+bed=$(realpath "$bed")
+dt=$(/usr/bin/python3 -c "import h5py; print(repr(float(h5py.File('$bed')['/contact'].attrs['dt'])))")
+run=$out/run-$size
+rm -rf "$run" && mkdir -p "$run"
+"$gd" export-lammps --bed "$bed" --output "$run/pull" --speed 1 --steps "$steps" --every "$every" >/dev/null
+# A distance half a step short of `steps` steps: granudrag rounds it up to exactly `steps`.
+distance=$(/usr/bin/python3 -c "print(repr(($steps - 0.5) * $dt))")
+interval=$(/usr/bin/python3 -c "print(repr($every * $dt))")
 mpi_root=""
 [ "$(id -u)" -eq 0 ] && mpi_root="--allow-run-as-root"
-echo "== LAMMPS ($(lmp -h 2>/dev/null | grep -m1 -o 'LAMMPS ([^)]*)' || echo lmp))"
-(cd "$out" && OMP_NUM_THREADS=1 lmp -in bed.in -log lammps1.log -screen none)
-(cd "$out" && OMP_NUM_THREADS=1 mpirun $mpi_root -np 2 lmp -in bed.in -log lammps2.log -screen none)
 
-loop_time() { awk '/^Loop time of/ {print $4}' "$1"; }
-final_ke() { awk -v s="$steps" '$1==s && NF>=4 {print $3, $4}' "$1" | tail -1; }
-g1=$(awk '$1=="1" && NF>=9 {print $3}' "$out/granudrag.txt")
-g2=$(awk '$1=="2" && NF>=9 {print $3}' "$out/granudrag.txt")
-l1=$(loop_time "$out/lammps1.log")
-l2=$(loop_time "$out/lammps2.log")
-gke=$(awk '/final energy per grain/ {print $7, $9}' "$out/granudrag.txt" | tr -d ',')
-
-echo
-echo "== $grains grains, $steps steps, same bed and contact law"
-printf "%-22s %6s %10s %18s %14s\n" code cores "wall[s]" "particle-steps/s" "vs LAMMPS 1"
-for row in "granudrag(OpenMP) 1 $g1" "granudrag(OpenMP) 2 $g2" "LAMMPS(serial) 1 $l1" "LAMMPS(MPI) 2 $l2"; do
-  set -- $row
-  awk -v c="$1" -v n="$2" -v w="$3" -v g="$grains" -v s="$steps" -v ref="$l1" \
-    'BEGIN {printf "%-22s %6d %10.2f %18.4g %13.2fx\n", c, n, w, g*s/w, ref/w}'
+run_gd() {  # threads tag
+  OMP_NUM_THREADS=$1 /usr/bin/time -f "%e %M" -o "$run/gd$2.time" "$gd" pull --bed "$bed" \
+    --output "$run/gd$2.h5" --speed 1 --fresh_start --distance "$distance" --sample_interval "$interval" \
+    --snapshots 0 --threads "$1" --quiet >"$run/gd$2.txt"
+  rm -f "$run/gd$2.h5"
+}
+run_lmp() {  # ranks tag
+  (cd "$run" && OMP_NUM_THREADS=1 /usr/bin/time -f "%e %M" -o "lmp$2.time" \
+    mpirun $mpi_root -np "$1" lmp -in pull.in -log "lmp$2.log" -screen none)
+}
+for c in $cores; do
+  for k in $(seq "$pairs"); do
+    echo "pair $k of $pairs on $c core(s) ..." >&2
+    run_gd "$c" "$c-$k"
+    run_lmp "$c" "$c-$k"
+  done
 done
-awk -v a="$g1" -v b="$g2" 'BEGIN {printf "granudrag 2-thread speed-up: %.2fx\n", a/b}'
-awk -v a="$l1" -v b="$l2" 'BEGIN {printf "LAMMPS 2-rank speed-up:      %.2fx\n", a/b}'
-echo "final KE per grain (translational rotational): granudrag $gke | LAMMPS $(final_ke "$out/lammps1.log")"
+
+/usr/bin/python3 - "$run" "$grains" "$steps" "$pairs" "$cores" "$size" <<'PYEOF'
+import re
+import statistics as st
+import sys
+from pathlib import Path
+
+run, steps, pairs = Path(sys.argv[1]), int(sys.argv[3]), int(sys.argv[4])
+cores, size = [int(c) for c in sys.argv[5].split()], sys.argv[6]
+gd_txt = (run / f"gd{cores[0]}-1.txt").read_text()
+n = int(re.search(r"loop [\d.e+-]+ s for (\d+) steps", gd_txt).group(1))
+natoms = int(re.search(r"^\s*(\d+) atoms", (run / "pull.data").read_text(), re.M).group(1))
+
+def whole(path):
+    wall, rss = path.read_text().split()[-2:]
+    return float(wall), int(rss) * 1024
+
+def gd_loop(path):
+    t = path.read_text()
+    m = re.search(r"timing: loop ([\d.e+-]+) s for (\d+) steps, [\d.e+-]+ particle-steps/s;(.*) s$", t, re.M)
+    split = dict(re.findall(r"(\S+) ([\d.e+-]+)", m.group(3)))
+    return float(m.group(1)), {k: float(v) for k, v in split.items()}
+
+def lmp_loop(path):
+    return float(re.search(r"^Loop time of ([\d.e+-]+)", path.read_text(), re.M).group(1))
+
+ps = natoms * n
+print(f"# pull of a D = 2 intruder at V = 1 through the {size} bed: {natoms} bodies, {n} steps, "
+      f"median of {pairs} interleaved pairs")
+print("| code | cores | loop [s] | loop particle-steps/s | whole process [s] | peak RSS [MB] | bytes/particle |"
+      " granudrag / LAMMPS (loop) | (whole) |")
+print("|---|---|---|---|---|---|---|---|---|")
+rows = {}
+for c in cores:
+    g = [gd_loop(run / f"gd{c}-{k}.txt") for k in range(1, pairs + 1)]
+    gw = [whole(run / f"gd{c}-{k}.time") for k in range(1, pairs + 1)]
+    lw = [whole(run / f"lmp{c}-{k}.time") for k in range(1, pairs + 1)]
+    ll = [lmp_loop(run / f"lmp{c}-{k}.log") for k in range(1, pairs + 1)]
+    ratio_loop = st.median(l / x[0] for l, x in zip(ll, g))
+    ratio_whole = st.median(l[0] / x[0] for l, x in zip(lw, gw))
+    gl = st.median(x[0] for x in g)
+    rss_g = max(x[1] for x in gw)
+    # LAMMPS: /usr/bin/time sees mpirun; with ranks it reports the largest process, so scale.
+    rss_l = max(x[1] for x in lw) * (c if c > 1 else 1)
+    rows[c] = (gl, st.median(ll))
+    print(f"| granudrag (OpenMP) | {c} | {gl:.3f} | {ps / gl:.3g} | {st.median(x[0] for x in gw):.2f} | "
+          f"{rss_g / 2**20:.0f} | {rss_g / natoms:.0f} | **{ratio_loop:.2f}×** | {ratio_whole:.2f}× |")
+    print(f"| LAMMPS ({'serial' if c == 1 else 'MPI'}) | {c} | {st.median(ll):.3f} | {ps / st.median(ll):.3g} | "
+          f"{st.median(x[0] for x in lw):.2f} | {rss_l / 2**20:.0f} | {rss_l / natoms:.0f} | | |")
+    split = {k: st.median(x[1][k] for x in g) for k in g[0][1]}
+    tot = sum(split.values())
+    print(f"#   granudrag {c} thread(s), loop split: " +
+          ", ".join(f"{k} {v / tot:.1%}" for k, v in split.items() if v > 0))
+if 1 in rows and 2 in rows:
+    print(f"# 1 -> 2 speed-up (loop): granudrag {rows[1][0] / rows[2][0]:.2f}x, "
+          f"LAMMPS {rows[1][1] / rows[2][1]:.2f}x")
+PYEOF

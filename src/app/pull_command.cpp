@@ -133,6 +133,7 @@ int pull_command(const std::vector<std::string>& args) {
                 pull->record().stop_reason.c_str(),
                 pull->record().total_steps * pull->simulation().dt() * spec.speed, spec.target_error);
   std::printf("%s  verdict: %s\n", sanity.c_str(), pull->verdict().c_str());
+  std::printf("%s", pull->timing_report().c_str());
   return 0;
 }
 

@@ -7,6 +7,7 @@
 #include "contact/contact_params.hpp"
 #include "core/box.hpp"
 #include "core/particles.hpp"
+#include "core/timer.hpp"
 
 namespace granudrag {
 
@@ -21,8 +22,9 @@ class ContactLoop {
  public:
   virtual ~ContactLoop() = default;
   // Called after every position update; returns true when it rebuilt its pair lists
-  // (positions may then have been wrapped into the box).
-  virtual bool update_lists(Particles& p, const Box& box) = 0;
+  // (positions may then have been wrapped into the box). With `timers`, a rebuild charges the
+  // list build to Phase::Neighbor and the carry-over of the springs to Phase::History.
+  virtual bool update_lists(Particles& p, const Box& box, Timers* timers = nullptr) = 0;
   // Adds the forces and torques of all body-body contacts to p.f and p.torque.
   virtual void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
                           bool update_history) = 0;

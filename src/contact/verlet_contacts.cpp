@@ -27,9 +27,12 @@ inline bool pair_geometry(const Particles& p, const Box& box, int i, int j, Cont
 
 }  // namespace
 
-bool VerletContacts::update_lists(Particles& p, const Box& box) {
+bool VerletContacts::update_lists(Particles& p, const Box& box, Timers* timers) {
   if (!list_.needs_rebuild(p)) return false;
-  rebuild(p, box);
+  list_.build(p, box);
+  if (timers) timers->stamp(Phase::Neighbor);
+  after_build();
+  if (timers) timers->stamp(Phase::History);
   return true;
 }
 

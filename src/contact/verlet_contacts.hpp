@@ -17,7 +17,7 @@ namespace granudrag {
 class VerletContacts : public ContactLoop {
  public:
   explicit VerletContacts(double skin) : list_(skin) {}
-  bool update_lists(Particles& p, const Box& box) override;
+  bool update_lists(Particles& p, const Box& box, Timers* timers) override;
   void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
                   bool update_history) override;
   double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const override;

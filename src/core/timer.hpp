@@ -1,12 +1,27 @@
 #pragma once
-// Wall-clock time per phase of the step loop (the miniMD / LAMMPS "loop time" breakdown).
+// Wall-clock time per phase of the step loop (the miniMD / LAMMPS "loop time" breakdown). One
+// omp_get_wtime() per phase boundary, a few per step: off the hot loops.
 #include <omp.h>
 
 #include <array>
 
 namespace granudrag {
 
-enum class Phase { Integrate = 0, Neighbor, Force, Other, Count };
+enum class Phase {
+  Integrate = 0,  // the two velocity-Verlet halves
+  Neighbor,       // deciding whether to rebuild, and the rebuild of the pair lists
+  History,        // carrying the tangential springs over to a rebuilt list
+  Force,          // pair, intruder, wall forces and gravity
+  Observables,    // what a protocol measures from the state (drag, contacts, energies)
+  IO,             // checkpoints and other files written during the loop
+  Other,
+  Count
+};
+inline const char* phase_name(Phase p) {
+  static const char* names[] = {"integration", "neighbour", "history", "forces",
+                                "observables", "I/O",       "other"};
+  return names[static_cast<int>(p)];
+}
 
 class Timers {
  public:

@@ -38,7 +38,7 @@ Simulation::Simulation(Particles particles, Box box, ContactParams contact, Sett
 
 void Simulation::setup() {
   timers_.start();
-  contacts_->update_lists(p_, box_);
+  contacts_->update_lists(p_, box_, &timers_);
   timers_.stamp(Phase::Neighbor);
   compute_forces(false);
   timers_.stamp(Phase::Force);
@@ -50,7 +50,7 @@ void Simulation::step() {
   timers_.start();
   initial_integrate();
   timers_.stamp(Phase::Integrate);
-  contacts_->update_lists(p_, box_);
+  contacts_->update_lists(p_, box_, &timers_);  // stamps Neighbor and History when it rebuilds
   timers_.stamp(Phase::Neighbor);
   compute_forces(true);
   timers_.stamp(Phase::Force);

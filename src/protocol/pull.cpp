@@ -100,17 +100,37 @@ void Pull::run(bool show_progress, const std::function<void(const Pull&)>& on_ch
   if (every > 0) every = (every + k - 1) / k * k;
   Progress progress("pull", record_.total_steps);
   const double n = static_cast<double>(sim_.particles().size());
+  Timers& timers = sim_.timers();
+  timers.reset();
+  const long first_step = sim_.steps_done();
+  const double t0 = omp_get_wtime();
   while (sim_.steps_done() < record_.total_steps) {
     sim_.step();
     after_step();
     if (sim_.steps_done() % k == 0) end_of_interval();
+    timers.stamp(Phase::Observables);
     if (every > 0 && sim_.steps_done() % every == 0 && !finished() && on_checkpoint) {
       sim_.rebuild_lists();
       on_checkpoint(*this);
+      timers.stamp(Phase::IO);
     }
     if (show_progress) progress.update(sim_.steps_done(), n, "particle-steps");
   }
+  loop_seconds_ = omp_get_wtime() - t0;
+  loop_steps_ = sim_.steps_done() - first_step;
   if (record_.stop_reason.empty()) record_.stop_reason = "distance";
+}
+
+std::string Pull::timing_report() const {
+  const Timers& t = sim_.timers();
+  std::ostringstream s;
+  const double ps = static_cast<double>(sim_.particles().size()) * loop_steps_;
+  s << "timing: loop " << loop_seconds_ << " s for " << loop_steps_ << " steps, "
+    << ps / std::max(loop_seconds_, 1e-9) << " particle-steps/s;";
+  for (int k = 0; k < static_cast<int>(Phase::Count); ++k)
+    s << ' ' << phase_name(static_cast<Phase>(k)) << ' ' << t.seconds(static_cast<Phase>(k));
+  s << " s\n";
+  return s.str();
 }
 
 long Pull::samples_in_transient() const {

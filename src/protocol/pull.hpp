@@ -122,6 +122,11 @@ class Pull {
   bool finished() const { return sim_.steps_done() >= record_.total_steps; }
   // Sanity report printed at the end of every run (CoMD style).
   std::string sanity_report(double wall_seconds) const;
+  // "timing: loop ... s ..., particle-steps/s; integration ... s ..." for the last run(): the
+  // step loop alone and its split by phase (core/timer.hpp), one line.
+  std::string timing_report() const;
+  double loop_seconds() const { return loop_seconds_; }
+  long loop_steps() const { return loop_steps_; }
   // "clean", or the first sanity failure of a keep_going pull.
   std::string verdict() const { return record_.verdict.empty() ? "clean" : record_.verdict; }
 
@@ -141,6 +146,8 @@ class Pull {
   long planned_steps_ = 0;  // for the whole distance: the transient and snapshots are set by it
   std::vector<int> scratch_;
   std::vector<int> counts_;
+  double loop_seconds_ = 0;
+  long loop_steps_ = 0;
 };
 
 }  // namespace granudrag
