@@ -63,6 +63,7 @@ class Results:
     alpha_drag: object = None     # the paper's alpha_mu: drag at the speeds, averaged (Fig. 18)
     alpha_speeds: object = None   # its per-speed exponents
     sums_drag: object = None      # phi + the averaged alpha_mu (Fig. 18b)
+    bed_scatter: float = 0.0      # relative between-bed scatter the regime bootstraps used
     saturation: dict = field(default_factory=dict)  # D -> Fit
     laws: list = field(default_factory=list)
     notes: list = field(default_factory=list)       # fits that could not be made
@@ -91,6 +92,20 @@ def _yield_beside(g):
             "Fr": float(y.Fr.mean()), "n": int(len(y))}
 
 
+def point_bed_scatter(points):
+    """The pooled relative between-bed standard deviation of the drag, sqrt(mean(sigma_B^2 /
+    drag^2)) over the points with two or more beds, from a point table (sigma_B^2 = n_beds
+    drag_err_between^2; analysis.table.combine_beds); 0 when no point has replicate beds (the
+    scatter is then not measured, and the fits say so)."""
+    if not {"n_beds", "drag_err_between"} <= set(points.columns):
+        return 0.0
+    rep = points[points.n_beds.astype(float) >= 2]
+    if rep.empty:
+        return 0.0
+    r2 = rep.n_beds.astype(float) * rep.drag_err_between.astype(float) ** 2 / rep.drag.astype(float) ** 2
+    return float(np.sqrt(np.nanmean(r2)))
+
+
 def run_fits(df, n_boot=200, seed=0, options=None):
     """Every fit of the report, on the reference contact law where it applies. options (an
     Options) overrides n_boot and seed."""
@@ -100,6 +115,8 @@ def run_fits(df, n_boot=200, seed=0, options=None):
     r = Results(options=opt)
     kn, gn = reference_params(df)
     ref = select(df, kn=kn, gamman=gn)
+    bed_scatter = point_bed_scatter(df)
+    r.bed_scatter = bed_scatter
     for label, system, by, mus in (("D", "I", "D", (0.5, 0.0)), ("h", "II", "h", (0.5,))):
         for mu in mus:
             for key, g in select(ref, mu=mu, system=system).groupby(by):
@@ -110,7 +127,8 @@ def run_fits(df, n_boot=200, seed=0, options=None):
                 # reported beside the fit, not in it (at mu = 0 it alone would fix a'').
                 fit = _try(r, f"regimes at mu={mu:g}, {by}={key:g}", fit_regimes, moving.Fr,
                            moving.drag, moving.drag_err, regime1="power" if mu == 0 else "constant",
-                           n_boot=n_boot, seed=seed)
+                           n_boot=n_boot, seed=seed, bed_scatter=bed_scatter,
+                           beds=int(moving["n_beds"].min()) if "n_beds" in moving.columns else 1)
                 if fit is not None:
                     fit.meta["yield_pull"] = _yield_beside(g)
                     fit.meta["replicate_beds"] = _beds(moving)
@@ -200,7 +218,8 @@ def summary(r):
         violated += [{"fit": name, "what": w} for w in f.meta.get("violations", [])]
     return {"phi": _exponent_list(r.phi, "phi"), "alpha": _exponent_list(r.alpha, "alpha"),
             "alpha_drag": _exponent_list(r.alpha_drag, "alpha"), "crossovers": crossover_list(r),
-            "at_bounds": bounds, "violations": violated, "options": r.options.to_dict()}
+            "at_bounds": bounds, "violations": violated, "options": r.options.to_dict(),
+            "bed_scatter": float(r.bed_scatter)}
 
 
 # Columns of the tables of fits.json (fits.fit_phi, fit_alpha, sum_rule), so that an empty
@@ -241,7 +260,8 @@ def _frame(records, columns):
 def load_results(path):
     """The Results written by save_results (FitFileError if path is not such a file)."""
     ff = load_fits(path)
-    r = Results(laws=ff.laws, notes=list(ff.notes), options=Options.from_dict(ff.summary.get("options")))
+    r = Results(laws=ff.laws, notes=list(ff.notes), options=Options.from_dict(ff.summary.get("options")),
+                bed_scatter=float(ff.summary.get("bed_scatter", 0.0)))
     for name, f in ff.fits.items():
         if name.startswith("regimes_"):
             r.regimes[(f.meta["group"], f.meta["mu"], f.meta["group_value"])] = f

@@ -17,6 +17,14 @@ crossover search included. The Fr grid is a designed, fixed grid and the
 noise grows with the drag, which is what the wild bootstrap assumes
 (resampling points instead could leave a regime without data).
 
+A series is pulled through one bed (or a few, averaged), and a bed's own randomness shifts
+every point it carries the same way: the points' errors are correlated, which independent
+sign flips cannot represent. With `bed_scatter` (the relative between-bed standard deviation
+of the drag, measured from replicate beds: analysis.table.between_bed_scatter), each refit also
+multiplies its synthetic series by one factor 1 + bed_scatter z / sqrt(beds), z standard
+normal and shared by every point: the levels (a0, a1, b1, a2, b2) get the bed's error; the
+crossovers, which a common factor does not move, keep theirs.
+
 The residuals are first divided by sqrt(1 - h_ii), h being the hat matrix of
 the model linearised at the best fit, crossovers (and c0) included. A fit
 shrinks the residual of point i by that factor on average, and unevenly: the
@@ -63,12 +71,14 @@ def regime_curve(Fr, a0, a1, b1, a2, b2, Fr1, Fr2, b0=0.0, c0=1.0):
 
 
 def fit_regimes(Fr, drag, sigma=None, *, regime1="constant", continuous=True,
-                n_boot=200, seed=0, grid=40):
+                n_boot=200, seed=0, grid=40, bed_scatter=0.0, beds=1):
     """Fit the three-regime law; return a Fit with params (a0, [b0, c0,] a1, b1,
     a2, b2, Fr1, Fr2), each with a bootstrap standard error (NaN if n_boot=0).
 
     sigma: per-point standard errors of the drag, used as weights 1/sigma^2
     when all are finite and positive; otherwise the points weigh equally.
+    bed_scatter, beds: the relative between-bed scatter and the beds each point averages
+    (module docstring); 0: the points' errors are independent.
     """
     fitter = RegimeFitter(regime1, continuous, grid)
     x, y, w = fitter.prepare(Fr, drag, sigma)
@@ -78,9 +88,16 @@ def fit_regimes(Fr, drag, sigma=None, *, regime1="constant", continuous=True,
         rng = np.random.default_rng(seed)
         fitted = regime_curve(x, **best)
         resid = fitter.noise_residuals(x, y, w, best)
-        reps = [fitter.fit(x, fitted + resid * rng.choice([-1.0, 1.0], size=len(x)), w)
-                for _ in range(n_boot)]
-    return fitter.result(x, best, reps, f"{n_boot} wild-bootstrap refits (seed {seed})", y, w)
+        shift = float(bed_scatter) / np.sqrt(max(1, beds)) if np.isfinite(bed_scatter) else 0.0
+        reps = []
+        for _ in range(n_boot):
+            flips = rng.choice([-1.0, 1.0], size=len(x))
+            scale = 1.0 + shift * rng.standard_normal() if shift > 0 else 1.0
+            reps.append(fitter.fit(x, (fitted + resid * flips) * scale, w))
+    how = f"{n_boot} wild-bootstrap refits (seed {seed})"
+    if bed_scatter and np.isfinite(bed_scatter) and bed_scatter > 0:
+        how += f", each scaled by a shared bed factor ({100 * bed_scatter:.3g} % between beds, {beds} per point)"
+    return fitter.result(x, best, reps, how, y, w)
 
 
 class RegimeFitter:

@@ -161,3 +161,37 @@ def test_falling_regime_is_a_violation():
     assert violations({"b1": 0.3, "b2": 0.1}) == []
     v = violations({"b1": -2.0, "b2": 0.1}, {"b1": 0.5})
     assert v == ["drag falls with Fr in regime II (b1 = -2, 4.0 standard errors below 0)"]
+
+
+def test_a_shared_bed_shift_is_in_the_levels_errors_not_in_the_crossovers():
+    # Each synthetic series is pulled through one bed that scales every point by the same
+    # 1 + 0.06 z (beds poured alike differ by ~5-6 % in drag), plus 1 % independent noise per
+    # point. Independent sign flips alone leave the levels' 1-sigma intervals covering the
+    # truth ~1 time in 8; with the bed's shared factor in the refits, near the nominal 68 %.
+    # The crossovers, which a common factor does not move, keep their coverage.
+    Fr = np.array([0.25, 0.5, 0.75, 1, 1.5, 2, 2.5, 3, 3.5, 4, 4.5, 5, 6, 7, 8, 9, 10])
+    truth = dict(a0=100.0, a1=90.0, b1=10.0, a2=90.0, b2=2.0, Fr1=1.0, Fr2=5.0)
+    y0 = regime_curve(Fr, **truth)
+    rng = np.random.default_rng(7)
+    hits = {0.0: [], 0.06: []}
+    for r in range(100):
+        y = y0 * (1 + 0.06 * rng.standard_normal()) * (1 + 0.01 * rng.standard_normal(len(Fr)))
+        for bed in hits:
+            p = fit_regimes(Fr, y, 0.01 * y, n_boot=40, seed=r, bed_scatter=bed).params
+            hits[bed].append((abs(p["a1"].value - 90) <= p["a1"].err, abs(p["Fr2"].value - 5) <= p["Fr2"].err))
+    plain, with_bed = np.mean(hits[0.0], axis=0), np.mean(hits[0.06], axis=0)
+    assert plain[0] < 0.35, plain
+    assert 0.55 <= with_bed[0] <= 0.82, with_bed
+    assert 0.5 <= with_bed[1] <= 0.85 and abs(with_bed[1] - plain[1]) <= 0.1, (plain, with_bed)
+
+
+def test_the_bed_scatter_comes_from_the_replicated_points():
+    import pandas as pd
+
+    from analysis.fitset import point_bed_scatter
+    # sigma_B^2 = n_beds * drag_err_between^2: 2 * (0.05 * 100 / sqrt 2)^2 = 25 -> 5 %
+    pts = pd.DataFrame({"drag": [100.0, 200.0, 50.0], "n_beds": [2, 2, 1],
+                        "drag_err_between": [5 / np.sqrt(2), 10 / np.sqrt(2), 0.0]})
+    assert point_bed_scatter(pts) == pytest.approx(0.05)
+    assert point_bed_scatter(pts.assign(n_beds=1)) == 0.0
+    assert point_bed_scatter(pts.drop(columns="n_beds")) == 0.0
