@@ -23,7 +23,7 @@ from scipy.optimize import curve_fit
 
 from .regimes import RegimeFitter, fit_regimes, regime_curve
 from .result import Fit, Param
-from .table import froude, is_yield, reference_params, select, yield_rows
+from .table import froude, is_yield, pooled_drag_err, reference_params, select, yield_rows
 
 __all__ = ["Fit", "Param", "fit_regimes", "regime_curve", "fit_theta", "fit_kappa",
            "fit_linear", "fit_power_law", "fit_saturation", "fit_phi", "fit_alpha",
@@ -201,7 +201,7 @@ def _exponent_table(df, variable, system, names, speed):
         x = (g.D + 1.0) if variable == "D" else g.h
         if x.nunique() < 2:
             continue
-        f = fit_power_law(x, g.drag, g.drag_err)
+        f = fit_power_law(x, g.drag, pooled_drag_err(g))
         out.append({"mu": mu, "kn": kn, "gamman": gn,
                     names[0]: f["p"].value, names[0] + "_err": f["p"].err,
                     names[1]: f["A"].value, names[1] + "_err": f["A"].err,

@@ -278,6 +278,25 @@ def combine_beds(runs, r2=None):
     return out.astype({"system": object, "run": object})
 
 
+def pooled_drag_err(points):
+    """Errors of the point table's drags for weighting a fit across points: the within-run
+    part of each point plus the between-bed variance pooled over the replicated points,
+    sqrt(drag_err_within^2 + r2 drag^2 / n_beds), r2 the mean relative between-bed variance.
+    A point's own between-bed variance rests on n_beds - 1 degrees of freedom (1 or 2 in a
+    study): right on average, but as weights such noisy errors favour the points whose beds
+    happened to agree, and a fit's intervals then cover the truth less often than they say
+    (tests/python/test_beds.py). The point table's drag_err if it has no replicated point."""
+    if not {"n_beds", "drag_err_within", "drag_err_between"} <= set(points.columns):
+        return points["drag_err"]
+    k = points["n_beds"].astype(float)
+    rep = k >= 2
+    if not rep.any():
+        return points["drag_err"]
+    r2 = np.nanmean((k * points["drag_err_between"].astype(float) ** 2 / points["drag"].astype(float) ** 2)[rep])
+    within = points["drag_err_within"].astype(float)
+    return np.sqrt(within ** 2 + r2 * points["drag"].astype(float) ** 2 / k)
+
+
 def bed_bootstrap(runs, n_boot, seed=0):
     """Yield n_boot point tables (combine_beds) resampled by bed, not by point.
 
