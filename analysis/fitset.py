@@ -28,7 +28,7 @@ from .fits import (
     save_fits,
     sum_rule,
 )
-from .table import is_yield, reference_params, select, validate_table, yield_rows
+from .table import is_yield, pooled_drag_err, reference_params, select, validate_table, yield_rows
 
 
 @dataclass
@@ -126,7 +126,7 @@ def run_fits(df, n_boot=200, seed=0, options=None):
                 # The paper fits the drag-vs-Fr data (Figs. 5, 10, 16); the yield pull is
                 # reported beside the fit, not in it (at mu = 0 it alone would fix a'').
                 fit = _try(r, f"regimes at mu={mu:g}, {by}={key:g}", fit_regimes, moving.Fr,
-                           moving.drag, moving.drag_err, regime1="power" if mu == 0 else "constant",
+                           moving.drag, pooled_drag_err(moving), regime1="power" if mu == 0 else "constant",
                            n_boot=n_boot, seed=seed, bed_scatter=bed_scatter,
                            beds=int(moving["n_beds"].min()) if "n_beds" in moving.columns else 1)
                 if fit is not None:
