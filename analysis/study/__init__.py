@@ -12,7 +12,7 @@ Snakemake, so it is tested on its own (tests/workflow/test_study.py).
 The names below are the library's interface: `from analysis import study; study.plan(config)`.
 """
 
-from .commands import checkpoint_interval, pour_args, pour_checkpoint_interval, pull_args
+from .commands import checkpoint_interval, movie_pull_args, pour_args, pour_checkpoint_interval, pull_args
 from .config import SCHEMA, ConfigError, fit_options, resolve_binary, validate_config
 from .cost import (
     bed_cost,
@@ -68,6 +68,7 @@ __all__ = [
     "pour_args",
     "pour_checkpoint_interval",
     "pull_args",
+    "movie_pull_args",
     "pull_cost",
     "pull_distance",
     "pull_retries",

@@ -76,3 +76,19 @@ def checkpoint_interval(pull, config):
     if pieces <= 10:
         return None
     return float(f"{pull_distance(pull, config) / pull.V / pieces:.4g}")
+
+
+def movie_pull_args(pull, config):
+    """granudrag pull arguments (without --bed, --output, --threads) of the movie (workflow
+    target `movie`): `pull` again with `movie.frames` frames over its travel (--dump_interval)
+    and no sequential stopping, so the movie shows the whole travel."""
+    frames = int((config.get("movie") or {}).get("frames", 120))
+    settings = dict(config["systems"][pull.bed.system].get("pull") or {})
+    settings.update(dict(pull.settings))
+    settings.pop("target_error", None)
+    settings.pop("min_distance", None)
+    movie = Pull(pull.bed, pull.speed, tuple(settings.items()))
+    distance = pull_distance(movie, config)
+    kind, value = parse_speed(pull.speed)
+    args = ["--froude" if kind == "Fr" else "--speed", fmt(value)] + _flags(settings)
+    return args + ["--dump_interval", f"{distance / pull.V / (frames - 1):.6g}"]

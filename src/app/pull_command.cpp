@@ -10,7 +10,9 @@
 #include "app/command.hpp"
 #include "app/output_paths.hpp"
 #include "core/error.hpp"
+#include "io/frame_dump.hpp"
 #include "io/run_files.hpp"
+#include "io/xdmf.hpp"
 #include "protocol/pull.hpp"
 
 namespace granudrag {
@@ -31,6 +33,13 @@ std::vector<ParameterSpec> pull_command_keys() {
           .at_least(0)
           .help("simulated time between checkpoints (<output>.checkpoint.h5); 0: every tenth of the pull"),
       Key::flag("resume").default_value("false").help("continue from <output>.checkpoint.h5 if it exists"),
+      Key::number("dump_interval")
+          .unit("sqrt(d/g)")
+          .default_value("0")
+          .at_least(0)
+          .help("simulated time between frames (positions, velocities of every body, from step 0) written to "
+                "the run file's /particles/frames, with a temporal <output>.xdmf for ParaView; 48 bytes per "
+                "body per frame before compression; 0: none"),
       skin_key(),
       max_overlap_key(),
       Key::flag("keep_going")
@@ -71,9 +80,10 @@ int pull_command(const std::vector<std::string>& args) {
   check_output_dir(out, "output");
   std::vector<InputFile> inputs = config_inputs(args);
   inputs.push_back({"bed", bed_path});
-  const auto locks = claim_outputs(
-      inputs, {{"output", out, "granudrag-run"},
-               {"the checkpoint", out + ".checkpoint.h5", "granudrag-checkpoint", false, true}});
+  const auto locks =
+      claim_outputs(inputs, {{"output", out, "granudrag-run"},
+                             {"the checkpoint", out + ".checkpoint.h5", "granudrag-checkpoint", false, true},
+                             {"the frames' sidecar", out + ".xdmf", "text", false}});
   ParameterRecord bed_parameters;
   const Bed bed = load_bed(bed_path, &bed_parameters);
   if (bed.intruder < 0) throw Error("bed '" + bed_path + "' has no intruder to pull");
@@ -98,11 +108,21 @@ int pull_command(const std::vector<std::string>& args) {
     const double interval =
         par.number("checkpoint_interval") > 0 ? par.number("checkpoint_interval") : total_time / 10;
     spec.checkpoint_every = std::max(1L, std::lround(interval / bed.dt));
+    if (par.number("dump_interval") > 0)
+      spec.dump_every = std::max(1L, std::lround(par.number("dump_interval") / bed.dt));
   }
   const std::string checkpoint = out + ".checkpoint.h5";
 
   const double t0 = omp_get_wtime();
-  auto save = [&](const Pull& p) { save_checkpoint(checkpoint, p, par, bed_parameters); };
+  std::unique_ptr<FrameDump> frames;
+  auto save = [&](const Pull& p) {
+    if (frames) frames->seal();  // every frame the checkpoint counts is in a sealed segment
+    save_checkpoint(checkpoint, p, par, bed_parameters);
+  };
+  auto dump = [&](const Pull& p) {
+    const Simulation& sim = p.simulation();
+    frames->add(sim.steps_done(), static_cast<double>(sim.steps_done()) * sim.dt(), sim.particles());
+  };
   std::unique_ptr<Pull> pull;
   // A resumed pull must match every option but the run controls, and the bed itself; an
   // unreadable checkpoint is moved aside and the pull starts over.
@@ -116,10 +136,17 @@ int pull_command(const std::vector<std::string>& args) {
   } else {
     pull = std::make_unique<Pull>(bed, spec);
   }
-  pull->run(!par.flag("quiet"), save);
+  if (spec.dump_every > 0)
+    frames = std::make_unique<FrameDump>(out, bed.state.particles, pull->record().frames);
+  pull->run(!par.flag("quiet"), save, dump);
   const double wall = omp_get_wtime() - t0;
   const std::string sanity = pull->sanity_report(wall);
-  save_run(out, *pull, par, bed_parameters, sanity);
+  save_run(out, *pull, par, bed_parameters, sanity, frames.get());
+  if (frames) {
+    frames->remove_segments();
+    write_frames_xdmf(out + ".xdmf", std::filesystem::path(out).filename().string(),
+                      bed.state.particles.size(), frame_times(out));
+  }
   std::filesystem::remove(checkpoint);
   const PullResult r = pull->result();
   std::printf("run: %s\n  D = %g, depth %.3f d, V = %.4g sqrt(gd), Fr = %.4g, mu = %g, kn = %g\n",
@@ -132,6 +159,8 @@ int pull_command(const std::vector<std::string>& args) {
     std::printf("  stopped by %s after %.4g d (target: relative error %.3g)\n",
                 pull->record().stop_reason.c_str(),
                 pull->record().total_steps * pull->simulation().dt() * spec.speed, spec.target_error);
+  if (frames)
+    std::printf("  %ld frames in /particles/frames, for ParaView: %s.xdmf\n", frames->frames(), out.c_str());
   std::printf("%s  verdict: %s\n", sanity.c_str(), pull->verdict().c_str());
   std::printf("%s", pull->timing_report().c_str());
   return 0;

@@ -30,6 +30,7 @@ void write_pull_record(h5::File& f, const PullRecord& r) {
   f.write_rows("/pull/force_sum", std::vector<Vec3>{r.force_sum});
   f.set_attr("/pull", "grains_lost", static_cast<std::int64_t>(r.grains_lost));
   f.set_attr("/pull", "verdict", r.verdict);
+  f.set_attr("/pull", "frames", static_cast<std::int64_t>(r.frames));
   f.set_attr("/pull", "snapshots", static_cast<std::int64_t>(r.snapshots.size()));
   write_snapshots(f, "/pull/snapshot_", r.snapshots);
 }
@@ -61,6 +62,8 @@ PullRecord read_pull_record(const h5::File& f) {
   // Checkpoints written before the run guard have neither: clean so far.
   if (f.has_attr("/pull", "grains_lost")) r.grains_lost = f.get_attr_int64("/pull", "grains_lost");
   if (f.has_attr("/pull", "verdict")) r.verdict = f.get_attr_string("/pull", "verdict");
+  if (f.has_attr("/pull", "frames")) r.frames = f.get_attr_int64("/pull", "frames");
+  if (r.frames < 0) throw Error("negative frame count under /pull");
   const std::int64_t ns = f.get_attr_int64("/pull", "snapshots");
   if (ns < 0) throw Error("negative snapshot count under /pull");
   r.snapshots = read_snapshots(f, "/pull/snapshot_", static_cast<std::size_t>(ns));

@@ -28,7 +28,8 @@ struct SeriesData {
   std::vector<std::int64_t> steps;
   std::vector<double> times;
   std::vector<double> values;
-  std::size_t columns = 1;
+  std::size_t columns = 1;             // values per row: the product of row_shape
+  std::vector<std::size_t> row_shape;  // empty for scalar rows; {N, 3} for frames of N vectors
   std::size_t rows() const { return steps.size(); }
 };
 
@@ -61,7 +62,9 @@ class Series {
 
   // HDF5 ids (hid_t is int64_t in HDF5 >= 1.10; checked in the .cpp): no <hdf5.h> here.
   std::int64_t step_ = -1, time_ = -1, value_ = -1;
-  std::size_t columns_ = 0, rows_ = 0;
+  std::size_t columns_ = 0;
+  std::vector<std::size_t> row_shape_;
+  std::size_t rows_ = 0;
   std::int64_t last_step_ = 0;
   std::string file_, group_;
 };
@@ -152,6 +155,10 @@ class File {
 
   // Starts an H5MD time-dependent element at `group` (e.g. "/observables/drag"); see Series.
   Series series(const std::string& group, std::size_t columns);
+  // The same with rows of any shape: value is [rows x row_shape...], e.g. frames of N particle
+  // positions as [frames x N x 3] (H5MD's leading time dimension); append() takes the row's
+  // values in C order.
+  Series series(const std::string& group, const std::vector<std::size_t>& row_shape);
   SeriesData read_series(const std::string& group) const;
 
  private:

@@ -9,7 +9,7 @@
 namespace granudrag {
 
 void save_run(const std::string& path, const Pull& pull, const Parameters& pull_parameters,
-              const ParameterRecord& bed_parameters, const std::string& sanity) {
+              const ParameterRecord& bed_parameters, const std::string& sanity, FrameDump* frames) {
   const PullRecord& r = pull.record();
   const PullResult res = pull.result();
   const Bed& bed = pull.bed();
@@ -84,7 +84,14 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
   f.set_attr("/sanity", "verdict", pull.verdict());
   f.set_attr("/sanity", "grains_lost", static_cast<std::int64_t>(r.grains_lost));
   f.set_attr("/sanity", "max_overlap_bound", pull.spec().max_overlap);
+  if (frames) frames->write_into(f);
   f.commit();
+}
+
+std::vector<double> frame_times(const std::string& path) {
+  const h5::File f = h5::File::open(path);
+  if (!f.exists("/particles/frames/position/time")) return {};
+  return f.read_doubles("/particles/frames/position/time");
 }
 
 }  // namespace granudrag

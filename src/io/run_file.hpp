@@ -10,16 +10,22 @@
 //                             first failure of a keep_going pull), grains_lost, max_overlap_bound
 //   /parameters/pull          the pull's resolved parameters; /parameters/pour: its bed's,
 //                             copied from the bed file (io/parameter_record.hpp)
+//   /particles/frames         with --dump_interval: every body's position and velocity per frame
+//                             (io/frame_dump.hpp)
 #include <string>
 
 #include "core/parameters.hpp"
+#include "io/frame_dump.hpp"
 #include "io/parameter_record.hpp"
 #include "protocol/pull.hpp"
 
 namespace granudrag {
 
-// `pull_parameters`: the pull's resolved parameters; `bed_parameters`: its bed's (load_bed).
+// `pull_parameters`: the pull's resolved parameters; `bed_parameters`: its bed's (load_bed);
+// `frames`: the pull's frames, or null.
 void save_run(const std::string& path, const Pull& pull, const Parameters& pull_parameters,
-              const ParameterRecord& bed_parameters, const std::string& sanity);
+              const ParameterRecord& bed_parameters, const std::string& sanity, FrameDump* frames = nullptr);
+// The times of the frames in the run file at `path` (none without frames).
+std::vector<double> frame_times(const std::string& path);
 
 }  // namespace granudrag

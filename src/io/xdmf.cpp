@@ -111,4 +111,55 @@ void write_xdmf(const std::string& xdmf_path, const std::string& h5_file_name,
   write_file_atomically(xdmf_path, s.str());
 }
 
+void write_frames_xdmf(const std::string& xdmf_path, const std::string& h5_file_name, std::size_t n,
+                       const std::vector<double>& times) {
+  if (h5_file_name.empty() || h5_file_name.find(':') != std::string::npos)
+    throw Error("cannot write '" + xdmf_path + "': the HDF5 file name '" + h5_file_name +
+                "' is empty or contains ':', which XDMF uses to separate file and dataset");
+  if (n == 0 || times.empty()) throw Error("cannot write '" + xdmf_path + "': there are no frames to show");
+  const std::size_t frames = times.size();
+  std::ostringstream s;
+  s.precision(17);
+  s << "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\">\n  "
+       "<Domain>\n";
+  // Vertex i is point i: the Xdmf3 readers build no cells without the list (xdmf.cpp), and it
+  // is the same for every frame, so it is stored once and referenced.
+  s << "    <DataItem Name=\"vertices\" Dimensions=\"" << n
+    << "\" NumberType=\"Int\" Precision=\"8\" Format=\"XML\">";
+  for (std::size_t i = 0; i < n; ++i) s << (i % 20 == 0 ? "\n     " : " ") << i;
+  s << "\n    </DataItem>\n";
+  s << "    <Grid Name=\"frames\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  const std::string file = xml_escape(h5_file_name) + ":/particles/frames/";
+  // One frame of a [frames x n x 3] dataset: a hyperslab (start, stride, count) declared n x 3,
+  // the rank ParaView's reader expects of a geometry or a vector attribute.
+  auto slab = [&](std::size_t k, const std::string& element) {
+    std::ostringstream d;
+    d << "<DataItem ItemType=\"HyperSlab\" Dimensions=\"" << n << " 3\" Type=\"HyperSlab\">"
+      << "<DataItem Dimensions=\"3 3\" Format=\"XML\">" << k << " 0 0 1 1 1 1 " << n << " 3</DataItem>"
+      << "<DataItem Dimensions=\"" << frames << ' ' << n << " 3\" NumberType=\"Float\" Precision=\"8\" "
+      << "Format=\"HDF\">" << file << element << "/value</DataItem></DataItem>";
+    return d.str();
+  };
+  for (std::size_t k = 0; k < frames; ++k) {
+    s << "      <Grid Name=\"frame " << k << "\" GridType=\"Uniform\">\n"
+      << "        <Time Value=\"" << times[k] << "\"/>\n"
+      << "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
+      << "\" NodesPerElement=\"1\">"
+      << "<DataItem Reference=\"XML\">/Xdmf/Domain/DataItem[@Name=\"vertices\"]</DataItem></Topology>\n"
+      << "        <Geometry GeometryType=\"XYZ\">" << slab(k, "position") << "</Geometry>\n"
+      << "        <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">"
+      << slab(k, "velocity") << "</Attribute>\n"
+      << "        <Attribute Name=\"radius\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem Dimensions=\""
+      << n << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << file
+      << "radius/value</DataItem></Attribute>\n"
+      << "        <Attribute Name=\"species\" AttributeType=\"Scalar\" Center=\"Node\"><DataItem "
+         "Dimensions=\""
+      << n << "\" NumberType=\"UChar\" Precision=\"1\" Format=\"HDF\">" << file
+      << "species/value</DataItem></Attribute>\n"
+      << "      </Grid>\n";
+  }
+  s << "    </Grid>\n  </Domain>\n</Xdmf>\n";
+  write_file_atomically(xdmf_path, s.str());
+}
+
 }  // namespace granudrag

@@ -22,4 +22,10 @@ void write_xdmf(const std::string& xdmf_path, const std::string& h5_file_name,
                 const std::vector<std::string>& scalar_fields, const std::vector<std::string>& vector_fields,
                 const std::vector<std::string>& byte_fields = {});
 
+// Writes `xdmf_path` (atomically), a temporal collection of `times.size()` frames of `n`
+// bodies read from `h5_file_name` (resolved from the sidecar's directory) under
+// /particles/frames: geometry from position, attributes velocity, radius and species.
+void write_frames_xdmf(const std::string& xdmf_path, const std::string& h5_file_name, std::size_t n,
+                       const std::vector<double>& times);
+
 }  // namespace granudrag

@@ -94,7 +94,8 @@ double Pull::transient_distance() const {
   return std::min(D + 1.0, 0.25 * distance);
 }
 
-void Pull::run(bool show_progress, const std::function<void(const Pull&)>& on_checkpoint) {
+void Pull::run(bool show_progress, const std::function<void(const Pull&)>& on_checkpoint,
+               const std::function<void(const Pull&)>& on_frame) {
   long every = spec_.checkpoint_every;
   const long k = record_.samples_per_interval;
   if (every > 0) every = (every + k - 1) / k * k;
@@ -104,11 +105,20 @@ void Pull::run(bool show_progress, const std::function<void(const Pull&)>& on_ch
   timers.reset();
   const long first_step = sim_.steps_done();
   const double t0 = omp_get_wtime();
+  const bool dump = spec_.dump_every > 0 && on_frame;
+  auto frame = [&] {
+    timers.start();
+    on_frame(*this);
+    ++record_.frames;
+    timers.stamp(Phase::IO);
+  };
+  if (dump && record_.frames == 0) frame();
   while (sim_.steps_done() < record_.total_steps) {
     sim_.step();
     after_step();
     if (sim_.steps_done() % k == 0) end_of_interval();
     timers.stamp(Phase::Observables);
+    if (dump && sim_.steps_done() % spec_.dump_every == 0) frame();
     if (every > 0 && sim_.steps_done() % every == 0 && !finished() && on_checkpoint) {
       sim_.rebuild_lists();
       on_checkpoint(*this);

@@ -27,6 +27,7 @@ struct PullSpec {
   int snapshots = 3;              // velocity-field snapshots of the slab through the intruder
   double slab_half_width = 0.5;   // |y - Y| < this for the snapshots, d
   long checkpoint_every = 0;      // steps between checkpoints (rounded to whole samples); 0: none
+  long dump_every = 0;            // steps between frames (the first at step 0); 0: none
   double skin = 0.2;
   // Drop the bed's contact histories and recompute the forces before the first step, as a
   // LAMMPS run starting from a data file does: for like-for-like comparisons.
@@ -72,6 +73,7 @@ struct PullRecord {
   // the target first; total_steps is then the step it stopped at); "" while it runs.
   std::string stop_reason;
   double energy_start = 0;  // of the mobile grains
+  long frames = 0;          // frames handed to on_frame so far (--dump_interval)
   // Running sums over the current interval.
   Vec3 force_sum = Vec3::Zero();
   double contact_sum = 0;
@@ -111,7 +113,10 @@ class Pull {
   // the forced rebuild that makes a resumed run bitwise identical. Throws Error when the run
   // guard (engine/run_guard.hpp) finds a failure at the end of a sample interval, before a
   // checkpoint could save it; with spec.keep_going only a non-finite number stops it.
-  void run(bool show_progress, const std::function<void(const Pull&)>& on_checkpoint = {});
+  // on_frame is called at step 0 and every spec.dump_every steps after, before a checkpoint
+  // due at the same step, and counted in record().frames.
+  void run(bool show_progress, const std::function<void(const Pull&)>& on_checkpoint = {},
+           const std::function<void(const Pull&)>& on_frame = {});
 
   PullResult result() const;
   const PullRecord& record() const { return record_; }

@@ -205,6 +205,47 @@ TEST(Pull, ResumedFromCheckpointIsBitwiseIdentical) {
   EXPECT_EQ(whole.record().fx, resumed.record().fx);
 }
 
+TEST(Pull, FramesComeAtStepZeroAndEveryDumpIntervalAndResumeWhereTheCheckpointCounted) {
+  PullSpec spec;
+  spec.speed = 0.5;
+  spec.distance = 1.0;
+  spec.checkpoint_every = 500;
+  spec.dump_every = 300;
+  Pull whole(small_bed(), spec);
+  std::vector<long> steps;
+  std::vector<std::vector<Vec3>> positions;
+  std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
+  whole.run(
+      false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); },
+      [&](const Pull& p) {
+        steps.push_back(p.simulation().steps_done());
+        positions.push_back(p.simulation().particles().x);
+      });
+  const long total = whole.record().total_steps;
+  ASSERT_EQ(whole.record().frames, total / 300 + 1);
+  for (std::size_t k = 0; k < steps.size(); ++k) EXPECT_EQ(steps[k], static_cast<long>(300 * k));
+  EXPECT_EQ(positions.front(), small_bed().state.particles.x);  // frame 0 is the bed as poured
+  EXPECT_EQ(positions.back() == whole.simulation().particles().x, total % 300 == 0);
+  // Resumed from the first checkpoint (step 500: frames 0 and 300 counted), the frames go on
+  // from step 600, the same bit for bit.
+  ASSERT_GE(checkpoints.size(), 1u);
+  EXPECT_EQ(checkpoints[0].second.frames, 2);
+  Pull resumed(small_bed(), spec, checkpoints[0].first, checkpoints[0].second);
+  std::vector<long> resumed_steps;
+  std::vector<std::vector<Vec3>> resumed_positions;
+  // Checkpoints force list rebuilds, which a resumed run must do at the same steps.
+  resumed.run(
+      false, [](const Pull&) {},
+      [&](const Pull& p) {
+        resumed_steps.push_back(p.simulation().steps_done());
+        resumed_positions.push_back(p.simulation().particles().x);
+      });
+  EXPECT_EQ(resumed.record().frames, whole.record().frames);
+  ASSERT_EQ(resumed_steps, std::vector<long>(steps.begin() + 2, steps.end()));
+  for (std::size_t k = 0; k < resumed_positions.size(); ++k)
+    EXPECT_EQ(resumed_positions[k], positions[k + 2]) << k;
+}
+
 TEST(Pull, ATargetErrorStopsThePullOnceTheDragIsThatPrecise) {
   PullSpec spec;
   // On this small periodic bed the drag decorrelates over 2-4 d of travel: 10 effective

@@ -105,3 +105,68 @@ def test_fig1_without_paraview_says_which_panels_are_missing(tmp_path):
     assert "(b)" not in note
     caption, png, _ = figure_entries(tmp_path)[0]
     assert png == out and "Panel (a) is missing" in caption
+
+
+def dumped_pull(tmp_path):
+    """A short pull of the lattice bed with frames every 0.5 (4 frames after step 0)."""
+    bed, per_type = lattice_bed(tmp_path)
+    run = tmp_path / "run.h5"
+    subprocess.run([str(BINARY), "pull", "--bed", str(bed), "--output", str(run), "--speed", "0.5",
+                    "--distance", "1", "--dump_interval", "0.5", "--quiet"], check=True, capture_output=True)
+    return run, per_type
+
+
+def test_paraview_plays_a_dumped_pull_frame_by_frame(tmp_path):
+    run, per_type = dumped_pull(tmp_path)
+    with h5py.File(run) as f:
+        times = f["particles/frames/position/time"][()]
+        x = f["particles/frames/position/value"][()]
+        species = f["particles/frames/species/value"][()]
+    assert x.shape == (5, sum(per_type), 3)  # H5MD: the frame dimension leads
+    seen = pvbatch("--check", f"{run}.xdmf")
+    assert int(seen["frames"]) == len(times) == 5
+    assert float(seen["first_time"]) == times[0] == 0.0
+    assert abs(float(seen["last_time"]) - times[-1]) < 1e-9
+    assert int(seen["first_points"]) == int(seen["last_points"]) == sum(per_type)
+    assert "species" in seen["arrays"].split(",") and "velocity" in seen["arrays"].split(",")
+    assert [int(c) for c in seen["species"].split(",")] == per_type
+    # ParaView's last frame is the file's: the intruder has moved V t along x.
+    intruder = int(np.flatnonzero(species == 2)[0])
+    first = np.array([float(c) for c in seen["first_intruder"].split(",")])
+    last = np.array([float(c) for c in seen["last_intruder"].split(",")])
+    np.testing.assert_allclose(first, x[0, intruder], rtol=1e-5)
+    np.testing.assert_allclose(last, x[-1, intruder], rtol=1e-5)
+    assert abs(last[0] - first[0] - 0.5 * times[-1]) < 1e-4
+
+
+def test_the_frames_of_a_pull_render_and_make_a_movie(tmp_path):
+    import matplotlib.image
+
+    run, _ = dumped_pull(tmp_path)
+    frames = tmp_path / "frames"
+    subprocess.run(["xvfb-run", "-a", "pvbatch", str(RENDER), "--frames", f"{run}.xdmf", str(frames)],
+                   check=True, capture_output=True, timeout=600)
+    pngs = sorted(frames.glob("frame_*.png"))
+    assert len(pngs) == 5
+    first, last = (matplotlib.image.imread(p)[..., :3] for p in (pngs[0], pngs[-1]))
+    assert float(np.var(first)) > 1e-3
+    assert float(np.mean(np.abs(first - last))) > 1e-4  # the scene moves
+    movie = tmp_path / "movie.mp4"
+    subprocess.run(["/usr/bin/python3", str(ROOT / "workflow" / "scripts" / "movie.py"), f"{run}.xdmf",
+                    str(movie), "10"], check=True, capture_output=True, timeout=600)
+    probe = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+                            "stream=nb_read_frames,codec_name", "-of", "csv=p=0", str(movie)],
+                           check=True, capture_output=True, text=True).stdout.strip()
+    assert probe == "h264,5"
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".movie")] == []  # no leftovers
+
+
+def test_the_movie_without_paraview_or_ffmpeg_says_what_to_install(tmp_path):
+    empty = tmp_path / "bin"
+    empty.mkdir()
+    run = subprocess.run(["/usr/bin/python3", str(ROOT / "workflow" / "scripts" / "movie.py"), "x.xdmf",
+                          str(tmp_path / "m.mp4")], capture_output=True, text=True,
+                         env=dict(os.environ, PATH=str(empty)))
+    assert run.returncode != 0
+    assert "needs pvbatch and ffmpeg" in run.stderr and "tools/install-deps.sh" in run.stderr
+    assert not (tmp_path / "m.mp4").exists()
