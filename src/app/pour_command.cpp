@@ -4,13 +4,16 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include "app/command.hpp"
 #include "app/output_paths.hpp"
 #include "core/error.hpp"
 #include "engine/run_guard.hpp"
+#include "io/frame_dump.hpp"
 #include "io/pour_checkpoint.hpp"
 #include "io/run_files.hpp"
+#include "io/xdmf.hpp"
 #include "protocol/pour.hpp"
 
 namespace granudrag {
@@ -33,6 +36,14 @@ std::vector<ParameterSpec> pour_command_keys() {
                            "check_intervals; 0: none"));
   keys.push_back(Key::flag("resume").default_value("false").help(
       "continue from <output>.checkpoint.h5 if it exists (bitwise as if never stopped, same threads)"));
+  keys.push_back(Key::number("dump_interval")
+                     .unit("sqrt(d/g)")
+                     .default_value("0")
+                     .at_least(0)
+                     .help("simulated time between frames (positions, velocities of every body, from step 0; "
+                           "rounded up to whole check_interval) written to the bed file's /particles/frames, "
+                           "with a temporal <output>.frames.xdmf for ParaView; 48 bytes per body per frame "
+                           "before compression; 0: none"));
   keys.push_back(threads_key());
   return keys;
 }
@@ -83,10 +94,11 @@ int pour_command(const std::vector<std::string>& args) {
   const std::string out = par->text("output");
   check_output_dir(out, "output");
   const std::string checkpoint = out + ".checkpoint.h5";
-  const auto locks = claim_outputs(
-      config_inputs(args), {{"output", out, "granudrag-bed"},
-                            {"the sidecar", out + ".xdmf", "text", false},
-                            {"the checkpoint", checkpoint, "granudrag-pour-checkpoint", false, true}});
+  const auto locks = claim_outputs(config_inputs(args),
+                                   {{"output", out, "granudrag-bed"},
+                                    {"the sidecar", out + ".xdmf", "text", false},
+                                    {"the checkpoint", checkpoint, "granudrag-pour-checkpoint", false, true},
+                                    {"the frames' sidecar", out + ".frames.xdmf", "text", false}});
 
   const double t0 = omp_get_wtime();
   PourCheckpoints checkpoints;
@@ -105,10 +117,36 @@ int pour_command(const std::vector<std::string>& args) {
       std::fprintf(stderr, "pour: resuming from %s at step %ld\n", checkpoint.c_str(), resumed.state.steps);
     }
   }
+  // Frames: the dump is made at the first frame (the pour places the grains), knowing how many
+  // frames the checkpoint resumed from counts.
+  std::unique_ptr<FrameDump> frames;
+  if (par->number("dump_interval") > 0) {
+    checkpoints.frame_every =
+        std::max(1L, static_cast<long>(std::ceil(par->number("dump_interval") / s.check_interval - 1e-9)));
+    checkpoints.frame = [&](const Simulation& sim) {
+      if (!frames) frames = std::make_unique<FrameDump>(out, sim.particles(), resumed.frames);
+      frames->add(sim.steps_done(), sim.time(), sim.particles());
+    };
+    if (checkpoints.save) {
+      checkpoints.save = [&](const PourState& state) {
+        if (frames) frames->seal();  // every frame the checkpoint counts is in a sealed segment
+        save_pour_checkpoint(checkpoint, state, state.dt, *par);
+      };
+    }
+  }
   const Bed bed = pour(s, !par->flag("quiet"), checkpoints);
-  save_bed(out, bed, *par);
+  if (checkpoints.frame_every > 0 && !frames)
+    frames = std::make_unique<FrameDump>(out, bed.state.particles, resumed.frames);
+  save_bed(out, bed, *par, frames.get());
   std::filesystem::remove(checkpoint);
   write_bed_xdmf(out, bed.state.particles.size());
+  if (frames) {
+    frames->remove_segments();
+    write_frames_xdmf(out + ".frames.xdmf", std::filesystem::path(out).filename().string(),
+                      bed.state.particles.size(), frame_times(out));
+    std::printf("  %ld frames in /particles/frames, for ParaView: %s.frames.xdmf\n", frames->frames(),
+                out.c_str());
+  }
   std::printf("bed: %s\n  grains %ld (%zu frozen in the base), box %g x %g, dt %.4g\n", out.c_str(), s.grains,
               bed.state.particles.count(Species::Frozen), s.lx, s.ly, bed.dt);
   std::printf("  settling stopped by %s at t = %.2f sqrt(d/g), kinetic energy per grain %.3g\n",

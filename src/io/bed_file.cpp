@@ -80,11 +80,12 @@ Bed read_bed_groups(const h5::File& f) {
   return bed;
 }
 
-void save_bed(const std::string& path, const Bed& bed, const Parameters& parameters) {
+void save_bed(const std::string& path, const Bed& bed, const Parameters& parameters, FrameDump* frames) {
   h5::File f = h5::File::create(path);
   write_file_header(f, kFormat);
   write_parameters(f, ParameterRecord::of(parameters));
   write_bed_groups(f, bed);
+  if (frames) frames->write_into(f);
   f.commit();
 }
 

@@ -11,6 +11,7 @@
 //                           import-lammps (io/parameter_record.hpp)
 #include <string>
 
+#include "io/frame_dump.hpp"
 #include "io/h5_file.hpp"
 #include "io/parameter_record.hpp"
 #include "protocol/pour.hpp"
@@ -18,7 +19,9 @@
 namespace granudrag {
 
 // `parameters`: the resolved parameters of the command that made the bed.
-void save_bed(const std::string& path, const Bed& bed, const Parameters& parameters);
+// `frames`: the pour's frames (--dump_interval), or null.
+void save_bed(const std::string& path, const Bed& bed, const Parameters& parameters,
+              FrameDump* frames = nullptr);
 // Throws Error naming the file when it is missing, truncated, not a bed file, or of a version
 // this granudrag cannot read. Reads format versions 1 and 2; the bed's recorded parameters are
 // returned through `parameters` when given (for version 1: a record holding only the old text).

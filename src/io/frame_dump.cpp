@@ -140,6 +140,12 @@ void FrameDump::write_into(h5::File& out) {
                std::string("0 mobile grain, 1 frozen base grain, 2 intruder"));
 }
 
+std::vector<double> frame_times(const std::string& path) {
+  const h5::File f = h5::File::open(path);
+  if (!f.exists(std::string(kPosition) + "/time")) return {};
+  return f.read_doubles(std::string(kPosition) + "/time");
+}
+
 void FrameDump::remove_segments() {
   for (const Segment& s : segments_of(output_)) fs::remove(s.path);
 }

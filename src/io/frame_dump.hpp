@@ -65,4 +65,7 @@ class FrameDump {
   std::vector<double> row_;
 };
 
+// The times of the frames in the bed or run file at `path` (none without frames).
+std::vector<double> frame_times(const std::string& path);
+
 }  // namespace granudrag

@@ -23,6 +23,7 @@ void save_pour_checkpoint(const std::string& path, const PourState& s, double dt
   f.set_attr("/pour", "energy_start", s.energy_start);
   f.set_attr("/pour", "max_overlap_seen", s.max_overlap_seen);
   f.set_attr("/pour", "grains_lost", static_cast<std::int64_t>(s.grains_lost));
+  f.set_attr("/pour", "frames", static_cast<std::int64_t>(s.frames));
   f.commit();
 }
 
@@ -37,6 +38,8 @@ PourState load_pour_checkpoint(const std::string& path, const Parameters& now,
     s.energy_start = f.get_attr_double("/pour", "energy_start");
     s.max_overlap_seen = f.get_attr_double("/pour", "max_overlap_seen");
     s.grains_lost = f.get_attr_int64("/pour", "grains_lost");
+    if (f.has_attr("/pour", "frames")) s.frames = f.get_attr_int64("/pour", "frames");
+    if (s.frames < 0) throw Error("negative frame count under /pour");
     const ParameterRecord then = read_parameters(f, "pour");
     differences = describe_differences(then, ParameterRecord::of(now), run_controls, "checkpoint", "now");
   } catch (const std::out_of_range&) {

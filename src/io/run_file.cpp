@@ -88,10 +88,4 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
   f.commit();
 }
 
-std::vector<double> frame_times(const std::string& path) {
-  const h5::File f = h5::File::open(path);
-  if (!f.exists("/particles/frames/position/time")) return {};
-  return f.read_doubles("/particles/frames/position/time");
-}
-
 }  // namespace granudrag

@@ -25,7 +25,5 @@ namespace granudrag {
 // `frames`: the pull's frames, or null.
 void save_run(const std::string& path, const Pull& pull, const Parameters& pull_parameters,
               const ParameterRecord& bed_parameters, const std::string& sanity, FrameDump* frames = nullptr);
-// The times of the frames in the run file at `path` (none without frames).
-std::vector<double> frame_times(const std::string& path);
 
 }  // namespace granudrag

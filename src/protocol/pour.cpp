@@ -163,6 +163,12 @@ Bed pour(const PourSpec& s, bool show_progress, const PourCheckpoints& checkpoin
   }
   RunGuard guard(limits, resume ? resume->energy_start : sim.energy().total());
   if (resume) guard.restore(resume->max_overlap_seen, resume->grains_lost);
+  const bool dump = checkpoints.frame_every > 0 && checkpoints.frame;
+  long frames = resume ? resume->frames : 0;
+  if (dump && frames == 0) {
+    checkpoints.frame(sim);
+    ++frames;
+  }
   const double t0 = omp_get_wtime();
   const long steps0 = sim.steps_done();
   bed.stop_reason = "max_time";
@@ -171,6 +177,10 @@ Bed pour(const PourSpec& s, bool show_progress, const PourCheckpoints& checkpoin
     // A failure stops the pour here, before a checkpoint could save it.
     const std::string why = guard.check(sim, 0.0);
     if (!why.empty()) throw Error("the pour stopped: " + why + ". The last good checkpoint, if any, is kept");
+    if (dump && (sim.steps_done() / chunk) % checkpoints.frame_every == 0) {
+      checkpoints.frame(sim);
+      ++frames;
+    }
     const Energy e = sim.energy();
     bed.kinetic_energy = (e.kinetic + e.rotational) / grains;
     if (show_progress) {
@@ -193,7 +203,7 @@ Bed pour(const PourSpec& s, bool show_progress, const PourCheckpoints& checkpoin
     if (checkpoints.every > 0 && (sim.steps_done() / chunk) % checkpoints.every == 0 && checkpoints.save) {
       sim.rebuild_lists();
       checkpoints.save(PourState{sim.state(), guard.energy_start(), guard.max_overlap_seen(),
-                                 guard.grains_lost(), sim.dt()});
+                                 guard.grains_lost(), sim.dt(), frames});
     }
   }
   bed.settle_time = sim.time();

@@ -91,7 +91,8 @@ struct PourState {
   double energy_start = 0;  // of the grains after setup, for the run guard
   double max_overlap_seen = 0;
   long grains_lost = 0;
-  double dt = 0;  // the pour's time step (recorded, not restored)
+  double dt = 0;    // the pour's time step (recorded, not restored)
+  long frames = 0;  // frames handed to PourCheckpoints::frame so far
 };
 
 // Periodic checkpoints of a pour. Every `every` kinetic-energy checks (0: none) the lists are
@@ -101,6 +102,10 @@ struct PourCheckpoints {
   long every = 0;
   std::function<void(const PourState&)> save;
   const PourState* resume_from = nullptr;
+  // Frames (--dump_interval): `frame` is called at step 0 and every `frame_every` checks after,
+  // before a checkpoint due at the same check, and counted in PourState::frames.
+  long frame_every = 0;
+  std::function<void(const Simulation&)> frame;
 };
 
 // Throws Error, naming the failure (engine/run_guard.hpp), when the pour runs away.

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# A pour killed with SIGKILL and resumed gives the same bed, bit for bit, as an uninterrupted
-# pour with the same checkpoint interval and thread count.
+# A pour killed with SIGKILL and resumed gives the same bed and frames (--dump_interval), bit for
+# bit, as an uninterrupted pour with the same checkpoint interval and thread count.
 #   pour_kill_resume.sh path/to/granudrag
 set -euo pipefail
 gd=$(realpath "$1")
@@ -8,7 +8,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 args=(--lx 10 --ly 10 --grains 1200 --intruder_diameter 2 --depth 4 --kn 2e4 --ke_threshold 1e-9
-  --max_settle_time 20 --checkpoint_interval 2 --threads 2 --quiet)
+  --max_settle_time 20 --checkpoint_interval 2 --dump_interval 1 --threads 2 --quiet)
 "$gd" pour "${args[@]}" --output whole.h5 >/dev/null
 [ -f whole.h5.checkpoint.h5 ] && { echo "FAIL: a finished pour left its checkpoint"; exit 1; }
 
@@ -34,7 +34,8 @@ grep -q "now:        seed: 2" other.log || { echo "FAIL: the refusal does not na
 grep -q "resuming from" resume.log || { echo "FAIL: --resume did not resume"; cat resume.log; exit 1; }
 [ -f killed.h5.checkpoint.h5 ] && { echo "FAIL: the finished pour left its checkpoint"; exit 1; }
 for d in /particles/all/position/value /particles/all/velocity/value /particles/all/angular_velocity/value \
-  /contacts/shear /bed/profile/packing_fraction; do
+  /contacts/shear /bed/profile/packing_fraction /particles/frames/position/value /particles/frames/velocity/value \
+  /particles/frames/position/time; do
   diff <(h5dump -m %.17g -d "$d" whole.h5 | tail -n +3) <(h5dump -m %.17g -d "$d" killed.h5 | tail -n +3) >/dev/null \
     || { echo "FAIL: $d differs after kill and resume"; exit 1; }
 done
@@ -48,4 +49,7 @@ grep -q "moved it aside to 'broken.h5.checkpoint.h5.corrupt'" broken.log && [ -f
 diff <(h5dump -m %.17g -d /particles/all/position/value whole.h5 | tail -n +3) \
   <(h5dump -m %.17g -d /particles/all/position/value broken.h5 | tail -n +3) >/dev/null \
   || { echo "FAIL: the pour started over after a damaged checkpoint differs"; exit 1; }
-echo "PASS: killed and resumed pour is bitwise identical; a damaged checkpoint is moved aside"
+ls killed.h5.frames.*.h5 >/dev/null 2>&1 && { echo "FAIL: frame segments left behind"; ls; exit 1; }
+frames=$(grep -c "<Time Value" killed.h5.frames.xdmf)
+[ "$frames" -ge 10 ] || { echo "FAIL: only $frames frames in the sidecar"; exit 1; }
+echo "PASS: killed and resumed pour is bitwise identical ($frames frames too); a damaged checkpoint is moved aside"

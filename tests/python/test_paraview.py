@@ -170,3 +170,17 @@ def test_the_movie_without_paraview_or_ffmpeg_says_what_to_install(tmp_path):
     assert run.returncode != 0
     assert "needs pvbatch and ffmpeg" in run.stderr and "tools/install-deps.sh" in run.stderr
     assert not (tmp_path / "m.mp4").exists()
+
+
+def test_paraview_plays_a_dumped_pour(tmp_path):
+    bed = tmp_path / "bed.h5"
+    subprocess.run([str(BINARY), "pour", "--output", str(bed), "--lx", "6", "--ly", "6", "--grains", "300",
+                    "--depth", "3", "--intruder_x", "3", "--intruder_y", "3", "--kn", "2e4", "--max_settle_time",
+                    "3", "--dump_interval", "0.5", "--quiet"], check=True, capture_output=True)
+    with h5py.File(bed) as f:
+        times = f["particles/frames/position/time"][()]
+        z = f["particles/frames/position/value"][:, :, 2]
+    seen = pvbatch("--check", f"{bed}.frames.xdmf")
+    assert int(seen["frames"]) == len(times) >= 7  # step 0, then every 0.5 up to t >= 3
+    assert int(seen["first_points"]) == int(seen["last_points"]) == 301
+    assert z[-1].mean() < z[0].mean()  # the grains fall
