@@ -34,6 +34,10 @@ rule movie:
         f"{REPORT}/movie.mp4",
     log:
         f"{LOGS}/movie/render.log",
+    # ParaView and ffmpeg come from Debian (tools/install-deps.sh); without them the script
+    # says which is missing.
+    conda:
+        "../envs/analysis.yaml"
     params:
         fps=config["movie"]["fps"],
     script:
