@@ -34,7 +34,7 @@ SIGMAS, REL_TOL = 2.0, 0.25
 INCONCLUSIVE = 0.30        # relative error above which a number cannot confirm anything
 VERDICTS = ("reproduced within error bars", "reproduced qualitatively", "not reproduced", "inconclusive")
 SEED_COLUMN = "seed"         # replicate bed of a pull (absent: one bed per point)
-PLATEAU_COLUMN = "plateau"   # 1/True when the run's block-average error reached a plateau
+PLATEAU_COLUMN = "plateau"   # 1/True when the run's drag error converged (observables.cpp)
 
 
 # --- comparisons ---------------------------------------------------------
@@ -97,7 +97,7 @@ def _basis(rows):
     if PLATEAU_COLUMN in rows.columns:
         flat = rows[PLATEAU_COLUMN].astype(float)
         bad = int((flat == 0).sum())
-        out.append(f"{bad} of {len(rows)} runs without a plateau of the block-average error"
+        out.append(f"{bad} of {len(rows)} runs whose drag error reached no plateau (a conservative bound)"
                    if bad else "every run reached a plateau")
     return out
 

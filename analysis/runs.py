@@ -255,17 +255,23 @@ def block_error(x, min_blocks=8):
 
 
 def _kappa_error(obs, kappa, n, t0):
-    """Error of kappa = (Z/n)(D+d)^2/(2 sqrt(3)) from the block-averaging error of the
-    intruder coordination n, whose series the run file stores
+    """Error of kappa = (Z/n)(D+d)^2/(2 sqrt(3)) from the standard error of the intruder
+    coordination n: the engine's (/observables/coordination error, the drag's estimator),
+    or, in run files written before it was stored, block averaging of the stored series
     (/observables/intruder_contacts, samples after the transient). The bulk Z has no
     series in the file, so its sampling error is not included. NaN when unavailable."""
+    if not (math.isfinite(kappa) and n > 0):
+        return math.nan
+    n_err = obs["coordination"].attrs.get("error", math.nan) if "coordination" in obs else math.nan
+    if math.isfinite(float(n_err)):
+        return abs(kappa) * float(n_err) / n
     try:
         g = obs["intruder_contacts"]
         t, c = g["time"][()], g["value"][()].astype(float)
     except KeyError:
         return math.nan
     c = c[t > t0]
-    if len(c) < 2 or not (math.isfinite(kappa) and n > 0):
+    if len(c) < 2:
         return math.nan
     return abs(kappa) * block_error(c) / n
 

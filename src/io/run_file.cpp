@@ -65,7 +65,8 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
   f.set_attr("/observables/drag", "distance_travelled",
              r.total_steps * pull.simulation().dt() * pull.spec().speed);
   f.set_attr("/observables/drag", "transient_samples", static_cast<std::int64_t>(res.transient_samples));
-  scalar("coordination", res.coordination, NAN, "n: mean number of grains touching the intruder");
+  scalar("coordination", res.coordination, res.coordination_error,
+         "n: mean number of grains touching the intruder; error: as the drag's");
   scalar(
       "theta", res.theta, res.theta_error,
       "mean angle between the intruder velocity and the intruder-to-grain line at contact formation (rad)");

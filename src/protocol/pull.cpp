@@ -283,7 +283,9 @@ PullResult Pull::result() const {
   r.drag_error = drag.error;
   r.drag_dof = drag.dof;
   r.drag_plateau = drag.plateau;
-  r.coordination = mean(n);
+  const MeanError coordination = mean_error(n);
+  r.coordination = coordination.mean;
+  r.coordination_error = coordination.error;
   if (record_.theta_count > 0) {
     const double m = record_.theta_sum / record_.theta_count;
     r.theta = m;

@@ -94,6 +94,7 @@ struct PullResult {
   long transient_samples = 0;
   std::vector<double> cumulative_drag;  // running mean of -F_x over all samples (Fig. 4)
   double coordination = NAN;            // n: mean number of grains touching the intruder
+  double coordination_error = NAN;      // its standard error (mean_error, as the drag's)
   double theta = NAN, theta_error = NAN;
   double bulk_coordination = NAN;      // Z
   std::vector<double> z_distribution;  // P(Z)

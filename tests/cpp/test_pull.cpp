@@ -209,6 +209,8 @@ TEST(Pull, MeasuresDragAndContactsOfAMovingIntruder) {
   EXPECT_GT(r.drag_error, 0.0);
   EXPECT_LT(r.drag_error, r.drag);
   EXPECT_GT(r.coordination, 3.0);
+  EXPECT_GT(r.coordination_error, 0.0);  // the intruder's contacts fluctuate
+  EXPECT_LT(r.coordination_error, 0.5 * r.coordination);
   EXPECT_GT(r.theta, 0.0);
   EXPECT_LT(r.theta, M_PI / 2);  // contacts form in front of the intruder
   EXPECT_GT(r.bulk_coordination, 2.0);

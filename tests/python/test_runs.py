@@ -401,8 +401,9 @@ def test_the_engine_records_a_failed_verdict_and_the_table_leaves_the_run_out(tm
 
 
 def test_kappa_error_from_the_coordination_series(tmp_path):
-    # kappa = (Z/n)(D+d)^2/(2 sqrt 3): its error is kappa times the relative block-averaging
-    # error of n, from the intruder_contacts series after the transient (0.5 d at V = 0.75:
+    # kappa = (Z/n)(D+d)^2/(2 sqrt 3): its error is kappa times the relative error of n. Files
+    # without the engine's error of n: block averaging of the intruder_contacts series after
+    # the transient (0.5 d at V = 0.75:
     # t > 0.667). White noise of standard deviation 2 about n = 10 over 1000 samples: the
     # analytic standard error of the mean is 2/sqrt(N); block averaging's largest level
     # lands within [0.8, 1.6] of it.
@@ -417,3 +418,8 @@ def test_kappa_error_from_the_coordination_series(tmp_path):
     row = read_run(p)
     expected = 0.96 * (2.0 / np.sqrt(n_after)) / 10.0
     assert 0.8 < row["kappa_err"] / expected < 1.6, row["kappa_err"] / expected
+    # The engine's own error of n (the drag's estimator), when the file has it, is used
+    # instead of block averaging: kappa_err = kappa * n_err / n exactly.
+    with h5py.File(p, "a") as f:
+        f["observables/coordination"].attrs["error"] = 0.05
+    assert read_run(p)["kappa_err"] == pytest.approx(0.96 * 0.05 / 10.0, rel=1e-12)
