@@ -403,9 +403,9 @@ def test_the_engine_records_a_failed_verdict_and_the_table_leaves_the_run_out(tm
 def test_kappa_error_from_the_coordination_series(tmp_path):
     # kappa = (Z/n)(D+d)^2/(2 sqrt 3): its error is kappa times the relative error of n. Files
     # without the engine's error of n: block averaging of the intruder_contacts series after
-    # the transient (0.5 d at V = 0.75: t > 0.667). White noise of standard deviation 2 about n = 10 over 1000 samples: the
-    # analytic standard error of the mean is 2/sqrt(N); block averaging's largest level
-    # lands within [0.8, 1.6] of it.
+    # the transient (0.5 d at V = 0.75: t > 0.667). White noise of standard deviation 2 about
+    # n = 10 over 1000 samples: the analytic standard error of the mean is 2/sqrt(N); block
+    # averaging's largest level lands within [0.8, 1.6] of it.
     p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5")
     assert math.isnan(read_run(p)["kappa_err"])          # no series: no error
     rng = np.random.default_rng(0)
