@@ -3,7 +3,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <memory>
 
+#include "contact/contact_batch.hpp"
 #include "contact/contact_law.hpp"
 
 namespace granudrag {
@@ -71,6 +73,32 @@ void VerletContacts::balance_rows(int threads) {
   }
 }
 
+void VerletContacts::evaluate_batch(const Particles& p, const ContactParams& c, double dt,
+                                    bool update_history, ContactBatch& b, Vec3* f, Vec3* tq) {
+  for (int k = 0; k < b.size; ++k) {
+    const int i = b.i[k], j = b.j[k];
+    b.reff[k] = p.radius[i] * p.radius[j] / b.radsum[k];
+    b.meff[k] = effective_mass(p.mass[i], p.species[i], p.mass[j], p.species[j]);
+    const Vec3 v = p.v[i] - p.v[j];
+    const Vec3 w = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
+    const Vec3& s = grain_history_.shear[b.entry[k]];
+    b.vx[k] = v.x(), b.vy[k] = v.y(), b.vz[k] = v.z();
+    b.wx[k] = w.x(), b.wy[k] = w.y(), b.wz[k] = w.z();
+    b.sx[k] = s.x(), b.sy[k] = s.y(), b.sz[k] = s.z();
+  }
+  hertz_history_batch(c, dt, update_history, b, simd_);
+  for (int k = 0; k < b.size; ++k) {
+    const int i = b.i[k], j = b.j[k];
+    const Vec3 force(b.fx[k], b.fy[k], b.fz[k]), torque(b.tx[k], b.ty[k], b.tz[k]);
+    f[i] += force;
+    tq[i] -= p.radius[i] * torque;
+    f[j] -= force;
+    tq[j] -= p.radius[j] * torque;
+    grain_history_.shear[b.entry[k]] = Vec3(b.sx[k], b.sy[k], b.sz[k]);
+  }
+  b.size = 0;
+}
+
 void VerletContacts::accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
                                 bool update_history) {
   const PairList& pairs = list_.grain_pairs();
@@ -80,6 +108,8 @@ void VerletContacts::accumulate(Particles& p, const Box& box, const ContactParam
     thread_force_.resize(max_threads);
     thread_torque_.resize(max_threads);
   }
+  while (static_cast<int>(batches_.size()) < max_threads)
+    batches_.push_back(std::make_unique<ContactBatch>());
   if (static_cast<int>(row_split_.size()) != max_threads + 1) balance_rows(max_threads);
 
 #pragma omp parallel
@@ -99,29 +129,34 @@ void VerletContacts::accumulate(Particles& p, const Box& box, const ContactParam
       f = thread_force_[t].data();
       tq = thread_torque_[t].data();
     }
+    // Touching pairs are collected branch-free into a batch and evaluated together.
+    ContactBatch& b = *batches_[t];
+    b.size = 0;
     for (long i = i0; i < i1; ++i) {
-      Vec3 fi = Vec3::Zero(), ti = Vec3::Zero();
+      const Vec3 xi = p.x[i];
+      const double ri = p.radius[i];
       for (int e = pairs.begin(i); e < pairs.end(i); ++e) {
         const int j = pairs.partner[e];
-        ContactGeometry g;
-        if (!pair_geometry(p, box, static_cast<int>(i), j, g)) {
-          // Most entries are near misses; skip the stores when there is nothing to clear.
-          if (grain_history_.touching[e]) {
-            grain_history_.shear[e].setZero();
-            grain_history_.touching[e] = 0;
-          }
-          continue;
-        }
-        grain_history_.touching[e] = 1;
-        const PairForce cf = hertz_history(c, g, dt, grain_history_.shear[e], update_history);
-        fi += cf.force;
-        ti -= p.radius[i] * cf.torque;
-        f[j] -= cf.force;
-        tq[j] -= p.radius[j] * cf.torque;
+        const Vec3 del = box.min_image(xi - p.x[j]);
+        const double rsq = del.squaredNorm();
+        const double radsum = ri + p.radius[j];
+        const std::uint8_t touches = rsq < radsum * radsum;
+        const int k = b.size;
+        b.dx[k] = del.x();
+        b.dy[k] = del.y();
+        b.dz[k] = del.z();
+        b.rsq[k] = rsq;
+        b.radsum[k] = radsum;
+        b.i[k] = static_cast<int>(i);
+        b.j[k] = j;
+        b.entry[k] = e;
+        b.size += touches;
+        if (grain_history_.touching[e] > touches) grain_history_.shear[e].setZero();  // came apart
+        grain_history_.touching[e] = touches;
+        if (b.size == ContactBatch::kCapacity) evaluate_batch(p, c, dt, update_history, b, f, tq);
       }
-      f[i] += fi;
-      tq[i] += ti;
     }
+    evaluate_batch(p, c, dt, update_history, b, f, tq);
 #pragma omp barrier
     if (nt > 1) {
 #pragma omp for schedule(static)

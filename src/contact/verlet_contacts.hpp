@@ -1,6 +1,8 @@
 #pragma once
+#include <memory>
 #include <vector>
 
+#include "contact/contact_batch.hpp"
 #include "contact/contact_history.hpp"
 #include "contact/contact_loop.hpp"
 #include "contact/neighbor_list.hpp"
@@ -16,7 +18,7 @@ namespace granudrag {
 // them independent of the thread count too, but doubled the memory traffic and the cost.)
 class VerletContacts : public ContactLoop {
  public:
-  explicit VerletContacts(double skin) : list_(skin) {}
+  explicit VerletContacts(double skin) : list_(skin), simd_(best_simd_level()) {}
   bool update_lists(Particles& p, const Box& box, Timers* timers) override;
   void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
                   bool update_history) override;
@@ -33,11 +35,16 @@ class VerletContacts : public ContactLoop {
 
  private:
   NeighborList list_;
+  SimdLevel simd_;  // chosen once, outside any parallel region: a bad GRANUDRAG_SIMD fails here
   ContactHistory grain_history_, intruder_history_;
   void balance_rows(int threads);
   void after_build();
+  // Evaluates the batch's touching pairs and adds their forces into f, tq (this thread's arrays).
+  void evaluate_batch(const Particles& p, const ContactParams& c, double dt, bool update_history,
+                      ContactBatch& b, Vec3* f, Vec3* tq);
 
   std::vector<std::vector<Vec3>> thread_force_, thread_torque_;  // threads 1.., per particle
+  std::vector<std::unique_ptr<ContactBatch>> batches_;           // one per thread
   std::vector<long> row_split_;                         // thread t owns rows row_split_[t] .. row_split_[t+1]
   std::vector<Vec3> intruder_force_, intruder_torque_;  // per intruder-list entry
   std::vector<std::uint8_t> intruder_new_;              // per intruder-list entry: touched first now
