@@ -89,7 +89,7 @@ std::string bed_fingerprint(const Bed& bed) {
 
 void save_checkpoint(const std::string& path, const Pull& pull, const Parameters& pull_parameters,
                      const ParameterRecord& bed_parameters) {
-  h5::File f = h5::File::create(path);
+  h5::File f = h5::File::create(path, h5::Compression::None);
   write_file_header(f, kFormat);
   write_parameters(f, bed_parameters);
   write_parameters(f, ParameterRecord::of(pull_parameters));

@@ -14,8 +14,8 @@ using namespace detail;
 
 namespace {
 
-void create_and_write(hid_t file, const std::string& file_name, const std::string& raw_path, hid_t file_type,
-                      hid_t mem_type, const std::vector<hsize_t>& dims, const void* data) {
+void create_and_write(hid_t file, const std::string& file_name, bool compress, const std::string& raw_path,
+                      hid_t file_type, hid_t mem_type, const std::vector<hsize_t>& dims, const void* data) {
   const std::string path = canonical(raw_path);
   if (path == "/") throw Error("cannot write a dataset at the root of " + in_quotes(file_name));
   if (object_exists(file, path))
@@ -26,7 +26,7 @@ void create_and_write(hid_t file, const std::string& file_name, const std::strin
 
   Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
-  if (total >= kCompressFrom) {
+  if (compress && total >= kCompressFrom) {
     std::vector<hsize_t> chunk = dims;
     const hsize_t row = total / dims[0];
     chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], kChunkElements / row));
@@ -44,24 +44,28 @@ void create_and_write(hid_t file, const std::string& file_name, const std::strin
 }  // namespace
 
 void File::write(const std::string& path, const std::vector<double>& data) {
-  create_and_write(id(true), path_, path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {data.size()}, data.data());
+  create_and_write(id(true), path_, compression_ == Compression::Gzip, path, H5T_IEEE_F64LE,
+                   H5T_NATIVE_DOUBLE, {data.size()}, data.data());
 }
 
 void File::write(const std::string& path, const std::vector<std::int64_t>& data) {
-  create_and_write(id(true), path_, path, H5T_STD_I64LE, H5T_NATIVE_INT64, {data.size()}, data.data());
+  create_and_write(id(true), path_, compression_ == Compression::Gzip, path, H5T_STD_I64LE, H5T_NATIVE_INT64,
+                   {data.size()}, data.data());
 }
 
 void File::write(const std::string& path, const std::vector<int>& data) {
-  create_and_write(id(true), path_, path, H5T_STD_I32LE, H5T_NATIVE_INT, {data.size()}, data.data());
+  create_and_write(id(true), path_, compression_ == Compression::Gzip, path, H5T_STD_I32LE, H5T_NATIVE_INT,
+                   {data.size()}, data.data());
 }
 
 void File::write(const std::string& path, const std::vector<std::uint8_t>& data) {
-  create_and_write(id(true), path_, path, H5T_STD_U8LE, H5T_NATIVE_UINT8, {data.size()}, data.data());
+  create_and_write(id(true), path_, compression_ == Compression::Gzip, path, H5T_STD_U8LE, H5T_NATIVE_UINT8,
+                   {data.size()}, data.data());
 }
 
 void File::write_rows(const std::string& path, const std::vector<Vec3>& rows) {
-  create_and_write(id(true), path_, path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {rows.size(), 3},
-                   rows.empty() ? nullptr : rows.front().data());
+  create_and_write(id(true), path_, compression_ == Compression::Gzip, path, H5T_IEEE_F64LE,
+                   H5T_NATIVE_DOUBLE, {rows.size(), 3}, rows.empty() ? nullptr : rows.front().data());
 }
 
 std::vector<double> File::read_doubles(const std::string& path) const {

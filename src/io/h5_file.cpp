@@ -55,7 +55,7 @@ std::string login_name() {
 
 }  // namespace
 
-File File::create(const std::string& path) {
+File File::create(const std::string& path, Compression compression) {
   silence_hdf5();
   if (path.empty()) throw Error("no output file name given");
   const std::string tmp = path + ".tmp";
@@ -74,6 +74,7 @@ File File::create(const std::string& path) {
   f.id_ = id;
   f.path_ = path;
   f.writable_ = true;
+  f.compression_ = compression;
   return f;
 }
 
@@ -105,7 +106,8 @@ File::File(File&& other) noexcept
     : id_(std::exchange(other.id_, -1)),
       path_(std::move(other.path_)),
       writable_(std::exchange(other.writable_, false)),
-      committed_(other.committed_) {}
+      committed_(other.committed_),
+      compression_(other.compression_) {}
 
 File& File::operator=(File&& other) noexcept {
   if (this != &other) {
@@ -114,6 +116,7 @@ File& File::operator=(File&& other) noexcept {
     path_ = std::move(other.path_);
     writable_ = std::exchange(other.writable_, false);
     committed_ = other.committed_;
+    compression_ = other.compression_;
   }
   return *this;
 }

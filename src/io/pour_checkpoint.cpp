@@ -16,7 +16,7 @@ const char* kFormat = "granudrag-pour-checkpoint";
 
 void save_pour_checkpoint(const std::string& path, const PourState& s, double dt,
                           const Parameters& pour_parameters) {
-  h5::File f = h5::File::create(path);
+  h5::File f = h5::File::create(path, h5::Compression::None);
   write_file_header(f, kFormat);
   write_parameters(f, ParameterRecord::of(pour_parameters));
   write_particle_state(f, s.state, dt);

@@ -114,6 +114,31 @@ TEST(H5File, LargeArraysAreChunkedAndCompressedSmallOnesAreNot) {
   H5Fclose(file);
 }
 
+// Checkpoints are written with Compression::None: large arrays stay contiguous, unfiltered.
+TEST(H5File, AnUncompressedFileWritesNoFilters) {
+  TempDir dir;
+  const std::string path = dir.file("checkpoint.h5");
+  {
+    h5::File f = h5::File::create(path, h5::Compression::None);
+    f.write("/large", ramp(100000));
+    f.write_rows("/rows", std::vector<Vec3>(20000, Vec3(0.25, 0.5, 1.0)));
+    f.commit();
+  }
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  for (const char* name : {"/large", "/rows"}) {
+    const hid_t dset = H5Dopen2(file, name, H5P_DEFAULT);
+    const hid_t dcpl = H5Dget_create_plist(dset);
+    EXPECT_EQ(H5Pget_layout(dcpl), H5D_CONTIGUOUS) << name;
+    EXPECT_EQ(H5Pget_nfilters(dcpl), 0) << name;
+    H5Pclose(dcpl);
+    H5Dclose(dset);
+  }
+  H5Fclose(file);
+  EXPECT_EQ(h5::File::open(path).read_doubles("/large"), ramp(100000));
+  EXPECT_GE(fs::file_size(path), 8u * (100000 + 60000));  // every byte stored as is
+}
+
 // Large arrays are compressed at gzip level 1: level 9 costs seconds per snapshot for a few
 // percent of disk. Checked on the file's own filter settings, not on a wall clock (the time is
 // printed for information only: this machine is shared).
