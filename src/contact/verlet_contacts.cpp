@@ -75,26 +75,33 @@ void VerletContacts::balance_rows(int threads) {
 
 void VerletContacts::evaluate_batch(const Particles& p, const ContactParams& c, double dt,
                                     bool update_history, ContactBatch& b, Vec3* f, Vec3* tq) {
-  for (int k = 0; k < b.size; ++k) {
+  const double* radius = p.radius.data();
+  const double* mass = p.mass.data();
+  const Species* species = p.species.data();
+  const Vec3* v = p.v.data();
+  const Vec3* omega = p.omega.data();
+  Vec3* shear = grain_history_.shear.data();
+  const int n = b.size;
+  for (int k = 0; k < n; ++k) {
     const int i = b.i[k], j = b.j[k];
-    b.reff[k] = p.radius[i] * p.radius[j] / b.radsum[k];
-    b.meff[k] = effective_mass(p.mass[i], p.species[i], p.mass[j], p.species[j]);
-    const Vec3 v = p.v[i] - p.v[j];
-    const Vec3 w = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
-    const Vec3& s = grain_history_.shear[b.entry[k]];
-    b.vx[k] = v.x(), b.vy[k] = v.y(), b.vz[k] = v.z();
+    b.reff[k] = radius[i] * radius[j] / b.radsum[k];
+    b.meff[k] = effective_mass(mass[i], species[i], mass[j], species[j]);
+    const Vec3 vij = v[i] - v[j];
+    const Vec3 w = radius[i] * omega[i] + radius[j] * omega[j];
+    const Vec3& s = shear[b.entry[k]];
+    b.vx[k] = vij.x(), b.vy[k] = vij.y(), b.vz[k] = vij.z();
     b.wx[k] = w.x(), b.wy[k] = w.y(), b.wz[k] = w.z();
     b.sx[k] = s.x(), b.sy[k] = s.y(), b.sz[k] = s.z();
   }
   hertz_history_batch(c, dt, update_history, b, simd_);
-  for (int k = 0; k < b.size; ++k) {
+  for (int k = 0; k < n; ++k) {
     const int i = b.i[k], j = b.j[k];
     const Vec3 force(b.fx[k], b.fy[k], b.fz[k]), torque(b.tx[k], b.ty[k], b.tz[k]);
     f[i] += force;
-    tq[i] -= p.radius[i] * torque;
+    tq[i] -= radius[i] * torque;
     f[j] -= force;
-    tq[j] -= p.radius[j] * torque;
-    grain_history_.shear[b.entry[k]] = Vec3(b.sx[k], b.sy[k], b.sz[k]);
+    tq[j] -= radius[j] * torque;
+    shear[b.entry[k]] = Vec3(b.sx[k], b.sy[k], b.sz[k]);
   }
   b.size = 0;
 }
@@ -129,33 +136,43 @@ void VerletContacts::accumulate(Particles& p, const Box& box, const ContactParam
       f = thread_force_[t].data();
       tq = thread_torque_[t].data();
     }
-    // Touching pairs are collected branch-free into a batch and evaluated together.
+    // Touching pairs are collected branch-free into a batch and evaluated together. Raw
+    // pointers and a local count: through the containers the compiler reloads them every entry.
     ContactBatch& b = *batches_[t];
-    b.size = 0;
+    const Vec3* x = p.x.data();
+    const double* radius = p.radius.data();
+    const int* partner = pairs.partner.data();
+    std::uint8_t* touching = grain_history_.touching.data();
+    Vec3* shear = grain_history_.shear.data();
+    int size = 0;
     for (long i = i0; i < i1; ++i) {
-      const Vec3 xi = p.x[i];
-      const double ri = p.radius[i];
+      const Vec3 xi = x[i];
+      const double ri = radius[i];
       for (int e = pairs.begin(i); e < pairs.end(i); ++e) {
-        const int j = pairs.partner[e];
-        const Vec3 del = box.min_image(xi - p.x[j]);
+        const int j = partner[e];
+        const Vec3 del = box.min_image(xi - x[j]);
         const double rsq = del.squaredNorm();
-        const double radsum = ri + p.radius[j];
+        const double radsum = ri + radius[j];
         const std::uint8_t touches = rsq < radsum * radsum;
-        const int k = b.size;
-        b.dx[k] = del.x();
-        b.dy[k] = del.y();
-        b.dz[k] = del.z();
-        b.rsq[k] = rsq;
-        b.radsum[k] = radsum;
-        b.i[k] = static_cast<int>(i);
-        b.j[k] = j;
-        b.entry[k] = e;
-        b.size += touches;
-        if (grain_history_.touching[e] > touches) grain_history_.shear[e].setZero();  // came apart
-        grain_history_.touching[e] = touches;
-        if (b.size == ContactBatch::kCapacity) evaluate_batch(p, c, dt, update_history, b, f, tq);
+        b.dx[size] = del.x();
+        b.dy[size] = del.y();
+        b.dz[size] = del.z();
+        b.rsq[size] = rsq;
+        b.radsum[size] = radsum;
+        b.i[size] = static_cast<int>(i);
+        b.j[size] = j;
+        b.entry[size] = e;
+        size += touches;
+        if (touching[e] > touches) shear[e].setZero();  // came apart
+        touching[e] = touches;
+        if (size == ContactBatch::kCapacity) {
+          b.size = size;
+          evaluate_batch(p, c, dt, update_history, b, f, tq);
+          size = 0;
+        }
       }
     }
+    b.size = size;
     evaluate_batch(p, c, dt, update_history, b, f, tq);
 #pragma omp barrier
     if (nt > 1) {

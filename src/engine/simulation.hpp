@@ -65,9 +65,11 @@ class Simulation {
   WallContacts& wall() { return wall_; }
 
  private:
-  void initial_integrate();
-  void compute_forces(bool update_history);
-  void final_integrate();
+  void initial_integrate();  // first half-kick and drift; clears the forces for the next evaluation
+  void clear_forces();
+  void contact_forces(bool update_history);  // body-body and wall contacts, added to f and torque
+  void add_body_force(long i);               // gravity on a mobile grain; nothing on a frozen one
+  void final_integrate();                    // add_body_force, then the second half-kick
 
   Particles p_;
   Box box_;
