@@ -40,8 +40,8 @@ class VerletContacts : public ContactLoop {
   void balance_rows(int threads);
   void after_build();
   // Evaluates the batch's touching pairs and adds their forces into f, tq (this thread's arrays).
-  void evaluate_batch(const Particles& p, const ContactParams& c, double dt, bool update_history,
-                      ContactBatch& b, Vec3* f, Vec3* tq);
+  [[gnu::noinline]] void evaluate_batch(const Particles& p, const ContactParams& c, double dt,
+                                        bool update_history, ContactBatch& b, Vec3* f, Vec3* tq);
 
   std::vector<std::vector<Vec3>> thread_force_, thread_torque_;  // threads 1.., per particle
   std::vector<std::unique_ptr<ContactBatch>> batches_;           // one per thread
