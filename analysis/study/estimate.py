@@ -12,12 +12,15 @@ throughput is the particle-steps per second of one job on `threads` threads
 (the config's `throughput`, measured with `granudrag pull`, which prints it).
 Wall time on N cores assumes N / threads jobs at a time, perfectly packed.
 
---measure replaces the config's throughput by one measured here: `granudrag bench` on G
-grains (default: the smallest system's, at most 70,000) collapsed with soft contacts into a
-bed-like packing (~4 contacts per grain; the cost of a step depends on the contacts, not on
-K_n), timed on min(threads, cores here) threads. For a job with more threads than this
-machine has, the measured per-core rate is scaled by the threads at PARALLEL_EFFICIENCY
-(an assumption, stated in the output; measure on the cluster's nodes to replace it).
+--measure replaces the config's throughput by one measured here on the workload the jobs run:
+`granudrag pour` settles a bed of G grains (default: the smallest system's, at most 70,000;
+the column density of the benchmark bed, 19.25 grains per d^2, K_n = 2e5), then `granudrag
+pull` drags a D = 2 intruder through it at V = 1 for 1,000 steps, both on min(threads, cores
+here) threads; the slower of the two rates is taken (the cost of a step depends on the
+contacts, not on K_n).
+For a job with more threads than this machine has, the measured per-core rate is scaled by
+the threads at PARALLEL_EFFICIENCY (an assumption, stated in the output; measure on the
+cluster's nodes to replace it).
 """
 
 import argparse
@@ -25,6 +28,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 from collections import defaultdict
 from pathlib import Path
 
@@ -37,25 +41,45 @@ from .breakdown import by_figure
 PARALLEL_EFFICIENCY = 0.8
 
 
-def measure_throughput(binary, grains, threads):
-    """(particle-steps/s of one job on `threads` threads, how it was obtained), from a bench run."""
-    here = min(threads, os.cpu_count() or 1)
-    cmd = [str(binary), "bench", "--grains", str(grains), "--kn", "2e4", "--steps", "300",
-           "--settle", "6000", "--threads", str(here)]
+# Grains per d^2 of bed area in the measuring bed: bench/compare_lammps.sh's 7.7k bed.
+COLUMN_DENSITY = 19.25
+MEASURE_STEPS, MEASURE_DT = 1000, 5e-4
+
+
+def _run(cmd):
     print(f"measuring: {' '.join(cmd)}", file=sys.stderr)
     try:
-        out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
+        return subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
     except FileNotFoundError:
-        sys.exit(f"estimate_cost: no granudrag at {binary}: build it (cmake --build build) or pass --binary")
+        sys.exit(f"estimate_cost: no granudrag at {cmd[0]}: build it (cmake --build build) or pass --binary")
     except subprocess.CalledProcessError as exc:
         sys.exit(f"estimate_cost: {' '.join(cmd)} failed:\n{exc.stderr.strip()}")
-    rows = [ln.split() for ln in out.splitlines() if re.match(r"\s*\d+\s+[\d.e+]+\s", ln)]
-    contacts = re.search(r"\(([\d.]+) per grain\)", out)
-    if not rows:
-        sys.exit(f"estimate_cost: could not read the throughput from:\n{out}")
-    measured = float(rows[-1][1])
-    how = (f"measured here: {measured:.3g} particle-steps/s on {here} thread(s), {grains} grains, "
-           f"{contacts.group(1) if contacts else '?'} contacts per grain")
+
+
+def measure_throughput(binary, grains, threads):
+    """(particle-steps/s of one job on `threads` threads, how it was obtained), from a pull
+    through a bed poured here."""
+    here = min(threads, os.cpu_count() or 1)
+    side = max(8.0, (grains / COLUMN_DENSITY) ** 0.5)
+    with tempfile.TemporaryDirectory() as tmp:
+        bed, run = str(Path(tmp) / "bed.h5"), str(Path(tmp) / "run.h5")
+        poured = _run([str(binary), "pour", "--output", bed, "--grains", str(grains), "--lx", f"{side:.6g}",
+              "--ly", f"{side:.6g}", "--intruder_diameter", "2", "--depth", "5", "--kn", "2e5",
+              "--dt", str(MEASURE_DT), "--ke_threshold", "1e-4", "--max_settle_time", "10",
+              "--threads", str(here), "--quiet"])
+        out = _run([str(binary), "pull", "--bed", bed, "--output", run, "--speed", "1",
+                    "--distance", repr((MEASURE_STEPS - 0.5) * MEASURE_DT), "--snapshots", "0",
+                    "--threads", str(here), "--quiet"])
+    timing = re.search(r"timing: loop [\d.e+-]+ s for (\d+) steps, ([\d.e+-]+) particle-steps/s", out)
+    pour_rate = re.search(r"; ([\d.e+-]+) particle-steps/s", poured)
+    if not timing or not pour_rate:
+        sys.exit(f"estimate_cost: could not read the throughput from:\n{poured}\n{out}")
+    # One rate prices beds and pulls alike: the slower of the two, so neither is underpriced.
+    pull_rate, pour_rate = float(timing.group(2)), float(pour_rate.group(1))
+    measured = min(pull_rate, pour_rate)
+    how = (f"measured here: {measured:.3g} particle-steps/s on {here} thread(s), the slower of a pull of "
+           f"{timing.group(1)} steps ({pull_rate:.3g}) through a bed of {grains} grains and its pour "
+           f"({pour_rate:.3g})")
     if here == threads:
         return measured, how
     scaled = measured / here * threads * PARALLEL_EFFICIENCY
@@ -77,8 +101,8 @@ def main(argv=None):
     ap.add_argument("--by-figure", action="store_true",
                     help="the cost of the runs behind each figure (the sweeps' `figures` keys)")
     ap.add_argument("--measure", action="store_true",
-                    help="measure the throughput on this machine with `granudrag bench` (about a minute)")
-    ap.add_argument("--grains", type=int, help="grains of the --measure bench (default: smallest system's, <= 70000)")
+                    help="measure the throughput here: a pull through a bed poured here (under a minute)")
+    ap.add_argument("--grains", type=int, help="grains of the --measure bed (default: smallest system's, <= 70000)")
     ap.add_argument("--binary", help="granudrag for --measure (default: the config's `granudrag`)")
     args = ap.parse_args(argv)
     with open(args.config) as fh:
