@@ -151,10 +151,17 @@ int pull_command(const std::vector<std::string>& args) {
   const PullResult r = pull->result();
   std::printf("run: %s\n  D = %g, depth %.3f d, V = %.4g sqrt(gd), Fr = %.4g, mu = %g, kn = %g\n",
               out.c_str(), D, bed.depth, spec.speed, r.froude, bed.contact.mu, bed.contact.kn);
-  std::printf("  drag = %.5g +- %.2g rho d^3 g (transient %.3g d discarded: %ld of %zu samples)\n", r.drag,
-              r.drag_error, r.transient_distance, r.transient_samples, pull->record().fx.size());
-  std::printf("  n = %.3f, theta = %.4f +- %.2g rad, Z = %.3f, kappa = %.4f\n", r.coordination, r.theta,
-              r.theta_error, r.bulk_coordination, r.kappa);
+  // mean_error needs 8 samples after the transient: a shorter pull has a mean but no error.
+  auto plus_minus = [](double error) {
+    char text[32] = "";
+    if (!std::isnan(error)) std::snprintf(text, sizeof text, " +- %.2g", error);
+    return std::string(text);
+  };
+  std::printf("  drag = %.5g%s rho d^3 g (transient %.3g d discarded: %ld of %zu samples%s)\n", r.drag,
+              plus_minus(r.drag_error).c_str(), r.transient_distance, r.transient_samples,
+              pull->record().fx.size(), std::isnan(r.drag_error) ? "; no error: under 8 samples left" : "");
+  std::printf("  n = %.3f, theta = %.4f%s rad, Z = %.3f, kappa = %.4f\n", r.coordination, r.theta,
+              plus_minus(r.theta_error).c_str(), r.bulk_coordination, r.kappa);
   if (spec.target_error > 0)
     std::printf("  stopped by %s after %.4g d (target: relative error %.3g)\n",
                 pull->record().stop_reason.c_str(),
