@@ -16,7 +16,9 @@
 namespace granudrag {
 
 struct ContactBatch {
-  static constexpr int kCapacity = 64;  // 64 pairs x 22 arrays x 8 bytes: 11 kB, well inside L1
+  // 128 pairs x 22 arrays x 8 bytes = 22 kB, inside a 32-48 kB L1. Force loop of the 7.7k pull,
+  // 1 thread: 1.13 s with 32 lanes, 1.07 s with 64, 1.06 s with 128.
+  static constexpr int kCapacity = 128;
   int size = 0;
 
   // Inputs, set by the caller for lanes 0 .. size-1.
