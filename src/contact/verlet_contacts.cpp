@@ -149,16 +149,14 @@ void VerletContacts::accumulate(Particles& p, const Box& box, const ContactParam
     int size = 0;
     // Plain doubles rather than Vec3 here: Eigen packs x, y into one register and z into
     // another, and the shuffles and spills cost more than the arithmetic.
-    const double lx = box.lx, ly = box.ly, hx = 0.5 * box.lx, hy = 0.5 * box.ly;
     for (long i = i0; i < i1; ++i) {
       const double xi = x[i].x(), yi = x[i].y(), zi = x[i].z();
       const double ri = radius[i];
       for (int e = pairs.begin(i); e < pairs.end(i); ++e) {
         const int j = partner[e];
-        double dx = xi - x[j].x(), dy = yi - x[j].y();
+        const double dx = Box::min_image(xi - x[j].x(), box.lx);
+        const double dy = Box::min_image(yi - x[j].y(), box.ly);
         const double dz = zi - x[j].z();
-        dx = dx > hx ? dx - lx : (dx < -hx ? dx + lx : dx);  // Box::min_image
-        dy = dy > hy ? dy - ly : (dy < -hy ? dy + ly : dy);
         const double rsq = dx * dx + dy * dy + dz * dz;
         const double radsum = ri + radius[j];
         const std::uint8_t touches = rsq < radsum * radsum;

@@ -13,16 +13,14 @@ struct Box {
   // Valid for |d| < 1.5 L per component, which holds between neighbour-list rebuilds
   // because positions are wrapped at every rebuild and move less than a skin in between.
   Vec3 min_image(Vec3 d) const {
-    const double hx = 0.5 * lx, hy = 0.5 * ly;
-    if (d.x() > hx)
-      d.x() -= lx;
-    else if (d.x() < -hx)
-      d.x() += lx;
-    if (d.y() > hy)
-      d.y() -= ly;
-    else if (d.y() < -hy)
-      d.y() += ly;
+    d.x() = min_image(d.x(), lx);
+    d.y() = min_image(d.y(), ly);
     return d;
+  }
+  // One component along a periodic axis of length l (for loops that work in plain doubles).
+  static double min_image(double d, double l) {
+    const double h = 0.5 * l;
+    return d > h ? d - l : (d < -h ? d + l : d);
   }
   void wrap(Vec3& p) const {
     p.x() -= lx * std::floor(p.x() / lx);
