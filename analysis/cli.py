@@ -4,15 +4,15 @@
                                      [--h-min 45] [--alpha-speeds 0.5,1,2,4,6]
     python -m analysis report TABLE.csv --fits fits.json --output-dir DIR [--trace trace.csv ...]
     python -m analysis predict --fits fits.json --D 4 --h 50 --mu 0.5 --V 2
-    python -m analysis validate {yield_speed,box_size,stiffness} RUNS.csv --output-dir DIR
+    python -m analysis validate {yield_speed,box_size,stiffness,pull_length} RUNS.csv --output-dir DIR
 
 `fit` does what the workflow's `fits` rule does, on any table with the columns of
 results/table.csv (analysis.table.COLUMNS); the file it writes is described in
 analysis/README.md. `report` draws every figure and writes report.md and report.html as the
 workflow's figure and report rules do (figures whose data are not given are listed as not
 drawn). `predict` is `python -m analysis.predict`. `validate` compares a validation study's
-runs with the reference protocol (analysis.validation) and writes a figure, the comparison
-table and a sentence. Errors go to standard error with exit
+runs with the reference protocol (analysis.validation), or finds how long pulls must be
+(analysis.pull_length), and writes a figure, the comparison table and a sentence. Errors go to standard error with exit
 status 2; outputs are written under a temporary name and renamed when complete.
 """
 import argparse
@@ -121,7 +121,9 @@ def parser():
                        ("coordination", "P(Z) CSV (Fig. 7)"), ("flow", "velocity-field CSV (Fig. 9)")):
         r.add_argument(f"--{name}", help=what)
     v = sub.add_parser("validate", help="a validation study: does a cheaper protocol agree?")
-    v.add_argument("study", choices=["yield_speed", "box_size", "stiffness"], help="what is varied")
+    from .validation import NAMES
+
+    v.add_argument("study", choices=NAMES, help="what is varied")
     v.add_argument("table", help="run table (results/.../runs.csv; or the point table)")
     v.add_argument("--output-dir", required=True, help="directory of validate_<study>.png/.csv/.md")
     sub.add_parser("predict", help="drag from a fit file (python -m analysis predict --help)",

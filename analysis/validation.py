@@ -50,6 +50,11 @@ STUDIES = {
 }
 
 
+# Every study `validate` runs: the comparisons above, and the pull length (analysis.pull_length),
+# which asks how long one protocol's pulls must be rather than comparing two protocols.
+NAMES = (*STUDIES, "pull_length")
+
+
 class ValidationError(ValueError):
     """The table cannot answer the study's question (says what is missing)."""
 
@@ -223,8 +228,11 @@ def draw(cmp, study, outdir):
 def validate(runs, study, outdir):
     """Compare, draw, and write the comparison table and the sentence; returns the paths."""
     if isinstance(study, str):
-        if study not in STUDIES:
-            raise ValidationError(f"unknown validation study '{study}': one of {', '.join(STUDIES)}")
+        if study not in NAMES:
+            raise ValidationError(f"unknown validation study '{study}': one of {', '.join(NAMES)}")
+        if study == "pull_length":
+            from . import pull_length
+            return pull_length.validate(runs, outdir)
         study = STUDIES[study]
     cmp = compare(runs, study)
     outdir = Path(outdir)

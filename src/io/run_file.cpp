@@ -65,6 +65,30 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
   f.set_attr("/observables/drag", "distance_travelled",
              r.total_steps * pull.simulation().dt() * pull.spec().speed);
   f.set_attr("/observables/drag", "transient_samples", static_cast<std::int64_t>(res.transient_samples));
+  // How the drag and its error converge with travel: the first 8, 11, 16, ... samples after
+  // the transient, then all of them (the pull-length validation's input).
+  {
+    const std::string g = "/observables/drag/convergence/";
+    std::vector<double> travel, value, error, dof;
+    std::vector<std::int64_t> samples, plateau;
+    for (const PrefixError& p : res.drag_convergence) {
+      samples.push_back(p.samples);
+      travel.push_back(static_cast<double>(p.samples) * res.travel_per_sample);
+      value.push_back(p.estimate.mean);
+      error.push_back(p.estimate.error);
+      dof.push_back(p.estimate.dof);
+      plateau.push_back(p.estimate.plateau ? 1 : 0);
+    }
+    f.write(g + "samples", samples);
+    f.write(g + "travel", travel);
+    f.write(g + "value", value);
+    f.write(g + "error", error);
+    f.write(g + "dof", dof);
+    f.write(g + "plateau", plateau);
+    f.set_attr("/observables/drag/convergence", "meaning",
+               std::string("-<F_x> and its error over the first `samples` samples after the transient "
+                           "(`travel` d of it); the last row is the whole series"));
+  }
   scalar("coordination", res.coordination, res.coordination_error,
          "n: mean number of grains touching the intruder; error: as the drag's");
   scalar(

@@ -177,6 +177,18 @@ MeanError mean_error(const std::vector<double>& x) {
 
 double block_average_error(const std::vector<double>& x) { return mean_error(x).error; }
 
+std::vector<PrefixError> prefix_errors(const std::vector<double>& x) {
+  std::vector<PrefixError> out;
+  const long n = static_cast<long>(x.size());
+  for (double len = 8; len < n; len *= std::sqrt(2.0)) {
+    const long k = std::lround(len);
+    if (!out.empty() && k == out.back().samples) continue;
+    out.push_back({k, mean_error(std::vector<double>(x.begin(), x.begin() + k))});
+  }
+  if (n >= 8) out.push_back({n, mean_error(x)});
+  return out;
+}
+
 double student_t_quantile(double p, double nu) {
   if (!(p > 0 && p < 1) || !(nu >= 1)) return NAN;
   if (p < 0.5) return -student_t_quantile(1 - p, nu);

@@ -20,6 +20,15 @@ MeanError mean_error(const std::vector<double>& x);
 // The standard error of mean_error (kept for callers that want the number only).
 double block_average_error(const std::vector<double>& x);
 
+// The mean and error of growing prefixes of a series: the first 8 samples, then about sqrt(2)
+// times more each time (8, 11, 16, 23, 32, ...), and the whole series last. How the drag and its
+// error converge with the travel of a pull (the pull-length validation reads it).
+struct PrefixError {
+  long samples = 0;
+  MeanError estimate;
+};
+std::vector<PrefixError> prefix_errors(const std::vector<double>& x);
+
 // Quantile of Student's t distribution with nu >= 1 (real) degrees of freedom, 0 < p < 1.
 double student_t_quantile(double p, double nu);
 

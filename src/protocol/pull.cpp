@@ -283,6 +283,8 @@ PullResult Pull::result() const {
   r.drag_error = drag.error;
   r.drag_dof = drag.dof;
   r.drag_plateau = drag.plateau;
+  r.drag_convergence = prefix_errors(fx);
+  r.travel_per_sample = static_cast<double>(record_.samples_per_interval) * sim_.dt() * spec_.speed;
   const MeanError coordination = mean_error(n);
   r.coordination = coordination.mean;
   r.coordination_error = coordination.error;

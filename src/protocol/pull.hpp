@@ -9,6 +9,7 @@
 
 #include "engine/run_guard.hpp"
 #include "engine/simulation.hpp"
+#include "protocol/observables.hpp"
 #include "protocol/pour.hpp"
 
 namespace granudrag {
@@ -93,8 +94,12 @@ struct PullResult {
   double transient_distance = 0;
   long transient_samples = 0;
   std::vector<double> cumulative_drag;  // running mean of -F_x over all samples (Fig. 4)
-  double coordination = NAN;            // n: mean number of grains touching the intruder
-  double coordination_error = NAN;      // its standard error (mean_error, as the drag's)
+  // The drag and its error from the first samples after the transient, growing to all of them
+  // (prefix_errors); travel per sample: samples_per_interval * dt * speed.
+  std::vector<PrefixError> drag_convergence;
+  double travel_per_sample = NAN;
+  double coordination = NAN;        // n: mean number of grains touching the intruder
+  double coordination_error = NAN;  // its standard error (mean_error, as the drag's)
   double theta = NAN, theta_error = NAN;
   double bulk_coordination = NAN;      // Z
   std::vector<double> z_distribution;  // P(Z)

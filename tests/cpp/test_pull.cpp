@@ -187,6 +187,28 @@ TEST(Observables, NinetyFivePercentIntervalsCoverARealForceSeries) {
   }
 }
 
+TEST(Observables, PrefixErrorsAreTheErrorsOfGrowingPrefixes) {
+  std::mt19937_64 rng(3);
+  const std::vector<double> x = ar1(300, std::exp(-0.2), rng);
+  const std::vector<PrefixError> p = prefix_errors(x);
+  // 8, 11, 16, 23, 32, 45, 64, 91, 128, 181, 256, then all 300.
+  ASSERT_EQ(p.size(), 12u);
+  EXPECT_EQ(p.front().samples, 8);
+  EXPECT_EQ(p[1].samples, 11);
+  EXPECT_EQ(p.back().samples, 300);
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    if (k > 0) {
+      EXPECT_GT(p[k].samples, p[k - 1].samples);
+    }
+    const MeanError direct = mean_error(std::vector<double>(x.begin(), x.begin() + p[k].samples));
+    EXPECT_EQ(p[k].estimate.mean, direct.mean);
+    EXPECT_EQ(p[k].estimate.error, direct.error);
+    EXPECT_EQ(p[k].estimate.dof, direct.dof);
+  }
+  EXPECT_TRUE(prefix_errors(std::vector<double>(7, 1.0)).empty());
+  EXPECT_EQ(prefix_errors(std::vector<double>(8, 1.0)).size(), 1u);
+}
+
 TEST(Observables, CumulativeAverage) {
   const std::vector<double> c = cumulative_average({2, 4, 6});
   EXPECT_DOUBLE_EQ(c[0], 2);

@@ -1,4 +1,8 @@
 """The `validation` target: a validation config's runs, compared with the reference protocol."""
+import h5py
+import numpy as np
+import pandas as pd
+import pytest
 import yaml
 from test_smoke import BINARY, ROOT, job_counts, pytestmark, snakemake, write_config  # noqa: F401
 
@@ -17,6 +21,9 @@ def test_every_validation_config_plans_its_comparison(tmp_path):
         counts = job_counts(r.stdout)
         assert counts.get("validation") == 1 and counts.get("table") == 1, (name, counts)
         assert counts["pull"] == 24 and "report" not in counts, (name, counts)
+    r = snakemake(tmp_path / "pl", write_config(tmp_path / "pl.yaml", tiny("pull_length")), "-n", "validation")
+    counts = job_counts(r.stdout)
+    assert counts.get("validation") == 1 and counts["pull"] == 16 and counts["bed"] == 4, counts
 
 
 def test_yield_speed_validation_runs_end_to_end(tmp_path):
@@ -30,3 +37,25 @@ def test_yield_speed_validation_runs_end_to_end(tmp_path):
     assert (out / "validate_yield_speed.png").stat().st_size > 5000
     assert len((out / "validate_yield_speed.csv").read_text().splitlines()) == 2   # one point, one variant
     assert r.returncode == 0
+
+
+def test_pull_length_validation_runs_end_to_end(tmp_path):
+    config = tiny("pull_length")
+    config["systems"]["I"].update(lx=8, ly=8, grains=700, pour={"ke_threshold": 1e-5, "max_settle_time": 20})
+    config["sweeps"] = [dict(name="pull_length", system="I", D=2, mu=0.5, depth=3, Fr=2, seeds=[1],
+                             pull={"distance": 1.5, "transient": 0.2})]
+    r = snakemake(tmp_path, write_config(tmp_path / "c.yaml", config), "--cores", "2", "validation")
+    assert r.returncode == 0, r.stderr[-2000:]
+    out = tmp_path / config["results"]
+    md = (out / "validate_pull_length.md").read_text()
+    assert "mu = 0.5, Fr = 2 (1 bed):" in md and "% error after" in md, md
+    # The engine's convergence table: the first 8, 11, 16, 23, 32 samples after the transient and
+    # all of them (1.5 d at V = 1.5, one sample per 0.02: 50 samples, about 7 in the transient).
+    prefixes = pd.read_csv(out / "validate_pull_length.csv")
+    assert list(prefixes.samples[:5]) == [8, 11, 16, 23, 32] and 40 <= prefixes.samples.iloc[-1] <= 45
+    # Travel: samples x the sample interval (0.02 rounded to whole steps) x the speed.
+    with h5py.File(tmp_path / prefixes.path.iloc[0]) as f:
+        per_sample = float(np.diff(f["observables/intruder_force/time"][:2])[0] * f["run"].attrs["speed"])
+    assert per_sample == pytest.approx(0.03, rel=0.02)
+    assert np.allclose(prefixes.travel, prefixes.samples * per_sample, rtol=1e-9)
+    assert (out / "validate_pull_length.png").stat().st_size > 5000
