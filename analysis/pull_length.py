@@ -8,10 +8,18 @@ pulls, per regime (the pull's Fr, or V for the yield pulls):
 
 - the drag of the first L d after the transient (each run file's
   /observables/drag/convergence: the first 8, 11, 16, ... samples, then all) against the
-  whole pull's: z = (F_L - F) / sqrt(e_L^2 - e^2) (F_L's samples are part of F's, so the
-  difference has the variance of the rest: e_L^2 - e^2 for independent increments);
-- `min_distance`: the shortest L from which every longer prefix agrees (|z| < Z_AGREE) and
-  has a converged error (plateau); the largest over the regime's beds;
+  whole pull's, F over T d with error e: z = (F_L - F) / (e sqrt(T/L - 1)). F_L's samples are
+  part of F's, so the difference has the variance of the rest, e^2 (T/L - 1) when the error
+  falls as L^-1/2; the prefixes' own errors are too noisy for it (a few degrees of freedom
+  each, and often below the whole pull's);
+- `min_distance`: the shortest L from which every longer prefix agrees (|z| < Z_AGREE: the
+  drag has stopped drifting beyond its error) and has an error at least HONEST of the one
+  the whole pull implies there, e sqrt(T/L) (shorter, the estimator sees too little of the
+  series' correlations and its error is too small to stop on); the largest over the
+  regime's beds, and none when only the whole pull passes;
+- where the error converges (the estimator's plateau, protocol/observables.cpp): sequential
+  stopping trusts an error only with >= 10 effective samples, so a regime whose pulls never
+  converge needs longer ones before `target_error` can stop them;
 - the travel at which the relative error reaches TARGET (measured, or extrapolated as
   e ~ L^-1/2 from the whole pull when it never does);
 - the transient: windows of the raw force series from the start; the drag "settles" at the
@@ -34,6 +42,7 @@ from .table import write_csv
 from .validation import Z_AGREE, ValidationError
 
 TARGET = 0.05      # the relative error quoted (a 5 % drag)
+HONEST = 0.5       # a prefix's error below half the whole pull's e sqrt(T/L) is too small to stop on
 BAND = 2.0         # the steady band: mean +- BAND standard deviations of the window means
 
 
@@ -62,26 +71,39 @@ def read_convergence(path):
 
 
 def prefixes(conv):
-    """Each prefix against the whole pull (the last row): z and whether it agrees."""
+    """Each prefix against the whole pull (the last row): z and whether it agrees, and its error
+    against the one the whole pull implies at its length."""
     whole = conv.iloc[-1]
-    var = np.maximum(conv.error**2 - whole.error**2, 0.0)
+    expected = whole.error * np.sqrt(whole.travel / conv.travel)
+    sd = whole.error * np.sqrt(np.maximum(whole.travel / conv.travel - 1, 0.0))
     diff = conv.value - whole.value
     with np.errstate(divide="ignore", invalid="ignore"):
-        z = np.where(var > 0, diff / np.sqrt(var), np.where(diff == 0, 0.0, np.inf))
+        z = np.where(sd > 0, diff / sd, np.where(diff == 0, 0.0, np.inf))
     return conv.assign(rel_error=conv.error / conv.value.abs(), rel_to_whole=conv.value / whole.value,
-                       z=z, agrees=np.abs(z) < Z_AGREE)
+                       z=z, agrees=np.abs(z) < Z_AGREE, error_ratio=conv.error / expected,
+                       honest=conv.error >= HONEST * expected)
+
+
+def _holds_from(rows, ok):
+    """The travel of the first prefix from which `ok` holds to the end (NaN when it does not
+    hold before the whole pull)."""
+    ok = np.asarray(ok, bool)
+    first = len(ok)
+    while first > 0 and ok[first - 1]:
+        first -= 1
+    return float(rows.travel.iloc[first]) if first < len(ok) - 1 else np.nan
 
 
 def min_distance(rows):
     """The shortest prefix travel from which every longer prefix agrees with the whole pull and
-    has a converged error; NaN when the whole pull's error has not converged."""
-    ok = (rows.agrees & rows.plateau).to_numpy()
-    if not ok[-1]:
-        return np.nan
-    first = len(ok) - 1
-    while first > 0 and ok[first - 1]:
-        first -= 1
-    return float(rows.travel.iloc[first])
+    has an honest error; NaN when only the whole pull passes (the drag drifts to the end)."""
+    return _holds_from(rows, rows.agrees & rows.honest)
+
+
+def converged_from(rows):
+    """The shortest prefix travel from which every longer prefix's error has converged (NaN
+    when not before the whole pull)."""
+    return _holds_from(rows, rows.plateau)
 
 
 def target_distance(rows, target=TARGET):
@@ -95,11 +117,12 @@ def target_distance(rows, target=TARGET):
 
 
 def settling(series, windows_per_transient=2, min_samples=4):
-    """(travel at which the drag first enters the steady band, the window width): windows of
-    the raw series from the start of the pull, the band from the windows of its second half."""
+    """(travel at which the drag first enters the steady band, the window width, the travel per
+    sample): windows of the raw series from the start of the pull, the band from the windows of
+    its second half."""
     travel, drag, transient = series["travel"], series["drag"], series["transient"]
     if len(travel) < 2:
-        return np.nan, np.nan
+        return np.nan, np.nan, np.nan
     step = travel[1] - travel[0]
     width = max(transient / windows_per_transient, min_samples * step)
     per = max(int(round(width / step)), 1)
@@ -108,10 +131,10 @@ def settling(series, windows_per_transient=2, min_samples=4):
     means = drag[: n * per].reshape(n, per).mean(axis=1)
     steady = means[starts >= 0.5 * travel[-1]]
     if len(steady) < 3:
-        return np.nan, width
+        return np.nan, width, step
     lo, hi = steady.mean() - BAND * steady.std(ddof=1), steady.mean() + BAND * steady.std(ddof=1)
     inside = np.nonzero((means >= lo) & (means <= hi))[0]
-    return (float(starts[inside[0]]) if len(inside) else np.nan), width
+    return (float(starts[inside[0]]) if len(inside) else np.nan), width, step
 
 
 def regime_of(run):
@@ -136,13 +159,16 @@ def study(runs):
         p = prefixes(conv).assign(regime=regime_of(run), Fr=run.Fr, V=run.V, D=run.D, mu=run.mu,
                                   seed=run.get("seed", np.nan), path=run.path)
         rows.append(p)
-        settled, width = settling(series)
+        settled, width, step = settling(series)
         l_target, measured = target_distance(p)
         per_run.append(dict(regime=regime_of(run), mu=run.mu, Fr=run.Fr, V=run.V, seed=run.get("seed", np.nan),
                             travel=float(p.travel.iloc[-1]), drag=float(p.value.iloc[-1]),
                             rel_error=float(p.rel_error.iloc[-1]), plateau=bool(p.plateau.iloc[-1]),
-                            min_distance=min_distance(p), target_distance=l_target, target_measured=measured,
-                            transient=series["transient"], settled_at=settled, window=width))
+                            min_distance=min_distance(p), converged_from=converged_from(p),
+                            dof=float(p.dof.iloc[-1]), target_distance=l_target, target_measured=measured,
+                            transient=series["transient"], settled_at=settled, window=width,
+                            # a window starts on a sample: one sample's slack
+                            transient_enough=bool(settled <= series["transient"] + step)))
     per_run = pd.DataFrame(per_run)
     answers = []
     for regime, g in per_run.groupby("regime", sort=False):
@@ -150,9 +176,11 @@ def study(runs):
             regime=regime, mu=g.mu.iloc[0], Fr=g.Fr.iloc[0], V=g.V.iloc[0], beds=len(g), travel=g.travel.min(),
             rel_error=g.rel_error.median(),
             min_distance=g.min_distance.max() if g.min_distance.notna().all() else np.nan,
+            converged_from=g.converged_from.max() if g.converged_from.notna().all() else np.nan,
+            converged=int(g.plateau.sum()), dof=g.dof.median(),
             target_distance=g.target_distance.median(), target_measured=bool(g.target_measured.all()),
             transient=g.transient.iloc[0], settled_at=g.settled_at.max(),
-            transient_enough=bool((g.settled_at <= g.transient + 1e-9).all())))
+            transient_enough=bool(g.transient_enough.all())))
     answers = pd.DataFrame(answers).sort_values(["mu", "Fr"]).reset_index(drop=True)
     return pd.concat(rows, ignore_index=True), answers
 
@@ -164,7 +192,15 @@ def conclusion(answers, target=TARGET):
         if np.isfinite(a.min_distance):
             md = f"min_distance {a.min_distance:.2g} d"
         else:
-            md = f"no min_distance (the {a.travel:.3g} d pull's error has not converged: pull longer)"
+            md = (f"no min_distance (the drag drifts, or its error is too small, until the end of "
+                  f"the {a.travel:.3g} d pull)")
+        if np.isfinite(a.converged_from):
+            md += f", error converged from {a.converged_from:.2g} d"
+        elif a.converged == a.beds:
+            md += f", error converged only over the whole {a.travel:.3g} d"
+        else:
+            md += (f", error not converged in {a.beds - a.converged} of {a.beds} pulls "
+                   f"({a.dof:.2g} effective samples; a conservative bound)")
         how = "" if a.target_measured else ", extrapolated"
         tr = (f"the {a.transient:.2g} d transient covers the approach (settled by {a.settled_at:.2g} d)"
               if a.transient_enough else
@@ -204,8 +240,8 @@ def draw(rows, answers, outdir, target=TARGET):
     a.set_title("(a) drag of the first L d; dotted: min_distance", fontsize=8)
     b.axhline(target, color="k", lw=0.8, ls="--")
     x = np.geomspace(rows.travel.min(), rows.travel.max(), 20)
-    ref = rows.iloc[0]
-    b.loglog(x, ref.rel_error * np.sqrt(ref.travel / x), color="0.6", lw=0.8, ls="-.")
+    T, e = answers.travel.max(), answers.rel_error.median()     # through the whole pulls' errors
+    b.loglog(x, e * np.sqrt(T / x), color="0.6", lw=0.8, ls="-.")
     b.set_xlabel("travel after the transient, L (d)")
     b.set_ylabel("relative error of the drag")
     b.set_title(f"(b) filled: converged error; dashed: {100 * target:g} %; dash-dot: L^-1/2", fontsize=8)

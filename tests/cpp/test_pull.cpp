@@ -177,7 +177,9 @@ TEST(Observables, NinetyFivePercentIntervalsCoverARealForceSeries) {
     };
     const double c = coverage(draw, truth, 1000);
     std::printf("recorded drag series, %ld samples: coverage %.3f\n", n, c);
-    // Measured 0.900, 0.988, 0.953, 0.955 (1000 repeats: a coverage standard error of 0.007).
+    // Measured 0.900, 0.988, 0.960, 0.955. The 1000 repeats overlap: the series holds only
+    // 9930/n disjoint windows (78 at n = 128), so the coverage's standard error is about 0.025
+    // there, not the 0.007 of 1000 independent repeats.
     // At 128 samples the window holds 1.3 periods of the series' oscillation: the negative lobe
     // cannot show within N/3, and the automatic window's error is conservative there.
     if (n != 128) {
@@ -185,6 +187,18 @@ TEST(Observables, NinetyFivePercentIntervalsCoverARealForceSeries) {
     }
     EXPECT_GE(c, 0.90) << n << " samples";
   }
+}
+
+TEST(Observables, AnAnticorrelatedShortSeriesGetsItsIndependentSampleErrorNotZero) {
+  // Two periods of +1, +1, -1, -1: the autocovariances 1, 1/7, -1, ... sum to a negative window.
+  // Before, the error was 0.
+  const std::vector<double> x = {3, 3, 1, 1, 3, 3, 1, 1};
+  const MeanError e = mean_error(x);
+  EXPECT_DOUBLE_EQ(e.mean, 2);
+  EXPECT_DOUBLE_EQ(e.error, std::sqrt(1.0 / 7));  // sample variance 8/7 over 8 samples
+  EXPECT_EQ(e.dof, 7);
+  EXPECT_FALSE(e.plateau);
+  EXPECT_EQ(mean_error(std::vector<double>(8, 2.0)).error, 0);  // a constant series: exactly 0
 }
 
 TEST(Observables, PrefixErrorsAreTheErrorsOfGrowingPrefixes) {

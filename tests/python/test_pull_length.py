@@ -18,14 +18,23 @@ def conv(plateau):
                              dof=TRAVEL * 3, plateau=np.array(plateau, bool)))
 
 
-def test_min_distance_is_where_every_longer_prefix_agrees_and_has_converged():
+def test_min_distance_is_where_every_longer_prefix_agrees_with_the_whole_pull():
     rows = pl.prefixes(conv([0, 0, 1, 1, 1, 1]))
-    # L = 1: (120 - 100)/sqrt(100 - 6.25) = 2.07 disagrees; L = 2: 1/sqrt(43.75) agrees.
-    assert rows.z.iloc[1] == pytest.approx(20 / np.sqrt(100 - 6.25))
+    # The rest of the pull after L has the error e sqrt(T/L - 1), e = 2.5 the whole pull's:
+    # L = 1: 20/(2.5 sqrt(15)) = 2.07 disagrees; L = 2: 1/(2.5 sqrt(7)) agrees.
+    assert rows.z.iloc[1] == pytest.approx(20 / (2.5 * np.sqrt(15)))
     assert list(rows.agrees) == [False, False, True, True, True, True]
-    assert pl.min_distance(rows) == 2
-    assert pl.min_distance(pl.prefixes(conv([0, 0, 0, 1, 1, 1]))) == 4      # the error converges later
-    assert np.isnan(pl.min_distance(pl.prefixes(conv([1, 1, 1, 1, 1, 0]))))  # whole pull not converged
+    assert pl.min_distance(rows) == 2 and pl.converged_from(rows) == 2
+    later = pl.prefixes(conv([0, 0, 0, 1, 1, 1]))
+    assert pl.min_distance(later) == 2 and pl.converged_from(later) == 4   # the error converges later
+    assert np.isnan(pl.converged_from(pl.prefixes(conv([1, 1, 1, 1, 1, 0]))))  # not the whole pull's
+    # An error far below the whole pull's 2.5 sqrt(16/2) = 7.1 at L = 2: too small to stop on.
+    small = pl.prefixes(conv([1] * 6).assign(error=np.where(TRAVEL == 2, 1.0, ERROR)))
+    assert small.error_ratio.iloc[2] == pytest.approx(1 / 7.0711, rel=1e-4) and not small.honest.iloc[2]
+    assert pl.min_distance(small) == 4
+    drifting = pl.prefixes(conv([1] * 6).assign(value=[130, 120, 115, 110, 108, 100]))
+    assert not drifting.agrees.iloc[4]                  # 8/(2.5 sqrt(1)) = 3.2
+    assert np.isnan(pl.min_distance(drifting))          # only the whole pull agrees with itself
 
 
 def test_target_distance_is_measured_or_extrapolated_as_one_over_root_travel():
@@ -46,10 +55,10 @@ def series(tau, transient, F=100.0, amplitude=1.0, noise=2.0, travel=16.0, step=
 def test_settling_finds_where_the_drag_enters_the_steady_band():
     # The excess decays as exp(-x/tau); windows of transient/2 = 1.5 d with 150 samples each
     # average the noise to 2/sqrt(150) = 0.16: the band is about +-0.33 of 100.
-    fast, width = pl.settling(series(tau=0.3, transient=3))
-    assert width == pytest.approx(1.5)
+    fast, width, step = pl.settling(series(tau=0.3, transient=3))
+    assert width == pytest.approx(1.5) and step == pytest.approx(0.01)
     assert fast <= 3                                         # settled within the transient
-    slow, _ = pl.settling(series(tau=1.5, transient=3))
+    slow, _, _ = pl.settling(series(tau=1.5, transient=3))
     # The window from s has a mean excess 100 (tau/w) exp(-s/tau) (1 - exp(-w/tau)) = 63 exp(-s/1.5),
     # which falls below the band's 0.33 at s = 1.5 ln(191) = 7.9 d: windows start at 0, 1.5, ...,
     # so 9 d, or the start before or after it as the noise moves the band.
@@ -86,17 +95,18 @@ def test_study_answers_per_regime_and_validate_writes_its_files(tmp_path):
     rows, answers = pl.study(runs)
     assert len(rows) == 4 * len(TRAVEL)
     assert list(answers.regime) == ["mu = 0.5, Fr = 0.5", "mu = 0.5, Fr = 2"]
-    assert list(answers.min_distance) == [2, 4] and list(answers.beds) == [2, 2]
+    assert list(answers.min_distance) == [2, 2] and list(answers.converged_from) == [2, 4]
+    assert list(answers.beds) == [2, 2]
     assert answers.transient_enough.all()
     text = pl.conclusion(answers)
-    assert "mu = 0.5, Fr = 2 (2 beds): min_distance 4 d; 5 % error after 4 d" in text, text
+    assert "mu = 0.5, Fr = 2 (2 beds): min_distance 2 d, error converged from 4 d; 5 % error after 4 d" in text, text
     paths = val.validate(runs, "pull_length", tmp_path / "out")
     assert sorted(p.name for p in paths) == ["validate_pull_length.csv", "validate_pull_length.md",
                                              "validate_pull_length.pdf", "validate_pull_length.png"]
     assert (tmp_path / "out" / "validate_pull_length.png").stat().st_size > 5000
     assert "min_distance 2 d" in (tmp_path / "out" / "validate_pull_length.md").read_text()
     back = pd.read_csv(tmp_path / "out" / "validate_pull_length_answers.csv")
-    assert list(back.min_distance) == [2, 4]
+    assert list(back.converged_from) == [2, 4]
 
 
 def test_a_run_file_without_the_convergence_table_is_named(tmp_path):
