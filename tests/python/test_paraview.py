@@ -7,14 +7,15 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from analysis.study.headless import run_pvbatch
+
 ROOT = Path(__file__).resolve().parents[2]
 BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag"))
 RENDER = ROOT / "workflow" / "scripts" / "render_bed.py"
 
 
 def pvbatch(*args):
-    run = subprocess.run(["xvfb-run", "-a", "pvbatch", str(RENDER), *map(str, args)],
-                         capture_output=True, text=True, timeout=600)
+    run = run_pvbatch(RENDER, *args, timeout=600)
     assert run.returncode == 0, run.stdout + run.stderr
     return dict(line.split(" ", 1) for line in run.stdout.splitlines() if " " in line)
 
@@ -144,8 +145,8 @@ def test_the_frames_of_a_pull_render_and_make_a_movie(tmp_path):
 
     run, _ = dumped_pull(tmp_path)
     frames = tmp_path / "frames"
-    subprocess.run(["xvfb-run", "-a", "pvbatch", str(RENDER), "--frames", f"{run}.xdmf", str(frames)],
-                   check=True, capture_output=True, timeout=600)
+    rendered = run_pvbatch(RENDER, "--frames", f"{run}.xdmf", frames, timeout=600)
+    assert rendered.returncode == 0, rendered.stdout + rendered.stderr
     pngs = sorted(frames.glob("frame_*.png"))
     assert len(pngs) == 5
     first, last = (matplotlib.image.imread(p)[..., :3] for p in (pngs[0], pngs[-1]))

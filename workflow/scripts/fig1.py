@@ -10,7 +10,6 @@ Usage: python3 fig1.py OUT.png BED_I.h5 [BED_II.h5]   (or as the fig1 rule's scr
 """
 
 import shutil
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -24,6 +23,10 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import PatchCollection  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
+# The repository's analysis package, also when run by hand outside the workflow.
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+from analysis.study.headless import run_pvbatch  # noqa: E402
+
 RENDER = Path(__file__).resolve().parent / "render_bed.py"
 COLOURS = {0: "#d9bf8c", 1: "#737373", 2: "#d91a1a"}
 
@@ -32,15 +35,9 @@ def render_3d(bed, png):
     """Renders bed's sidecar into png; returns None, or why it could not."""
     if shutil.which("pvbatch") is None:
         return "ParaView (pvbatch) is not installed"
-    command = ["pvbatch", "--force-offscreen-rendering", str(RENDER), f"{bed}.xdmf", str(png)]
-    if shutil.which("xvfb-run"):
-        command = ["xvfb-run", "-a", "pvbatch", str(RENDER), f"{bed}.xdmf", str(png)]
-    # pvbatch under a loaded machine has been seen to abort at random (once in a few runs,
-    # never reproducibly alone): up to three tries, then the reason ParaView gave.
-    for _ in range(3):
-        run = subprocess.run(command, capture_output=True, text=True, timeout=3600)
-        if run.returncode == 0 and Path(png).is_file():
-            return None
+    run = run_pvbatch(RENDER, f"{bed}.xdmf", png)
+    if run.returncode == 0 and Path(png).is_file():
+        return None
     lines = (run.stderr + run.stdout).strip().splitlines()
     said = [x for x in lines if "what()" in x or "ERR|" in x or "rror" in x] or lines[-3:]
     return "pvbatch failed: " + " ".join(x.strip() for x in said[:3])

@@ -11,6 +11,10 @@ import sys
 import tempfile
 from pathlib import Path
 
+# The repository's analysis package, also when run by hand outside the workflow.
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+from analysis.study.headless import run_pvbatch  # noqa: E402
+
 RENDER = Path(__file__).resolve().parent / "render_bed.py"
 
 
@@ -26,10 +30,7 @@ def make_movie(sidecar, out, fps=24):
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=out.parent, prefix=f".{out.name}.") as work:
-        render = ["pvbatch", "--force-offscreen-rendering", str(RENDER), "--frames", str(sidecar), work]
-        if shutil.which("xvfb-run"):
-            render = ["xvfb-run", "-a", "pvbatch", str(RENDER), "--frames", str(sidecar), work]
-        run = subprocess.run(render, capture_output=True, text=True)
+        run = run_pvbatch(RENDER, "--frames", sidecar, work)
         frames = sorted(Path(work).glob("frame_*.png"))
         if run.returncode != 0 or not frames:
             sys.exit(f"pvbatch could not render {sidecar}:\n{run.stdout}{run.stderr}")
