@@ -137,9 +137,29 @@ def is_yield(df, speed=None):
     return np.isclose(df.V, YIELD_SPEED if speed is None else speed, rtol=1e-6, atol=1e-12)
 
 
+def yield_speeds(speed, mu):
+    """The yield pulls' speed at each friction `mu` (array): `speed` is one number, or a list of
+    {mu, V} steps (report.yield_speed), each entry's V applying from its mu up to the next
+    entry's: friction lets the yield force reach its zero-speed limit at a faster pull
+    (config/validate/yield_speed.yaml: V = 0.1 agrees with 0.01 at mu = 0.5, not at 0)."""
+    mu = np.asarray(mu, dtype=float)
+    if np.isscalar(speed):
+        return np.full(mu.shape, float(speed))
+    steps = sorted((float(s["mu"]), float(s["V"])) for s in speed)
+    if not steps or steps[0][0] > 0:
+        raise ValueError(f"report.yield_speed {speed!r}: the first step must start at mu = 0 "
+                         "(every friction needs a yield speed)")
+    out = np.full(mu.shape, steps[0][1])
+    for start, v in steps[1:]:
+        out[mu >= start - 1e-12] = v
+    return out
+
+
 def mark_yield(df, speed):
-    """The table with its `yield_pull` column set: pulled at `speed`."""
-    return df.assign(yield_pull=np.isclose(df.V, speed, rtol=1e-6, atol=1e-12))
+    """The table with its `yield_pull` column set: pulled at `speed` (yield_speeds: a number,
+    or per friction)."""
+    v = yield_speeds(speed, df.mu) if len(df) else np.zeros(0)
+    return df.assign(yield_pull=np.isclose(df.V, v, rtol=1e-6, atol=1e-12))
 
 
 def yield_rows(df, speed=None):

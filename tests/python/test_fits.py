@@ -247,3 +247,21 @@ def test_yield_pulls_at_a_validated_faster_speed_are_found_by_their_mark(table):
     assert is_yield(marked).sum() == np.isclose(table.V, YIELD_SPEED).sum() > 0
     pd.testing.assert_frame_equal(fit_phi(marked), fit_phi(table))
     pd.testing.assert_frame_equal(fit_alpha(marked), fit_alpha(table))
+    # Per friction: 0.03 below mu = 0.5, 0.1 from it on (report.yield_speed as steps).
+    steps = [{"mu": 0, "V": 0.03}, {"mu": 0.5, "V": 0.1}]
+    fastest = faster.assign(V=np.where(np.isclose(faster.V, 0.03) & (faster.mu >= 0.5), 0.1, faster.V))
+    assert (fastest.V == 0.1).any() and (fastest.V == 0.03).any()
+    per_mu = mark_yield(fastest, steps)
+    assert (per_mu.yield_pull == marked.yield_pull).all()
+    pd.testing.assert_frame_equal(fit_phi(per_mu), fit_phi(table))
+    assert not mark_yield(fastest, 0.03).yield_pull[fastest.mu >= 0.5].any()   # one speed misses them
+
+
+def test_yield_speeds_per_friction_are_steps_from_mu_zero():
+    from analysis.table import yield_speeds
+
+    steps = [{"mu": 0.5, "V": 0.1}, {"mu": 0, "V": 0.03}]          # any order
+    assert list(yield_speeds(steps, [0, 0.3, 0.5, 0.9])) == [0.03, 0.03, 0.1, 0.1]
+    assert list(yield_speeds(0.01, [0, 0.9])) == [0.01, 0.01]
+    with pytest.raises(ValueError, match="first step must start at mu = 0"):
+        yield_speeds([{"mu": 0.5, "V": 0.1}], [0.5])
