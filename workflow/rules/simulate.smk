@@ -1,4 +1,6 @@
 # The simulations: build the engine if it is missing, pour beds, pull intruders.
+# One attempt of a pour or a pull: resume, keep a finished run, keep every log.
+RESUMABLE = str(REPO / "workflow" / "scripts" / "resumable.sh")
 # The engine is an input marked ancient(): rebuilding it does not make every
 # result out of date (re-run a result by deleting it, or with --forcerun).
 
@@ -25,7 +27,8 @@ rule build_granudrag:
 # estimated wall time (or a quarter of max_runtime); a rerun after a killed job
 # resumes from the checkpoint, unless the arguments changed, and ends with the
 # bed an uninterrupted pour gives. With max_runtime, a pour longer than that
-# runs over several jobs (retries: enough for the longest).
+# runs over several jobs (retries: enough for the longest). A job killed after
+# its pour finished keeps the bed for the next attempt (scripts/resumable.sh).
 rule bed:
     input:
         granudrag=ancient(GRANUDRAG),
@@ -42,20 +45,13 @@ rule bed:
     resources:
         mem_mb=bed_mem_mb,
         runtime=bed_runtime,
+        attempt=lambda wildcards, attempt: attempt,
     params:
         args=pour_args,
+        resumable=RESUMABLE,
     shell:
-        """
-        ckpt={output}.checkpoint.h5
-        args="{params.args}"
-        if [ -e "$ckpt" ] && [ "$(cat "$ckpt.args" 2>/dev/null)" != "$args" ]; then
-            rm -f "$ckpt"
-        fi
-        echo "$args" >"$ckpt.args"
-        rm -f {output}.lock
-        {input.granudrag} pour --output {output} --threads {threads} --resume $args >{log} 2>&1
-        rm -f "$ckpt.args"
-        """
+        '{params.resumable} {output} {log} {resources.attempt} "{params.args}" ""'
+        " -- {input.granudrag} pour --output {output} --threads {threads} --resume {params.args}"
 
 
 # A pull checkpoints every tenth of its travel, or every `checkpoint_minutes` of
@@ -65,6 +61,8 @@ rule bed:
 # that runs over several jobs (retries: enough for the longest).
 # Snakemake runs one job per output, so an output lock left beside it is a dead
 # job's (possibly on another node, where granudrag cannot tell): the rule removes it.
+# A job killed at its time limit after the pull finished keeps the run for the
+# next attempt; every attempt's output stays in the log (scripts/resumable.sh).
 rule pull:
     input:
         granudrag=ancient(GRANUDRAG),
@@ -82,20 +80,13 @@ rule pull:
     resources:
         mem_mb=pull_mem_mb,
         runtime=pull_runtime,
+        attempt=lambda wildcards, attempt: attempt,
     params:
         args=pull_args,
+        resumable=RESUMABLE,
     shell:
-        """
-        ckpt={output}.checkpoint.h5
-        args="{params.args}"
-        if [ -e "$ckpt" ] && {{ ! [ "$ckpt" -nt {input.bed} ] || [ "$(cat "$ckpt.args" 2>/dev/null)" != "$args" ]; }}; then
-            rm -f "$ckpt"
-        fi
-        echo "$args" >"$ckpt.args"
-        rm -f {output}.lock
-        {input.granudrag} pull --bed {input.bed} --output {output} --threads {threads} --resume $args >{log} 2>&1
-        rm -f "$ckpt.args"
-        """
+        '{params.resumable} {output} {log} {resources.attempt} "{params.args}" {input.bed}'
+        " -- {input.granudrag} pull --bed {input.bed} --output {output} --threads {threads} --resume {params.args}"
 
 
 rule beds:
