@@ -168,7 +168,8 @@ def study(runs):
                             dof=float(p.dof.iloc[-1]), target_distance=l_target, target_measured=measured,
                             transient=series["transient"], settled_at=settled, window=width,
                             # a window starts on a sample: one sample's slack
-                            transient_enough=bool(settled <= series["transient"] + step)))
+                            transient_enough=bool(settled <= series["transient"] + step),
+                            transient_checked=bool(np.isfinite(settled))))
     per_run = pd.DataFrame(per_run)
     answers = []
     for regime, g in per_run.groupby("regime", sort=False):
@@ -180,7 +181,8 @@ def study(runs):
             converged=int(g.plateau.sum()), dof=g.dof.median(),
             target_distance=g.target_distance.median(), target_measured=bool(g.target_measured.all()),
             transient=g.transient.iloc[0], settled_at=g.settled_at.max(),
-            transient_enough=bool(g.transient_enough.all())))
+            transient_enough=bool(g.transient_enough.all()),
+            transient_checked=bool(g.transient_checked.all())))
     answers = pd.DataFrame(answers).sort_values(["mu", "Fr"]).reset_index(drop=True)
     return pd.concat(rows, ignore_index=True), answers
 
@@ -202,9 +204,12 @@ def conclusion(answers, target=TARGET):
             md += (f", error not converged in {a.beds - a.converged} of {a.beds} pulls "
                    f"({a.dof:.2g} effective samples; a conservative bound)")
         how = "" if a.target_measured else ", extrapolated"
-        tr = (f"the {a.transient:.2g} d transient covers the approach (settled by {a.settled_at:.2g} d)"
-              if a.transient_enough else
-              f"the {a.transient:.2g} d transient is too short (settled only at {a.settled_at:.2g} d)")
+        if not a.transient_checked:
+            tr = "the transient not checked (under 3 windows in a pull's second half: pull longer)"
+        elif a.transient_enough:
+            tr = f"the {a.transient:.2g} d transient covers the approach (settled by {a.settled_at:.2g} d)"
+        else:
+            tr = f"the {a.transient:.2g} d transient is too short (settled only at {a.settled_at:.2g} d)"
         beds = f"{a.beds} bed" + ("s" if a.beds != 1 else "")
         parts.append(f"{a.regime} ({beds}): {md}; {100 * target:g} % error after "
                      f"{a.target_distance:.2g} d{how}; {tr}")

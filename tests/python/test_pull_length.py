@@ -63,6 +63,9 @@ def test_settling_finds_where_the_drag_enters_the_steady_band():
     # which falls below the band's 0.33 at s = 1.5 ln(191) = 7.9 d: windows start at 0, 1.5, ...,
     # so 9 d, or the start before or after it as the noise moves the band.
     assert slow in (7.5, 9.0, 10.5)
+    # Under 3 windows in the second half: no band, so no answer (said, not guessed).
+    short, _, _ = pl.settling(series(tau=0.3, transient=3, travel=8))
+    assert np.isnan(short)
 
 
 def write_run(path, plateau, speed=0.375, transient=3.0, tau=0.3):
@@ -97,7 +100,7 @@ def test_study_answers_per_regime_and_validate_writes_its_files(tmp_path):
     assert list(answers.regime) == ["mu = 0.5, Fr = 0.5", "mu = 0.5, Fr = 2"]
     assert list(answers.min_distance) == [2, 2] and list(answers.converged_from) == [2, 4]
     assert list(answers.beds) == [2, 2]
-    assert answers.transient_enough.all()
+    assert answers.transient_enough.all() and answers.transient_checked.all()
     text = pl.conclusion(answers)
     assert "mu = 0.5, Fr = 2 (2 beds): min_distance 2 d, error converged from 4 d; 5 % error after 4 d" in text, text
     paths = val.validate(runs, "pull_length", tmp_path / "out")
