@@ -23,8 +23,6 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import PatchCollection  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
-# The repository's analysis package, also when run by hand outside the workflow.
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 from analysis.study.headless import run_pvbatch  # noqa: E402
 
 RENDER = Path(__file__).resolve().parent / "render_bed.py"

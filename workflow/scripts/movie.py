@@ -11,9 +11,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-# The repository's analysis package, also when run by hand outside the workflow.
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
-from analysis.study.headless import run_pvbatch  # noqa: E402
+from analysis.study.headless import run_pvbatch
 
 RENDER = Path(__file__).resolve().parent / "render_bed.py"
 
