@@ -38,6 +38,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .runs import _open
 from .table import write_csv
 from .validation import Z_AGREE, ValidationError
 
@@ -53,9 +54,7 @@ class PullLengthError(ValidationError):
 def read_convergence(path):
     """The run file's convergence table, its raw drag series and the pull's speed and transient:
     (DataFrame of samples, travel, value, error, dof, plateau; dict of travel, drag, transient)."""
-    import h5py
-
-    with h5py.File(path, "r") as f:
+    with _open(path) as f:      # a missing, foreign or damaged file: a RunFileError naming it
         if "observables/drag/convergence" not in f:
             raise PullLengthError(
                 f"{path}: no /observables/drag/convergence (a run file from before 2026-11-25): "

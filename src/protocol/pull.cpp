@@ -278,12 +278,13 @@ PullResult Pull::result() const {
   std::vector<double> resistance(record_.fx.size());
   for (std::size_t k = 0; k < resistance.size(); ++k) resistance[k] = -record_.fx[k];
   r.cumulative_drag = cumulative_average(resistance);
-  const MeanError drag = mean_error(fx);
+  // The whole series is the last prefix: its error is computed once.
+  r.drag_convergence = prefix_errors(fx);
+  const MeanError drag = r.drag_convergence.empty() ? mean_error(fx) : r.drag_convergence.back().estimate;
   r.drag = drag.mean;
   r.drag_error = drag.error;
   r.drag_dof = drag.dof;
   r.drag_plateau = drag.plateau;
-  r.drag_convergence = prefix_errors(fx);
   r.travel_per_sample = static_cast<double>(record_.samples_per_interval) * sim_.dt() * spec_.speed;
   const MeanError coordination = mean_error(n);
   r.coordination = coordination.mean;
