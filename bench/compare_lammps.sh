@@ -14,8 +14,11 @@
 #    for P pairs per core count. Prints the medians, the median of the per-pair ratios, peak
 #    memory and bytes per particle, and granudrag's time split by phase.
 # Both codes average the force on the intruder over K steps (granudrag --sample_interval K dt,
-# LAMMPS fix ave/time), and granudrag writes its checkpoints (every tenth of the pull) as a real
-# job does. OMP_WAIT_POLICY is passed through unchanged (libgomp's default: spin, then sleep);
+# LAMMPS fix ave/time). granudrag writes one checkpoint, half-way: more than a study's pull
+# writes in as many steps (the workflow asks for one per `checkpoint_minutes` of wall time, 60
+# by default; a pull of one box length with no interval given writes one per tenth of it, 4,000
+# steps on the 7.7k bed), where `granudrag pull`'s default for these short distances would
+# write ten. OMP_WAIT_POLICY is passed through unchanged (libgomp's default: spin, then sleep);
 # on a machine shared with other jobs OMP_WAIT_POLICY=passive gives steadier figures.
 # Needs: apt-get install lammps openmpi-bin.
 set -euo pipefail
@@ -30,7 +33,7 @@ while [ $# -gt 0 ]; do
     --cores) cores=$2; shift 2 ;;
     --every) every=$2; shift 2 ;;
     --binary) gd=$2; shift 2 ;;
-    -h | --help) sed -n '2,21p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,23p' "$0"; exit 0 ;;
     *) echo "compare_lammps.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -64,13 +67,14 @@ rm -rf "$run" && mkdir -p "$run"
 # A distance half a step short of `steps` steps: granudrag rounds it up to exactly `steps`.
 distance=$(/usr/bin/python3 -c "print(repr(($steps - 0.5) * $dt))")
 interval=$(/usr/bin/python3 -c "print(repr($every * $dt))")
+checkpoint=$(/usr/bin/python3 -c "print(repr(($steps // 2) * $dt))")
 mpi_root=""
 [ "$(id -u)" -eq 0 ] && mpi_root="--allow-run-as-root"
 
 run_gd() {  # threads tag
   OMP_NUM_THREADS=$1 /usr/bin/time -f "%e %M" -o "$run/gd$2.time" "$gd" pull --bed "$bed" \
     --output "$run/gd$2.h5" --speed 1 --fresh_start --distance "$distance" --sample_interval "$interval" \
-    --snapshots 0 --threads "$1" --quiet >"$run/gd$2.txt"
+    --checkpoint_interval "$checkpoint" --snapshots 0 --threads "$1" --quiet >"$run/gd$2.txt"
   rm -f "$run/gd$2.h5"
 }
 run_lmp() {  # ranks tag

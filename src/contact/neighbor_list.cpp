@@ -25,14 +25,26 @@ void periodic_cells(double coord, double reach, double cell, int n, std::vector<
   for (int c = lo; c <= hi; ++c) out.push_back(((c % n) + n) % n);
 }
 
-void check_finite(const Particles& p) {
-  for (std::size_t i = 0; i < p.size(); ++i) {
+// Wraps the positions into the box and records them as the build's reference, in one parallel
+// pass; a body with a non-finite position stops the run (the first such body is named).
+void wrap_and_record(Particles& p, const Box& box, std::vector<Vec3>& x_at_build) {
+  const long n = static_cast<long>(p.size());
+  x_at_build.resize(p.size());
+  long bad = n;
+#pragma omp parallel for schedule(static) reduction(min : bad)
+  for (long i = 0; i < n; ++i) {
     if (!p.x[i].allFinite()) {
-      std::ostringstream msg;
-      msg << "particle " << i << " has a non-finite position: the run became unstable "
-          << "(time step too large for the stiffness, or overlapping initial particles)";
-      throw Error(msg.str());
+      bad = std::min(bad, i);
+      continue;
     }
+    box.wrap(p.x[i]);
+    x_at_build[i] = p.x[i];
+  }
+  if (bad < n) {
+    std::ostringstream msg;
+    msg << "particle " << bad << " has a non-finite position: the run became unstable "
+        << "(time step too large for the stiffness, or overlapping initial particles)";
+    throw Error(msg.str());
   }
 }
 
@@ -58,25 +70,29 @@ bool NeighborList::needs_rebuild(const Particles& p) const {
 }
 
 void NeighborList::build(Particles& p, const Box& box) {
-  check_finite(p);
-  for (auto& xi : p.x) box.wrap(xi);
-  x_at_build_ = p.x;
+  wrap_and_record(p, box, x_at_build_);
   std::swap(grain_, grain_prev_);
   std::swap(intruder_, intruder_prev_);
 
+  const long n = static_cast<long>(p.size());
   double rmax = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i)
+#pragma omp parallel for schedule(static) reduction(max : rmax)
+  for (long i = 0; i < n; ++i)
     if (p.species[i] != Species::Intruder) rmax = std::max(rmax, p.radius[i]);
   const double cell = 2.0 * rmax + skin_;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double reach = (p.species[i] == Species::Intruder ? p.radius[i] : rmax) + rmax + skin_;
-    if (2.0 * reach + skin_ > std::min(box.lx, box.ly)) {
-      std::ostringstream msg;
-      msg << "box " << box.lx << " x " << box.ly << " is too small: particle " << i << " of radius "
-          << p.radius[i] << " would meet its own periodic image; Lx and Ly must"
-          << " exceed " << 2.0 * reach + skin_;
-      throw Error(msg.str());
-    }
+  auto reach = [&](long i) {
+    return (p.species[i] == Species::Intruder ? p.radius[i] : rmax) + rmax + skin_;
+  };
+  long too_big = n;  // the first body that would meet its own periodic image
+#pragma omp parallel for schedule(static) reduction(min : too_big)
+  for (long i = 0; i < n; ++i)
+    if (2.0 * reach(i) + skin_ > std::min(box.lx, box.ly)) too_big = std::min(too_big, i);
+  if (too_big < n) {
+    std::ostringstream msg;
+    msg << "box " << box.lx << " x " << box.ly << " is too small: particle " << too_big << " of radius "
+        << p.radius[too_big] << " would meet its own periodic image; Lx and Ly must"
+        << " exceed " << 2.0 * reach(too_big) + skin_;
+    throw Error(msg.str());
   }
   bin(p, box, cell);
   build_grain_pairs(p, box, rmax);
@@ -90,15 +106,15 @@ void NeighborList::bin(const Particles& p, const Box& box, double cell) {
   g.ny = std::max(1, static_cast<int>(box.ly / cell));
   g.cx = box.lx / g.nx;
   g.cy = box.ly / g.ny;
-  double zmin = 0.0, zmax = 0.0;
-  bool any = false;
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  const long n = static_cast<long>(p.size());
+  double zmin = HUGE_VAL, zmax = -HUGE_VAL;
+#pragma omp parallel for schedule(static) reduction(min : zmin) reduction(max : zmax)
+  for (long i = 0; i < n; ++i) {
     if (p.species[i] == Species::Intruder) continue;
-    const double z = p.x[i].z();
-    zmin = any ? std::min(zmin, z) : z;
-    zmax = any ? std::max(zmax, z) : z;
-    any = true;
+    zmin = std::min(zmin, p.x[i].z());
+    zmax = std::max(zmax, p.x[i].z());
   }
+  if (zmin > zmax) zmin = zmax = 0.0;  // no grains
   g.z0 = zmin;
   g.cz = cell;
   const double layers = (zmax - zmin) / cell;
@@ -110,15 +126,20 @@ void NeighborList::bin(const Particles& p, const Box& box, double cell) {
 
   const std::size_t ncells = static_cast<std::size_t>(g.nx) * g.ny * g.nz;
   g.start.assign(ncells + 1, 0);
-  std::vector<int> cell_of(p.size(), -1);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.species[i] == Species::Intruder) continue;
+  std::vector<int>& cell_of = cell_of_;
+  cell_of.resize(p.size());
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i) {
+    if (p.species[i] == Species::Intruder) {
+      cell_of[i] = -1;
+      continue;
+    }
     const int ix = std::min(g.nx - 1, static_cast<int>(p.x[i].x() / g.cx));
     const int iy = std::min(g.ny - 1, static_cast<int>(p.x[i].y() / g.cy));
-    const int c = (g.cell_z(p.x[i].z()) * g.ny + iy) * g.nx + ix;
-    cell_of[i] = c;
-    ++g.start[c + 1];
+    cell_of[i] = (g.cell_z(p.x[i].z()) * g.ny + iy) * g.nx + ix;
   }
+  for (long i = 0; i < n; ++i)
+    if (cell_of[i] >= 0) ++g.start[cell_of[i] + 1];
   for (std::size_t c = 0; c < ncells; ++c) g.start[c + 1] += g.start[c];
   g.items.resize(g.start[ncells]);
   std::vector<int> fill(g.start.begin(), g.start.end() - 1);
@@ -129,7 +150,8 @@ void NeighborList::bin(const Particles& p, const Box& box, double cell) {
 void NeighborList::build_grain_pairs(const Particles& p, const Box& box, double rmax) {
   const Grid& g = grid_;
   const long n = static_cast<long>(p.size());
-  std::vector<std::vector<int>> chunks(omp_get_max_threads());
+  std::vector<std::vector<int>>& chunks = chunks_;  // kept: their memory is reused next build
+  if (static_cast<int>(chunks.size()) < omp_get_max_threads()) chunks.resize(omp_get_max_threads());
   grain_.offset.assign(n + 1, 0);
 
 #pragma omp parallel
@@ -165,13 +187,13 @@ void NeighborList::build_grain_pairs(const Particles& p, const Box& box, double 
       std::sort(out.begin() + row_start, out.end());
       grain_.offset[i + 1] = static_cast<int>(out.size() - row_start);
     }
-  }
-  for (long i = 0; i < n; ++i) grain_.offset[i + 1] += grain_.offset[i];
-  grain_.partner.resize(grain_.offset[n]);
-  std::size_t pos = 0;
-  for (const auto& chunk : chunks) {
-    std::copy(chunk.begin(), chunk.end(), grain_.partner.begin() + pos);
-    pos += chunk.size();
+#pragma omp barrier
+#pragma omp single
+    {
+      for (long i = 0; i < n; ++i) grain_.offset[i + 1] += grain_.offset[i];
+      grain_.partner.resize(grain_.offset[n]);
+    }  // (implied barrier)
+    std::copy(out.begin(), out.end(), grain_.partner.begin() + grain_.offset[i0]);
   }
 }
 

@@ -48,6 +48,8 @@ class NeighborList {
   PairList grain_, grain_prev_, intruder_, intruder_prev_;
   std::vector<int> intruder_bodies_;
   std::vector<Vec3> x_at_build_;
+  std::vector<int> cell_of_;              // per body, its cell (-1: an intruder); kept between builds
+  std::vector<std::vector<int>> chunks_;  // per thread, the rows it built
   long builds_ = 0;
 };
 

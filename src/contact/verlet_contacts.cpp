@@ -59,19 +59,35 @@ void VerletContacts::balance_rows(int threads) {
   constexpr long kTouchWeight = 1;
   const PairList& pairs = list_.grain_pairs();
   const long n = static_cast<long>(pairs.rows());
+  const std::uint8_t* touching = grain_history_.touching.data();
   std::vector<long> cost(n + 1, 0);
+#pragma omp parallel for schedule(static)
   for (long i = 0; i < n; ++i) {
     long c = 1 + pairs.end(i) - pairs.begin(i);
-    for (int e = pairs.begin(i); e < pairs.end(i); ++e) c += kTouchWeight * grain_history_.touching[e];
-    cost[i + 1] = cost[i] + c;
+    for (int e = pairs.begin(i); e < pairs.end(i); ++e) c += kTouchWeight * touching[e];
+    cost[i + 1] = c;
   }
-  row_split_.assign(threads + 1, n);
+  for (long i = 0; i < n; ++i) cost[i + 1] += cost[i];
+  // Two blocks of rows per thread, of equal cost: thread t runs blocks 2t and 2t + 1.
+  const int blocks = 2 * threads;
+  row_split_.assign(blocks + 1, n);
   row_split_[0] = 0;
   long i = 0;
-  for (int t = 1; t < threads; ++t) {
-    const long target = cost[n] * t / threads;
+  for (int b = 1; b < blocks; ++b) {
+    const long target = cost[n] * b / blocks;
     while (i < n && cost[i] < target) ++i;
-    row_split_[t] = i;
+    row_split_[b] = i;
+  }
+  // The blocks can be run in two colours, even blocks together and then odd ones, writing
+  // straight into the particles' forces, when no block's partners reach the next block of its
+  // colour. Grains poured by granudrag are ordered in space (pour.cpp), so a row's partners lie
+  // within a layer of it in index; a bed in another order (imported) takes private arrays.
+  colored_ = threads > 1;
+  for (int b = 0; b + 2 <= blocks && colored_; ++b) {
+    int reach = -1;  // the largest partner of the block's rows (rows are sorted)
+    for (long r = row_split_[b]; r < row_split_[b + 1]; ++r)
+      if (pairs.end(r) > pairs.begin(r)) reach = std::max(reach, pairs.partner[pairs.end(r) - 1]);
+    colored_ = reach < row_split_[b + 2];
   }
 }
 
@@ -108,9 +124,54 @@ void VerletContacts::evaluate_batch(const Particles& p, const ContactParams& c, 
   b.size = 0;
 }
 
+void VerletContacts::scan_rows(const Particles& p, const Box& box, const ContactParams& c, double dt,
+                               bool update_history, long i0, long i1, ContactBatch& b, Vec3* f, Vec3* tq) {
+  // Touching pairs are collected branch-free into the batch and evaluated together. Raw
+  // pointers and a local count: through the containers the compiler reloads them every entry.
+  const PairList& pairs = list_.grain_pairs();
+  const Vec3* x = p.x.data();
+  const double* radius = p.radius.data();
+  const int* partner = pairs.partner.data();
+  std::uint8_t* touching = grain_history_.touching.data();
+  Vec3* shear = grain_history_.shear.data();
+  int size = 0;
+  // Plain doubles rather than Vec3 here: Eigen packs x, y into one register and z into
+  // another, and the shuffles and spills cost more than the arithmetic.
+  for (long i = i0; i < i1; ++i) {
+    const double xi = x[i].x(), yi = x[i].y(), zi = x[i].z();
+    const double ri = radius[i];
+    for (int e = pairs.begin(i); e < pairs.end(i); ++e) {
+      const int j = partner[e];
+      const double dx = Box::min_image(xi - x[j].x(), box.lx);
+      const double dy = Box::min_image(yi - x[j].y(), box.ly);
+      const double dz = zi - x[j].z();
+      const double rsq = dx * dx + dy * dy + dz * dz;
+      const double radsum = ri + radius[j];
+      const std::uint8_t touches = rsq < radsum * radsum;
+      b.dx[size] = dx;
+      b.dy[size] = dy;
+      b.dz[size] = dz;
+      b.rsq[size] = rsq;
+      b.radsum[size] = radsum;
+      b.i[size] = static_cast<int>(i);
+      b.j[size] = j;
+      b.entry[size] = e;
+      size += touches;
+      if (touching[e] > touches) shear[e].setZero();  // came apart
+      touching[e] = touches;
+      if (size == ContactBatch::kCapacity) {
+        b.size = size;
+        evaluate_batch(p, c, dt, update_history, b, f, tq);
+        size = 0;
+      }
+    }
+  }
+  b.size = size;
+  evaluate_batch(p, c, dt, update_history, b, f, tq);
+}
+
 void VerletContacts::accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
                                 bool update_history) {
-  const PairList& pairs = list_.grain_pairs();
   const long n = static_cast<long>(p.size());
   const int max_threads = omp_get_max_threads();
   if (static_cast<int>(thread_force_.size()) < max_threads) {
@@ -119,75 +180,48 @@ void VerletContacts::accumulate(Particles& p, const Box& box, const ContactParam
   }
   while (static_cast<int>(batches_.size()) < max_threads)
     batches_.push_back(std::make_unique<ContactBatch>());
-  if (static_cast<int>(row_split_.size()) != max_threads + 1) balance_rows(max_threads);
+  if (static_cast<int>(row_split_.size()) != 2 * max_threads + 1) balance_rows(max_threads);
 
 #pragma omp parallel
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-    // Balanced for max_threads; a smaller team (nested or limited) takes whole blocks.
-    const long i0 = row_split_[static_cast<long>(max_threads) * t / nt];
-    const long i1 = row_split_[static_cast<long>(max_threads) * (t + 1) / nt];
-    Vec3* f = p.f.data();
-    Vec3* tq = p.torque.data();
-    if (t > 0) {
-      // Partners j > i >= i0: the private arrays need only that range.
-      thread_force_[t].resize(n);
-      thread_torque_[t].resize(n);
-      std::fill(thread_force_[t].begin() + i0, thread_force_[t].end(), Vec3::Zero());
-      std::fill(thread_torque_[t].begin() + i0, thread_torque_[t].end(), Vec3::Zero());
-      f = thread_force_[t].data();
-      tq = thread_torque_[t].data();
-    }
-    // Touching pairs are collected branch-free into a batch and evaluated together. Raw
-    // pointers and a local count: through the containers the compiler reloads them every entry.
     ContactBatch& b = *batches_[t];
-    const Vec3* x = p.x.data();
-    const double* radius = p.radius.data();
-    const int* partner = pairs.partner.data();
-    std::uint8_t* touching = grain_history_.touching.data();
-    Vec3* shear = grain_history_.shear.data();
-    int size = 0;
-    // Plain doubles rather than Vec3 here: Eigen packs x, y into one register and z into
-    // another, and the shuffles and spills cost more than the arithmetic.
-    for (long i = i0; i < i1; ++i) {
-      const double xi = x[i].x(), yi = x[i].y(), zi = x[i].z();
-      const double ri = radius[i];
-      for (int e = pairs.begin(i); e < pairs.end(i); ++e) {
-        const int j = partner[e];
-        const double dx = Box::min_image(xi - x[j].x(), box.lx);
-        const double dy = Box::min_image(yi - x[j].y(), box.ly);
-        const double dz = zi - x[j].z();
-        const double rsq = dx * dx + dy * dy + dz * dz;
-        const double radsum = ri + radius[j];
-        const std::uint8_t touches = rsq < radsum * radsum;
-        b.dx[size] = dx;
-        b.dy[size] = dy;
-        b.dz[size] = dz;
-        b.rsq[size] = rsq;
-        b.radsum[size] = radsum;
-        b.i[size] = static_cast<int>(i);
-        b.j[size] = j;
-        b.entry[size] = e;
-        size += touches;
-        if (touching[e] > touches) shear[e].setZero();  // came apart
-        touching[e] = touches;
-        if (size == ContactBatch::kCapacity) {
-          b.size = size;
-          evaluate_batch(p, c, dt, update_history, b, f, tq);
-          size = 0;
-        }
-      }
-    }
-    b.size = size;
-    evaluate_batch(p, c, dt, update_history, b, f, tq);
+    if (colored_ && nt == max_threads) {
+      // Even blocks, then odd ones: no two blocks that run together write the same body, so
+      // every thread adds into the particles' arrays, and no reduction follows.
+      scan_rows(p, box, c, dt, update_history, row_split_[2 * t], row_split_[2 * t + 1], b, p.f.data(),
+                p.torque.data());
 #pragma omp barrier
-    if (nt > 1) {
+      scan_rows(p, box, c, dt, update_history, row_split_[2 * t + 1], row_split_[2 * t + 2], b, p.f.data(),
+                p.torque.data());
+    } else {
+      // Balanced for max_threads; a smaller team (nested or limited) takes whole blocks.
+      // Thread 0 adds into the particles' arrays, the others into private copies summed in
+      // thread order afterwards.
+      const long blocks = static_cast<long>(row_split_.size()) - 1;
+      auto first_row = [&](int s) { return row_split_[blocks * s / nt]; };
+      const long i0 = first_row(t), i1 = first_row(t + 1);
+      Vec3* f = p.f.data();
+      Vec3* tq = p.torque.data();
+      if (t > 0) {
+        // Partners j > i >= i0: the private arrays need only that range.
+        thread_force_[t].resize(n);
+        thread_torque_[t].resize(n);
+        std::fill(thread_force_[t].begin() + i0, thread_force_[t].end(), Vec3::Zero());
+        std::fill(thread_torque_[t].begin() + i0, thread_torque_[t].end(), Vec3::Zero());
+        f = thread_force_[t].data();
+        tq = thread_torque_[t].data();
+      }
+      scan_rows(p, box, c, dt, update_history, i0, i1, b, f, tq);
+#pragma omp barrier
+      if (nt > 1) {
 #pragma omp for schedule(static)
-      for (long k = 0; k < n; ++k) {
-        for (int s = 1; s < nt; ++s) {
-          if (k < row_split_[static_cast<long>(max_threads) * s / nt]) break;
-          p.f[k] += thread_force_[s][k];
-          p.torque[k] += thread_torque_[s][k];
+        for (long k = 0; k < n; ++k) {
+          for (int s = 1; s < nt; ++s) {
+            if (k < first_row(s)) break;
+            p.f[k] += thread_force_[s][k];
+            p.torque[k] += thread_torque_[s][k];
+          }
         }
       }
     }

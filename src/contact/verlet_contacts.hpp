@@ -10,12 +10,16 @@
 namespace granudrag {
 
 // The production path. Each grain pair is evaluated once (Newton's third law), by the thread
-// that owns its row; rows are split into one contiguous block per thread of about equal cost
-// (list entries, touching pairs weighted as the contact law costs), re-balanced at each rebuild. Thread 0
-// adds into the particles' forces directly, as a serial code would; the other threads add into private copies
-// that are summed in thread order afterwards. No atomics, and a fixed summation order for a given thread
-// count: runs are bitwise reproducible for that count. (A per-pair buffer gathered in fixed order would make
-// them independent of the thread count too, but doubled the memory traffic and the cost.)
+// that owns its row; rows are split into two contiguous blocks per thread of about equal cost
+// (list entries, touching pairs weighted as the contact law costs), re-balanced at each rebuild.
+// When the partners of each block stay short of the next block but one (grains ordered in
+// space, as a pour leaves them), the even blocks run together, then the odd ones, and every
+// thread adds straight into the particles' forces. Otherwise thread 0 adds into them directly,
+// and the other threads into private copies summed in thread order afterwards (whose clearing
+// and summing cost memory traffic that grows with N). No atomics, and a fixed summation order
+// for a given thread count: runs are bitwise reproducible for that count; one thread gives the
+// serial order. (A per-pair buffer gathered in fixed order would make them independent of the
+// thread count too, but doubled the memory traffic and the cost.)
 class VerletContacts : public ContactLoop {
  public:
   explicit VerletContacts(double skin) : list_(skin), simd_(best_simd_level()) {}
@@ -32,6 +36,8 @@ class VerletContacts : public ContactLoop {
   std::vector<PairHistory> export_history() const override;
   void import_history(const std::vector<PairHistory>& history) override;
   const NeighborList& list() const { return list_; }
+  // Whether the last balance allows the two-colour schedule (no private force arrays).
+  bool colored() const { return colored_; }
 
  private:
   NeighborList list_;
@@ -39,13 +45,17 @@ class VerletContacts : public ContactLoop {
   ContactHistory grain_history_, intruder_history_;
   void balance_rows(int threads);
   void after_build();
+  // Scans rows i0 .. i1 for touching pairs and adds their forces into f, tq.
+  void scan_rows(const Particles& p, const Box& box, const ContactParams& c, double dt, bool update_history,
+                 long i0, long i1, ContactBatch& b, Vec3* f, Vec3* tq);
   // Evaluates the batch's touching pairs and adds their forces into f, tq (this thread's arrays).
   [[gnu::noinline]] void evaluate_batch(const Particles& p, const ContactParams& c, double dt,
                                         bool update_history, ContactBatch& b, Vec3* f, Vec3* tq);
 
   std::vector<std::vector<Vec3>> thread_force_, thread_torque_;  // threads 1.., per particle
   std::vector<std::unique_ptr<ContactBatch>> batches_;           // one per thread
-  std::vector<long> row_split_;                         // thread t owns rows row_split_[t] .. row_split_[t+1]
+  std::vector<long> row_split_;  // block b is rows row_split_[b] .. row_split_[b+1]; thread t has 2t, 2t+1
+  bool colored_ = false;         // blocks of one colour never write the same body
   std::vector<Vec3> intruder_force_, intruder_torque_;  // per intruder-list entry
   std::vector<std::uint8_t> intruder_new_;              // per intruder-list entry: touched first now
 };

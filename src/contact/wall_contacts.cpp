@@ -4,28 +4,43 @@
 
 namespace granudrag {
 
+void WallContacts::select(const Particles& p, double skin) {
+  near_.clear();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.species[i] == Species::Mobile && p.x[i].z() < p.radius[i] + skin)
+      near_.push_back(static_cast<int>(i));
+  selected_ = true;
+}
+
 void WallContacts::accumulate(Particles& p, const ContactParams& c, double dt, bool update_history) {
-  if (shear_.size() != p.size()) shear_.resize(p.size(), Vec3::Zero());
-  const long n = static_cast<long>(p.size());
-#pragma omp parallel for schedule(static)
-  for (long i = 0; i < n; ++i) {
-    const double z = p.x[i].z();
-    if (p.species[i] != Species::Mobile || z >= p.radius[i]) {
-      shear_[i].setZero();
-      continue;
-    }
-    ContactGeometry g;
-    g.del = Vec3(0.0, 0.0, z);
-    g.r = z;
-    g.contact_distance = p.radius[i];
-    g.reff = p.radius[i];
-    g.meff = p.mass[i];
-    g.rel_velocity = p.v[i];
-    g.spin_sum = p.radius[i] * p.omega[i];
-    const PairForce cf = hertz_history(c, g, dt, shear_[i], update_history);
-    p.f[i] += cf.force;
-    p.torque[i] -= p.radius[i] * cf.torque;
+  if (shear_.size() != p.size()) {
+    shear_.resize(p.size(), Vec3::Zero());
+    selected_ = false;
   }
+  // Grains that were not selected stay out of reach, and their springs at zero, until the
+  // next selection: a whole pass over the bodies each step would cost more than the contacts.
+  const long n = selected_ ? static_cast<long>(near_.size()) : static_cast<long>(p.size());
+#pragma omp parallel for schedule(static) if (n > 4096)
+  for (long k = 0; k < n; ++k) evaluate(p, selected_ ? near_[k] : k, c, dt, update_history);
+}
+
+void WallContacts::evaluate(Particles& p, long i, const ContactParams& c, double dt, bool update_history) {
+  const double z = p.x[i].z();
+  if (p.species[i] != Species::Mobile || z >= p.radius[i]) {
+    shear_[i].setZero();
+    return;
+  }
+  ContactGeometry g;
+  g.del = Vec3(0.0, 0.0, z);
+  g.r = z;
+  g.contact_distance = p.radius[i];
+  g.reff = p.radius[i];
+  g.meff = p.mass[i];
+  g.rel_velocity = p.v[i];
+  g.spin_sum = p.radius[i] * p.omega[i];
+  const PairForce cf = hertz_history(c, g, dt, shear_[i], update_history);
+  p.f[i] += cf.force;
+  p.torque[i] -= p.radius[i] * cf.torque;
 }
 
 double WallContacts::elastic_energy(const Particles& p, const ContactParams& c) const {

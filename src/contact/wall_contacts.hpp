@@ -12,13 +12,20 @@ namespace granudrag {
 
 class WallContacts {
  public:
+  // Restricts the next evaluations to the mobile grains within `skin` of touching the wall, as
+  // the neighbour lists are built (those cover every body that moves under half a skin until
+  // they are rebuilt, and so does this). Until it is called, every grain is checked.
+  void select(const Particles& p, double skin);
   void accumulate(Particles& p, const ContactParams& c, double dt, bool update_history);
   double elastic_energy(const Particles& p, const ContactParams& c) const;
   const std::vector<Vec3>& shear() const { return shear_; }
   void restore_shear(std::vector<Vec3> shear) { shear_ = std::move(shear); }
 
  private:
-  std::vector<Vec3> shear_;
+  std::vector<Vec3> shear_;  // per grain; zero for every grain not touching the wall
+  std::vector<int> near_;    // the grains select() found within reach
+  bool selected_ = false;
+  void evaluate(Particles& p, long i, const ContactParams& c, double dt, bool update_history);
 };
 
 }  // namespace granudrag

@@ -38,7 +38,7 @@ Simulation::Simulation(Particles particles, Box box, ContactParams contact, Sett
 
 void Simulation::setup() {
   timers_.start();
-  contacts_->update_lists(p_, box_, &timers_);
+  if (contacts_->update_lists(p_, box_, &timers_)) lists_rebuilt();
   timers_.stamp(Phase::Neighbor);
   clear_forces();
   contact_forces(false);
@@ -53,7 +53,8 @@ void Simulation::step() {
   timers_.start();
   initial_integrate();
   timers_.stamp(Phase::Integrate);
-  contacts_->update_lists(p_, box_, &timers_);  // stamps Neighbor and History when it rebuilds
+  // Stamps Neighbor and History when it rebuilds.
+  if (contacts_->update_lists(p_, box_, &timers_)) lists_rebuilt();
   timers_.stamp(Phase::Neighbor);
   contact_forces(true);
   timers_.stamp(Phase::Force);
@@ -114,7 +115,7 @@ void Simulation::contact_forces(bool update_history) {
   if (box_.wall) wall_.accumulate(p_, contact_, dt_, update_history);
 }
 
-void Simulation::add_body_force(long i) {
+inline void Simulation::add_body_force(long i) {
   double* f = p_.f[i].data();
   if (p_.species[i] == Species::Mobile) {
     const double m = p_.mass[i];
@@ -147,6 +148,12 @@ void Simulation::final_integrate() {
 void Simulation::rebuild_lists() {
   if (!ready_) setup();
   contacts_->rebuild(p_, box_);
+  lists_rebuilt();
+}
+
+void Simulation::lists_rebuilt() {
+  // The oracle has no lists (nor displacement checks): it keeps testing every grain.
+  if (!settings_.brute_force) wall_.select(p_, settings_.skin);
 }
 
 Simulation::State Simulation::state() const {
@@ -161,6 +168,7 @@ void Simulation::restore(const State& s) {
   contacts_->rebuild(p_, box_);
   contacts_->import_history(s.pair_history);
   wall_.restore_shear(s.wall_history);
+  lists_rebuilt();
   steps_ = s.steps;
   ready_ = true;  // the forces in s.particles are those of the last step: no setup()
 }

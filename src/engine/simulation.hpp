@@ -68,8 +68,10 @@ class Simulation {
   void initial_integrate();  // first half-kick and drift; clears the forces for the next evaluation
   void clear_forces();
   void contact_forces(bool update_history);  // body-body and wall contacts, added to f and torque
-  void add_body_force(long i);               // gravity on a mobile grain; nothing on a frozen one
-  void final_integrate();                    // add_body_force, then the second half-kick
+  // Gravity on a mobile grain; nothing on a frozen one. Inlined: a call per body cost 1 % of a pull.
+  [[gnu::always_inline]] inline void add_body_force(long i);
+  void final_integrate();  // add_body_force, then the second half-kick
+  void lists_rebuilt();    // the wall's candidates follow the neighbour lists
 
   Particles p_;
   Box box_;

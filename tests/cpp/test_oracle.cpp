@@ -3,6 +3,11 @@
 // the periodic boundary; reproducibility per thread count; history surviving rebuilds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <numeric>
+#include <random>
+#include <utility>
+
 #include "contact/contact_history.hpp"
 #include "contact/neighbor_list.hpp"
 #include "contact/verlet_contacts.hpp"
@@ -20,7 +25,9 @@ struct Scene {
   Box box;
 };
 
-Scene intruder_scene() {
+// shuffled: the grains in random order, so that a row's partners are anywhere in index (as in
+// a bed imported from elsewhere), which rules out the two-colour schedule.
+Scene intruder_scene(bool shuffled = false) {
   LatticeBed bed = fcc_bed(800, 5);
   randomize_velocities(bed.particles, 1.0, 2.0, 6);
   const Vec3 centre(0.3, 0.5 * bed.box.ly, 3.0);
@@ -32,6 +39,18 @@ Scene intruder_scene() {
     const std::size_t k = p.add(x, bed.particles.radius[i], Species::Mobile);
     p.v[k] = bed.particles.v[i];
     p.omega[k] = bed.particles.omega[i];
+  }
+  if (shuffled) {
+    std::vector<std::size_t> order(p.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), std::mt19937_64(9));
+    Particles q;
+    for (std::size_t i : order) {
+      const std::size_t k = q.add(p.x[i], p.radius[i], Species::Mobile);
+      q.v[k] = p.v[i];
+      q.omega[k] = p.omega[i];
+    }
+    p = q;
   }
   p.freeze_below(0.7);
   const std::size_t in = p.add(centre, R, Species::Intruder);
@@ -48,9 +67,9 @@ double force_scale(const Particles& p) {
 }  // namespace
 
 TEST(Oracle, FastForcesEqualBruteForceOnIntruderScene) {
-  for (int threads : {1, 2}) {
+  for (const auto& [threads, shuffled] : {std::pair{1, false}, {2, false}, {2, true}}) {
     ThreadCount tc(threads);
-    const Scene scene = intruder_scene();
+    const Scene scene = intruder_scene(shuffled);
     ASSERT_GT(scene.particles.count(Species::Frozen), 20u);
     Settings fast_s, brute_s;
     fast_s.skin = 0.05;  // thin: several rebuilds within the test
@@ -79,27 +98,33 @@ TEST(Oracle, FastForcesEqualBruteForceOnIntruderScene) {
     EXPECT_GE(most_intruder_contacts, 3);  // the intruder really was in the thick of it
     const auto& fc = dynamic_cast<const VerletContacts&>(fast.contacts());
     EXPECT_GT(fc.list().builds(), 1);  // and the lists were rebuilt on the way
+    // Both threaded schedules were checked: two colours on the ordered lattice, private force
+    // arrays on the shuffled one.
+    EXPECT_EQ(fc.colored(), threads > 1 && !shuffled) << "threads " << threads;
   }
 }
 
 TEST(Oracle, BitwiseReproducibleForAThreadCountAndAgreeingAcrossCounts) {
-  const Scene scene = intruder_scene();
-  const ContactParams c = support::soft_params(0.5);
-  auto run = [&](int threads) {
-    support::ThreadCount tc(threads);
-    Simulation sim(scene.particles, scene.box, c, Settings{});
-    sim.run(500);
-    return sim.particles();
-  };
-  const Particles two_a = run(2), two_b = run(2), one = run(1);
-  double worst = 0;
-  for (std::size_t i = 0; i < one.size(); ++i) {
-    ASSERT_EQ(two_a.x[i], two_b.x[i]) << "particle " << i;  // no race, fixed summation order
-    ASSERT_EQ(two_a.omega[i], two_b.omega[i]) << "particle " << i;
-    ASSERT_EQ(two_a.f[i], two_b.f[i]) << "particle " << i;
-    worst = std::max(worst, scene.box.min_image(one.x[i] - two_a.x[i]).norm());
+  // Both threaded schedules: two colours (ordered grains) and private force arrays (shuffled).
+  for (bool shuffled : {false, true}) {
+    const Scene scene = intruder_scene(shuffled);
+    const ContactParams c = support::soft_params(0.5);
+    auto run = [&](int threads) {
+      support::ThreadCount tc(threads);
+      Simulation sim(scene.particles, scene.box, c, Settings{});
+      sim.run(500);
+      return sim.particles();
+    };
+    const Particles two_a = run(2), two_b = run(2), one = run(1);
+    double worst = 0;
+    for (std::size_t i = 0; i < one.size(); ++i) {
+      ASSERT_EQ(two_a.x[i], two_b.x[i]) << "particle " << i;  // no race, fixed summation order
+      ASSERT_EQ(two_a.omega[i], two_b.omega[i]) << "particle " << i;
+      ASSERT_EQ(two_a.f[i], two_b.f[i]) << "particle " << i;
+      worst = std::max(worst, scene.box.min_image(one.x[i] - two_a.x[i]).norm());
+    }
+    EXPECT_LT(worst, 1e-9) << "shuffled " << shuffled;  // counts differ only in summation order
   }
-  EXPECT_LT(worst, 1e-9);  // other counts differ only in the order of summation
 }
 
 TEST(Oracle, TrajectoriesAgreeForDifferentSkins) {

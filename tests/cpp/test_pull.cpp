@@ -187,8 +187,8 @@ TEST(Observables, NinetyFivePercentIntervalsCoverRealForceSeries) {
     // band, not unlucky. At 64 samples 0.893-0.983, at 1,024 0.871-0.993.
     const double k = static_cast<double>(repeats);
     const double low = 0.90 - 2 * std::sqrt(0.90 * 0.10 / k), high = 0.98 + 2 * std::sqrt(0.98 * 0.02 / k);
-    std::printf("recorded drag series, %ld samples: coverage %.3f of %ld repeats (band %.3f-%.3f)\n", n,
-                c, repeats, low, high);
+    std::printf("recorded drag series, %ld samples: coverage %.3f of %ld repeats (band %.3f-%.3f)\n", n, c,
+                repeats, low, high);
     // Measured 0.909, 0.979, 0.955, 0.986 (with the N/7 fallback window: 0.890 at 64 samples).
     EXPECT_GE(repeats, 400) << n << " samples";
     EXPECT_GE(c, low) << n << " samples";
