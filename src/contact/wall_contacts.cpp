@@ -5,6 +5,8 @@
 namespace granudrag {
 
 void WallContacts::select(const Particles& p, double skin) {
+  // Sized here too, so that the first evaluation keeps the selection (see accumulate).
+  if (shear_.size() != p.size()) shear_.resize(p.size(), Vec3::Zero());
   near_.clear();
   for (std::size_t i = 0; i < p.size(); ++i)
     if (p.species[i] == Species::Mobile && p.x[i].z() < p.radius[i] + skin)
