@@ -1,6 +1,7 @@
 #include "contact/wall_contacts.hpp"
 
 #include "contact/contact_law.hpp"
+#include "core/ordered_sum.hpp"
 
 namespace granudrag {
 
@@ -46,13 +47,12 @@ void WallContacts::evaluate(Particles& p, long i, const ContactParams& c, double
 }
 
 double WallContacts::elastic_energy(const Particles& p, const ContactParams& c) const {
-  double energy = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  return ordered_sum<double>(static_cast<long>(p.size()), [&](long i) {
     const double z = p.x[i].z();
-    if (p.species[i] == Species::Mobile && z < p.radius[i])
-      energy += hertz_normal_energy(c.kn, p.radius[i], p.radius[i] - z);
-  }
-  return energy;
+    return p.species[i] == Species::Mobile && z < p.radius[i]
+               ? hertz_normal_energy(c.kn, p.radius[i], p.radius[i] - z)
+               : 0.0;
+  });
 }
 
 }  // namespace granudrag

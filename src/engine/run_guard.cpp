@@ -21,7 +21,9 @@ RunGuard::RunGuard(GuardLimits limits, double energy_start) : limits_(limits), e
 double max_wall_overlap(const Particles& p, const Box& box) {
   double worst = 0;
   if (!box.wall) return worst;
-  for (std::size_t i = 0; i < p.size(); ++i)
+  const long n = static_cast<long>(p.size());
+#pragma omp parallel for schedule(static) reduction(max : worst)
+  for (long i = 0; i < n; ++i)
     if (p.species[i] == Species::Mobile) worst = std::max(worst, p.radius[i] - p.x[i].z());
   return worst;
 }
@@ -32,22 +34,28 @@ std::string RunGuard::check(const Simulation& sim, double work) {
   std::ostringstream why;
   why.precision(4);
   const double t = sim.time();
-  // Non-finite numbers first: every other check would be meaningless.
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.x[i].allFinite() && p.v[i].allFinite() && p.omega[i].allFinite() && p.f[i].allFinite() &&
-        p.torque[i].allFinite())
-      continue;
-    why << "non-finite position, velocity or force of particle " << i << " at t = " << t;
-    return why.str();
-  }
-  long lost = 0;
-  std::size_t first = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  // One parallel pass (it runs every sample interval): the first body with a non-finite number,
+  // and the grains that left the box.
+  const long n = static_cast<long>(p.size());
+  long first_bad = n, lost = 0, first = n;
+#pragma omp parallel for schedule(static) reduction(min : first_bad, first) reduction(+ : lost)
+  for (long i = 0; i < n; ++i) {
+    if (!(p.x[i].allFinite() && p.v[i].allFinite() && p.omega[i].allFinite() && p.f[i].allFinite() &&
+          p.torque[i].allFinite()))
+      first_bad = std::min(first_bad, i);
     if (p.species[i] != Species::Mobile) continue;
     const Vec3& x = p.x[i];
     const bool out = x.z() < 0 || x.z() > limits_.z_max || x.x() < -box.lx || x.x() > 2 * box.lx ||
                      x.y() < -box.ly || x.y() > 2 * box.ly;
-    if (out && lost++ == 0) first = i;
+    if (out) {
+      ++lost;
+      first = std::min(first, i);
+    }
+  }
+  // Non-finite numbers first: every other check would be meaningless.
+  if (first_bad < n) {
+    why << "non-finite position, velocity or force of particle " << first_bad << " at t = " << t;
+    return why.str();
   }
   grains_lost_ = std::max(grains_lost_, lost);
   if (lost > 0) {

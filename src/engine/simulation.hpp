@@ -2,6 +2,8 @@
 // One DEM system and its step loop: velocity Verlet as LAMMPS does it (fix nve/sphere), the
 // forces of a step computed from the new positions and the half-step velocities.
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "contact/contact_loop.hpp"
 #include "contact/contact_params.hpp"
@@ -22,6 +24,10 @@ struct Settings {
 struct Energy {
   double kinetic = 0, rotational = 0, potential = 0, elastic = 0;
   double total() const { return kinetic + rotational + potential + elastic; }
+  Energy& operator+=(const Energy& o) {
+    kinetic += o.kinetic, rotational += o.rotational, potential += o.potential, elastic += o.elastic;
+    return *this;
+  }
 };
 
 class Simulation {
@@ -65,13 +71,19 @@ class Simulation {
   WallContacts& wall() { return wall_; }
 
  private:
-  void initial_integrate();  // first half-kick and drift; clears the forces for the next evaluation
+  // First half-kick and drift; clears the forces for the next evaluation. Returns the largest
+  // squared displacement of a body since the last list build (HUGE_VAL if not measurable).
+  double initial_integrate();
   void clear_forces();
   void contact_forces(bool update_history);  // body-body and wall contacts, added to f and torque
   // Gravity on a mobile grain; nothing on a frozen one. Inlined: a call per body cost 1 % of a pull.
   [[gnu::always_inline]] inline void add_body_force(long i);
   void final_integrate();  // add_body_force, then the second half-kick
-  void lists_rebuilt();    // the wall's candidates follow the neighbour lists
+  void lists_rebuilt();    // the wall's candidates and the integrator's split follow the lists
+  // The integrator's bodies are split into one contiguous range per thread of about equal cost.
+  void balance_bodies(int threads);
+  void ensure_body_split();  // balances if the thread count or the number of bodies changed
+  std::pair<long, long> body_range(int thread, int threads) const;
 
   Particles p_;
   Box box_;
@@ -80,6 +92,7 @@ class Simulation {
   double dt_;
   std::unique_ptr<ContactLoop> contacts_;
   WallContacts wall_;
+  std::vector<long> body_split_;  // thread t integrates bodies body_split_[t] .. body_split_[t+1]
   Timers timers_;
   long steps_ = 0;
   bool ready_ = false;

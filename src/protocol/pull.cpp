@@ -234,11 +234,14 @@ void Pull::end_of_interval() {
   counts_.assign(p.size(), 0);
   sim_.contacts().count_contacts(counts_);
   const double R = p.radius[in];
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  const long n = static_cast<long>(p.size());
+  long histogram[16] = {};
+#pragma omp parallel for schedule(static) reduction(+ : histogram[:16])
+  for (long i = 0; i < n; ++i) {
     if (p.species[i] != Species::Mobile) continue;
-    if (bed_.box.min_image(p.x[i] - p.x[in]).norm() < R + spec_.shell)
-      ++record_.z_histogram[std::min(15, counts_[i])];
+    if (bed_.box.min_image(p.x[i] - p.x[in]).norm() < R + spec_.shell) ++histogram[std::min(15, counts_[i])];
   }
+  for (int z = 0; z < 16; ++z) record_.z_histogram[z] += histogram[z];
   // Snapshots evenly spread over the part of the pull after the transient.
   const long done = static_cast<long>(record_.snapshots.size());
   const double t_end = planned_steps_ * sim_.dt();
