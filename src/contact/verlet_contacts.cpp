@@ -134,10 +134,14 @@ void VerletContacts::scan_rows(const Particles& p, const Box& box, const Contact
                                bool update_history, long i0, long i1, ContactBatch& b, Vec3* f, Vec3* tq) {
   // Touching pairs are collected branch-free into the batch and evaluated together. Raw
   // pointers and a local count: through the containers the compiler reloads them every entry.
+  // The box and the list's offsets are copied into locals too: the batch's stores could alias
+  // them for all the compiler knows, and it reloaded them every entry.
   const PairList& pairs = list_.grain_pairs();
   const Vec3* x = p.x.data();
   const double* radius = p.radius.data();
   const int* partner = pairs.partner.data();
+  const int* offset = pairs.offset.data();
+  const double lx = box.lx, ly = box.ly;
   std::uint8_t* touching = grain_history_.touching.data();
   Vec3* shear = grain_history_.shear.data();
   int size = 0;
@@ -146,10 +150,11 @@ void VerletContacts::scan_rows(const Particles& p, const Box& box, const Contact
   for (long i = i0; i < i1; ++i) {
     const double xi = x[i].x(), yi = x[i].y(), zi = x[i].z();
     const double ri = radius[i];
-    for (int e = pairs.begin(i); e < pairs.end(i); ++e) {
+    const int end = offset[i + 1];
+    for (int e = offset[i]; e < end; ++e) {
       const int j = partner[e];
-      const double dx = Box::min_image(xi - x[j].x(), box.lx);
-      const double dy = Box::min_image(yi - x[j].y(), box.ly);
+      const double dx = Box::min_image(xi - x[j].x(), lx);
+      const double dy = Box::min_image(yi - x[j].y(), ly);
       const double dz = zi - x[j].z();
       const double rsq = dx * dx + dy * dy + dz * dz;
       const double radsum = ri + radius[j];
