@@ -154,6 +154,36 @@ TEST(Oracle, ListsAreRebuiltExactlyWhenABodyHasMovedHalfTheSkin) {
   EXPECT_GT(rebuilds, 3);
 }
 
+TEST(Oracle, CoordinationAndGuardChecksEqualBruteForceOnTwoThreads) {
+  // The passes the run guard and the observables make every sample interval, parallel in the
+  // fast path: contact counts (private arrays past thread 0), largest overlap, elastic energy.
+  ThreadCount tc(2);
+  const Scene scene = intruder_scene();
+  Settings fast_s, brute_s;
+  brute_s.brute_force = true;
+  const ContactParams c = support::soft_params(0.5);
+  Simulation fast(scene.particles, scene.box, c, fast_s);
+  Simulation brute(scene.particles, scene.box, c, brute_s);
+  long counted = 0;
+  for (int step = 0; step < 300; ++step) {
+    fast.step();
+    brute.step();
+    std::vector<int> a(scene.particles.size(), 0), b(scene.particles.size(), 0);
+    fast.contacts().count_contacts(a);
+    brute.contacts().count_contacts(b);
+    ASSERT_EQ(a, b) << "step " << step;
+    counted += std::accumulate(a.begin(), a.end(), 0L);
+  }
+  EXPECT_GT(counted, 5000);  // contacts were there to count
+  const Particles& p = fast.particles();
+  EXPECT_NEAR(fast.contacts().max_overlap(p, scene.box),
+              brute.contacts().max_overlap(brute.particles(), scene.box), 1e-12);
+  const double e_fast = fast.contacts().elastic_energy(p, scene.box, c);
+  const double e_brute = brute.contacts().elastic_energy(brute.particles(), scene.box, c);
+  EXPECT_GT(e_brute, 0);
+  EXPECT_NEAR(e_fast, e_brute, 1e-9 * e_brute);
+}
+
 TEST(Oracle, OrderedSumGivesTheSameBitsForAThreadCount) {
   // Terms spanning 16 orders of magnitude, so that the order of addition shows in the result.
   auto term = [](long i) {
