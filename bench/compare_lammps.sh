@@ -14,7 +14,10 @@
 #    for P pairs per core count. Prints the medians, the median of the per-pair ratios, peak
 #    memory and bytes per particle, and granudrag's time split by phase.
 # Both codes average the force on the intruder over K steps (granudrag --sample_interval K dt,
-# LAMMPS fix ave/time). granudrag writes one checkpoint, half-way: more than a study's pull
+# LAMMPS fix ave/time); K defaults to a study's sampling, `granudrag pull`'s default
+# sample_interval (0.02 sqrt(d/g), 40 steps at dt = 5e-4), at the end of which granudrag also
+# runs its checks (non-finite numbers, lost grains, overlap, energy) and coordination numbers.
+# granudrag writes one checkpoint, half-way: more than a study's pull
 # writes in as many steps (the workflow asks for one per `checkpoint_minutes` of wall time, 60
 # by default; a pull of one box length with no interval given writes one per tenth of it, 4,000
 # steps on the 7.7k bed), where `granudrag pull`'s default for these short distances would
@@ -23,7 +26,7 @@
 # Needs: apt-get install lammps openmpi-bin.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-size=7.7k bed="" steps="" pairs=3 cores="1 2" every=200 gd=build/granudrag
+size=7.7k bed="" steps="" pairs=3 cores="1 2" every="" gd=build/granudrag
 while [ $# -gt 0 ]; do
   case "$1" in
     --size) size=$2; shift 2 ;;
@@ -33,7 +36,7 @@ while [ $# -gt 0 ]; do
     --cores) cores=$2; shift 2 ;;
     --every) every=$2; shift 2 ;;
     --binary) gd=$2; shift 2 ;;
-    -h | --help) sed -n '2,23p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,26p' "$0"; exit 0 ;;
     *) echo "compare_lammps.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -61,6 +64,11 @@ if [ -z "$bed" ]; then
 fi
 bed=$(realpath "$bed")
 dt=$(/usr/bin/python3 -c "import h5py; print(repr(float(h5py.File('$bed')['/contact'].attrs['dt'])))")
+# The study's sampling: `granudrag pull`'s default sample_interval, in steps of this bed's dt.
+if [ -z "$every" ]; then
+  sample=$("$gd" pull --help | awk '$1 == "sample_interval" {print $4}')
+  every=$(/usr/bin/python3 -c "print(max(1, round($sample / $dt)))")
+fi
 run=$out/run-$size
 rm -rf "$run" && mkdir -p "$run"
 "$gd" export-lammps --bed "$bed" --output "$run/pull" --speed 1 --steps "$steps" --every "$every" >/dev/null
