@@ -37,7 +37,8 @@ import yaml
 from .. import study
 from .breakdown import by_figure
 
-# Assumed efficiency of a job's OpenMP threads beyond those measured here (2 threads: 0.93).
+# Assumed efficiency of a job's OpenMP threads beyond those measured here (2 threads: 0.95-0.97
+# on bench/compare_lammps.sh's beds).
 PARALLEL_EFFICIENCY = 0.8
 
 
