@@ -82,7 +82,7 @@ void Simulation::run(long steps, bool show_progress) {
 // Components one by one rather than Vec3 expressions: Eigen packs x, y into one register and z
 // into another, and on these short loops the shuffles cost more than the arithmetic.
 double Simulation::initial_integrate() {
-  const double half = 0.5 * dt_, dt = dt_;
+  const double dt = dt_;
   double* x = p_.x.data()->data();
   double* v = p_.v.data()->data();
   double* w = p_.omega.data()->data();
@@ -100,7 +100,7 @@ double Simulation::initial_integrate() {
     for (long i = first; i < last; ++i) {
       const Species kind = p_.species[i];
       if (kind == Species::Mobile) {
-        const double kick_v = half / p_.mass[i], kick_w = half / p_.inertia(i);
+        const double kick_v = kick_v_[i], kick_w = kick_w_[i];
         for (int d = 0; d < 3; ++d) {
           v[3 * i + d] += kick_v * f[3 * i + d];
           x[3 * i + d] += dt * v[3 * i + d];
@@ -147,7 +147,6 @@ inline void Simulation::add_body_force(long i) {
 }
 
 void Simulation::final_integrate() {
-  const double half = 0.5 * dt_;
   double* v = p_.v.data()->data();
   double* w = p_.omega.data()->data();
   const double* f = p_.f.data()->data();
@@ -159,7 +158,7 @@ void Simulation::final_integrate() {
     for (long i = first; i < last; ++i) {
       add_body_force(i);
       if (p_.species[i] != Species::Mobile) continue;
-      const double kick_v = half / p_.mass[i], kick_w = half / p_.inertia(i);
+      const double kick_v = kick_v_[i], kick_w = kick_w_[i];
       for (int d = 0; d < 3; ++d) {
         v[3 * i + d] += kick_v * f[3 * i + d];
         w[3 * i + d] += kick_w * tq[3 * i + d];
@@ -177,6 +176,15 @@ void Simulation::balance_bodies(int threads) {
   std::vector<long> cost(n + 1, 0);
   for (long i = 0; i < n; ++i) cost[i + 1] = cost[i] + (p_.species[i] == Species::Mobile ? kMobileCost : 1);
   balanced_split(cost, threads, body_split_);
+  // The half-kicks' factors, kept rather than divided out twice per body and step (masses and
+  // radii are fixed for a run; the arrays follow the bodies at every list build and restore).
+  const double half = 0.5 * dt_;
+  kick_v_.resize(n);
+  kick_w_.resize(n);
+  for (long i = 0; i < n; ++i) {
+    kick_v_[i] = half / p_.mass[i];
+    kick_w_[i] = half / p_.inertia(i);
+  }
 }
 
 void Simulation::ensure_body_split() {
