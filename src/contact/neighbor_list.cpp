@@ -158,6 +158,8 @@ void NeighborList::build_grain_pairs(const Particles& p, const Box& box, double 
   std::vector<std::vector<int>>& chunks = chunks_;  // kept: their memory is reused next build
   if (static_cast<int>(chunks.size()) < omp_get_max_threads()) chunks.resize(omp_get_max_threads());
   grain_.offset.assign(n + 1, 0);
+  wrapping_rows_.assign(n, 0);
+  const double half_x = 0.5 * box.lx, half_y = 0.5 * box.ly;
 
 #pragma omp parallel
   {
@@ -176,6 +178,7 @@ void NeighborList::build_grain_pairs(const Particles& p, const Box& box, double 
       periodic_cells(xi.y(), rmax * 2 + skin_, g.cy, g.ny, ys);
       const int iz = g.cell_z(xi.z());
       const std::size_t row_start = out.size();
+      bool wraps = false;
       for (int cz = std::max(0, iz - 1); cz <= std::min(g.nz - 1, iz + 1); ++cz) {
         for (int cy : ys) {
           for (int cx : xs) {
@@ -184,11 +187,15 @@ void NeighborList::build_grain_pairs(const Particles& p, const Box& box, double 
               const int j = g.items[k];
               if (j <= i || (frozen_i && p.species[j] == Species::Frozen)) continue;
               const double cut = p.radius[i] + p.radius[j] + skin_;
-              if (box.min_image(xi - p.x[j]).squaredNorm() < cut * cut) out.push_back(j);
+              if (box.min_image(xi - p.x[j]).squaredNorm() < cut * cut) {
+                out.push_back(j);
+                wraps |= std::abs(xi.x() - p.x[j].x()) > half_x || std::abs(xi.y() - p.x[j].y()) > half_y;
+              }
             }
           }
         }
       }
+      wrapping_rows_[i] = wraps;
       std::sort(out.begin() + row_start, out.end());
       grain_.offset[i + 1] = static_cast<int>(out.size() - row_start);
     }

@@ -7,6 +7,7 @@
 //    largest grain, not the intruder; frozen-frozen pairs are left out.
 //  - intruder pairs: one row per intruder, holding every grain within reach of it, found by
 //    scanning only the cells its sphere covers.
+#include <cstdint>
 #include <vector>
 
 #include "contact/pair_list.hpp"
@@ -30,6 +31,10 @@ class NeighborList {
   void build(Particles& p, const Box& box);
 
   const PairList& grain_pairs() const { return grain_; }
+  // Per row of grain_pairs(): 1 if a partner lay across a periodic boundary at the build (x_j
+  // and x_i more than half a box apart). The others need no minimum image until the next build:
+  // without wrapping, a pair's separation moves by less than a skin between builds.
+  const std::vector<std::uint8_t>& wrapping_rows() const { return wrapping_rows_; }
   const PairList& previous_grain_pairs() const { return grain_prev_; }
   const PairList& intruder_pairs() const { return intruder_; }
   const PairList& previous_intruder_pairs() const { return intruder_prev_; }
@@ -52,6 +57,7 @@ class NeighborList {
   PairList grain_, grain_prev_, intruder_, intruder_prev_;
   std::vector<int> intruder_bodies_;
   std::vector<Vec3> x_at_build_;
+  std::vector<std::uint8_t> wrapping_rows_;
   std::vector<int> cell_of_;              // per body, its cell (-1: an intruder); kept between builds
   std::vector<std::vector<int>> chunks_;  // per thread, the rows it built
   long builds_ = 0;

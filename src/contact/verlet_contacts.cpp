@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <type_traits>
 
 #include "contact/contact_batch.hpp"
 #include "contact/contact_law.hpp"
@@ -141,20 +142,26 @@ void VerletContacts::scan_rows(const Particles& p, const Box& box, const Contact
   const double* radius = p.radius.data();
   const int* partner = pairs.partner.data();
   const int* offset = pairs.offset.data();
+  const std::uint8_t* wrapping = list_.wrapping_rows().data();
   const double lx = box.lx, ly = box.ly;
   std::uint8_t* touching = grain_history_.touching.data();
   Vec3* shear = grain_history_.shear.data();
   int size = 0;
-  // Plain doubles rather than Vec3 here: Eigen packs x, y into one register and z into
-  // another, and the shuffles and spills cost more than the arithmetic.
-  for (long i = i0; i < i1; ++i) {
+  // One row; `periodic`: its partners may lie across a boundary. Most rows have none, and
+  // skip the minimum image's compares and jumps (a fifth of the scan's instructions).
+  auto scan_row = [&](long i, auto periodic) {
+    // Plain doubles rather than Vec3 here: Eigen packs x, y into one register and z into
+    // another, and the shuffles and spills cost more than the arithmetic.
     const double xi = x[i].x(), yi = x[i].y(), zi = x[i].z();
     const double ri = radius[i];
     const int end = offset[i + 1];
     for (int e = offset[i]; e < end; ++e) {
       const int j = partner[e];
-      const double dx = Box::min_image(xi - x[j].x(), lx);
-      const double dy = Box::min_image(yi - x[j].y(), ly);
+      double dx = xi - x[j].x(), dy = yi - x[j].y();
+      if constexpr (periodic) {
+        dx = Box::min_image(dx, lx);
+        dy = Box::min_image(dy, ly);
+      }
       const double dz = zi - x[j].z();
       const double rsq = dx * dx + dy * dy + dz * dz;
       const double radsum = ri + radius[j];
@@ -176,6 +183,12 @@ void VerletContacts::scan_rows(const Particles& p, const Box& box, const Contact
         size = 0;
       }
     }
+  };
+  for (long i = i0; i < i1; ++i) {
+    if (wrapping[i])
+      scan_row(i, std::true_type{});
+    else
+      scan_row(i, std::false_type{});
   }
   b.size = size;
   evaluate_batch(p, c, dt, update_history, b, f, tq);
