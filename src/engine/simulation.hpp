@@ -92,7 +92,7 @@ class Simulation {
   double dt_;
   std::unique_ptr<ContactLoop> contacts_;
   WallContacts wall_;
-  std::vector<long> body_split_;  // thread t integrates bodies body_split_[t] .. body_split_[t+1]
+  std::vector<long> body_split_;         // thread t integrates bodies body_split_[t] .. body_split_[t+1]
   std::vector<double> kick_v_, kick_w_;  // per body: dt / 2m and dt / 2I
   Timers timers_;
   long steps_ = 0;
