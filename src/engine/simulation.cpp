@@ -167,9 +167,10 @@ void Simulation::final_integrate() {
   }
 }
 
-// A mobile grain costs the integrator about four times what a frozen one or an intruder does
-// (two divisions and three kicks, against clearing its forces); a plain split of the index range
-// gave the thread holding a poured bed's frozen base (its first grains) a tenth less work.
+// A mobile grain costs the integrator several times what a frozen one or an intruder does
+// (three kicks and a drift, against clearing its forces; weights 2 and 4 measured alike); a
+// plain split of the index range gave the thread holding a poured bed's frozen base (its first
+// grains) a tenth less work.
 void Simulation::balance_bodies(int threads) {
   constexpr long kMobileCost = 4;
   const long n = static_cast<long>(p_.size());
