@@ -4,7 +4,7 @@
 
 namespace granudrag {
 
-bool BruteForceContacts::update_lists(Particles&, const Box&, Timers*) { return false; }
+bool BruteForceContacts::update_lists(Particles&, const Box&, Timers*, double) { return false; }
 
 void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
                                     bool update_history) {

@@ -13,7 +13,7 @@ namespace granudrag {
 // cells, no skin, no buffers: nothing the fast path could get wrong in the same way.
 class BruteForceContacts : public ContactLoop {
  public:
-  bool update_lists(Particles& p, const Box& box, Timers* timers) override;
+  bool update_lists(Particles& p, const Box& box, Timers* timers, double max_drift_sq) override;
   void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
                   bool update_history) override;
   double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const override;

@@ -21,20 +21,16 @@ struct PairHistory {
 class ContactLoop {
  public:
   virtual ~ContactLoop() = default;
-  // Called after every position update; returns true when it rebuilt its pair lists
-  // (positions may then have been wrapped into the box). With `timers`, a rebuild charges the
-  // list build to Phase::Neighbor and the carry-over of the springs to Phase::History.
-  virtual bool update_lists(Particles& p, const Box& box, Timers* timers = nullptr) = 0;
   // Positions at the last list build, or nullptr for a loop without lists. The integrator
   // measures each body's displacement from them in its drift, so that the rebuild check costs
   // no pass over the bodies of its own.
   virtual const std::vector<Vec3>* build_positions() const { return nullptr; }
-  // update_lists, given the largest squared displacement of any body from build_positions()
-  // (HUGE_VAL when it could not be measured).
-  virtual bool update_lists_after_drift(Particles& p, const Box& box, Timers* timers,
-                                        double /*max_drift_sq*/) {
-    return update_lists(p, box, timers);
-  }
+  // Called after every position update, with the largest squared displacement of any body from
+  // build_positions() (HUGE_VAL when it was not measured: before the first build, or without
+  // lists); returns true when it rebuilt its pair lists (positions may then have been wrapped
+  // into the box). With `timers`, a rebuild charges the list build to Phase::Neighbor and the
+  // carry-over of the springs to Phase::History.
+  virtual bool update_lists(Particles& p, const Box& box, Timers* timers, double max_drift_sq) = 0;
   // Adds the forces and torques of all body-body contacts to p.f and p.torque.
   virtual void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
                           bool update_history) = 0;

@@ -55,19 +55,6 @@ int NeighborList::Grid::cell_z(double z) const {
   return std::clamp(c, 0, nz - 1);
 }
 
-bool NeighborList::needs_rebuild(const Particles& p) const {
-  if (builds_ == 0 || x_at_build_.size() != p.size()) return true;
-  const long n = static_cast<long>(p.size());
-  double max_d2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : max_d2)
-  for (long i = 0; i < n; ++i) {
-    const double d2 = (p.x[i] - x_at_build_[i]).squaredNorm();
-    // Written so that a NaN displacement wins: the rebuild it forces reports it.
-    if (!(d2 <= max_d2)) max_d2 = std::isnan(d2) ? HUGE_VAL : d2;
-  }
-  return rebuild_due(p.size(), max_d2);
-}
-
 bool NeighborList::rebuild_due(std::size_t n, double max_drift_sq) const {
   if (builds_ == 0 || x_at_build_.size() != n) return true;
   const double limit = 0.25 * skin_ * skin_;  // (skin/2)^2: two bodies approach by < skin

@@ -21,9 +21,9 @@ class NeighborList {
   explicit NeighborList(double skin) : skin_(skin) {}
 
   double skin() const { return skin_; }
-  bool needs_rebuild(const Particles& p) const;
-  // The same decision, given the largest squared displacement of any of n bodies from
-  // build_positions() (NaN or HUGE_VAL: rebuild, and a NaN position is then reported).
+  // Whether the lists of n bodies are due for a rebuild, given the largest squared displacement
+  // of any body from build_positions() since the last build (measured by the integrator in its
+  // drift; NaN or HUGE_VAL: rebuild, and a NaN position is then reported).
   bool rebuild_due(std::size_t n, double max_drift_sq) const;
   const std::vector<Vec3>& build_positions() const { return x_at_build_; }
   // Wraps positions into the box, then rebuilds both lists. The previous lists are kept

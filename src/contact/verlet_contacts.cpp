@@ -32,24 +32,13 @@ inline bool pair_geometry(const Particles& p, const Box& box, int i, int j, Cont
 
 }  // namespace
 
-bool VerletContacts::update_lists(Particles& p, const Box& box, Timers* timers) {
-  if (!list_.needs_rebuild(p)) return false;
-  build(p, box, timers);
-  return true;
-}
-
-bool VerletContacts::update_lists_after_drift(Particles& p, const Box& box, Timers* timers,
-                                              double max_drift_sq) {
+bool VerletContacts::update_lists(Particles& p, const Box& box, Timers* timers, double max_drift_sq) {
   if (!list_.rebuild_due(p.size(), max_drift_sq)) return false;
-  build(p, box, timers);
-  return true;
-}
-
-void VerletContacts::build(Particles& p, const Box& box, Timers* timers) {
   list_.build(p, box);
   if (timers) timers->stamp(Phase::Neighbor);
   after_build();
   if (timers) timers->stamp(Phase::History);
+  return true;
 }
 
 void VerletContacts::rebuild(Particles& p, const Box& box) {

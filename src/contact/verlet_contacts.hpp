@@ -23,9 +23,8 @@ namespace granudrag {
 class VerletContacts : public ContactLoop {
  public:
   explicit VerletContacts(double skin) : list_(skin), simd_(best_simd_level()) {}
-  bool update_lists(Particles& p, const Box& box, Timers* timers) override;
   const std::vector<Vec3>* build_positions() const override { return &list_.build_positions(); }
-  bool update_lists_after_drift(Particles& p, const Box& box, Timers* timers, double max_drift_sq) override;
+  bool update_lists(Particles& p, const Box& box, Timers* timers, double max_drift_sq) override;
   void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
                   bool update_history) override;
   double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const override;
@@ -46,7 +45,6 @@ class VerletContacts : public ContactLoop {
   SimdLevel simd_;  // chosen once, outside any parallel region: a bad GRANUDRAG_SIMD fails here
   ContactHistory grain_history_, intruder_history_;
   void balance_rows(int threads);
-  void build(Particles& p, const Box& box, Timers* timers);
   void after_build();
   // Scans rows i0 .. i1 for touching pairs and adds their forces into f, tq.
   void scan_rows(const Particles& p, const Box& box, const ContactParams& c, double dt, bool update_history,

@@ -42,7 +42,8 @@ Simulation::Simulation(Particles particles, Box box, ContactParams contact, Sett
 
 void Simulation::setup() {
   timers_.start();
-  if (contacts_->update_lists(p_, box_, &timers_)) lists_rebuilt();
+  // Nothing has moved yet, and there are no lists to have moved from: the first build.
+  if (contacts_->update_lists(p_, box_, &timers_, HUGE_VAL)) lists_rebuilt();
   timers_.stamp(Phase::Neighbor);
   clear_forces();
   contact_forces(false);
@@ -58,7 +59,7 @@ void Simulation::step() {
   const double max_drift_sq = initial_integrate();
   timers_.stamp(Phase::Integrate);
   // Stamps Neighbor and History when it rebuilds.
-  if (contacts_->update_lists_after_drift(p_, box_, &timers_, max_drift_sq)) lists_rebuilt();
+  if (contacts_->update_lists(p_, box_, &timers_, max_drift_sq)) lists_rebuilt();
   timers_.stamp(Phase::Neighbor);
   contact_forces(true);
   timers_.stamp(Phase::Force);
