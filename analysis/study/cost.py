@@ -13,7 +13,7 @@ from ..physics import default_dt, froude
 # Sequential stopping (a pull's `target_error`): the drag's relative standard error after L d of
 # travel past the transient is about c(Fr) / sqrt(L), and the stopping rule wants at least
 # STOP_MIN_DOF effective samples, one per STOP_CORRELATION_LENGTH of travel. Measured on the
-# pulls of config/regen-small.yaml (52 pulls of 12 d, K_n = 2e5, D = 2 and 3, h = 14 d) and of
+# pulls of config/ladder/crossover-k2e5-box12.yaml (52 pulls of 12 d, K_n = 2e5, D = 2 and 3, h = 14 d) and of
 # a shallower variant (78 pulls, h = 6.5 d): the median of drag_err / drag * sqrt(L) is
 # 0.12-0.15 at Fr <= 1, 0.29-0.32 at Fr 1-3, 0.42-0.51 at Fr 3-6, 0.71-0.93 at Fr 6-15, and
 # of L / drag_dof 1.0-2.7 d; the line below runs between those medians.

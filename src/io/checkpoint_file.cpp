@@ -26,6 +26,9 @@ void write_pull_record(h5::File& f, const PullRecord& r) {
   f.write("/pull/theta_histogram",
           std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
   f.write("/pull/z_histogram", std::vector<std::int64_t>(r.z_histogram.begin(), r.z_histogram.end()));
+  f.write("/pull/shell_grains", std::vector<std::int64_t>(r.shells.grains.begin(), r.shells.grains.end()));
+  f.write("/pull/shell_contacts",
+          std::vector<std::int64_t>(r.shells.contacts.begin(), r.shells.contacts.end()));
   f.write("/pull/energy", std::vector<double>{r.work, r.max_overlap, r.energy_start, r.contact_sum});
   f.write_rows("/pull/force_sum", std::vector<Vec3>{r.force_sum});
   f.set_attr("/pull", "grains_lost", static_cast<std::int64_t>(r.grains_lost));
@@ -53,6 +56,15 @@ PullRecord read_pull_record(const h5::File& f) {
   r.theta_histogram.assign(th.begin(), th.end());
   const auto zh = f.read_int64("/pull/z_histogram");
   r.z_histogram.assign(zh.begin(), zh.end());
+  // Checkpoints written before the shells have none: counted from the resume on.
+  if (f.exists("/pull/shell_grains")) {
+    const auto sg = f.read_int64("/pull/shell_grains");
+    const auto sc = f.read_int64("/pull/shell_contacts");
+    if (sg.size() != r.shells.grains.size() || sc.size() != r.shells.contacts.size())
+      throw Error("/pull/shell_grains or /pull/shell_contacts has the wrong length");
+    r.shells.grains.assign(sg.begin(), sg.end());
+    r.shells.contacts.assign(sc.begin(), sc.end());
+  }
   const auto en = f.read_doubles("/pull/energy");
   r.work = en.at(0);
   r.max_overlap = en.at(1);

@@ -101,6 +101,16 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
   f.set_attr("/observables/bulk_coordination", "shell", pull.spec().shell);
   f.write("/observables/bulk_coordination/distribution", res.z_distribution);
   scalar("kappa", res.kappa, NAN, "(Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8");
+  // Z and kappa in nested shells (protocol/coordination_shells.hpp): which "certain distance".
+  const std::string shells = "/observables/bulk_coordination/shells/";
+  f.write(shells + "width",
+          std::vector<double>(CoordinationShells::widths.begin(), CoordinationShells::widths.end()));
+  f.write(shells + "Z", res.shell_z);
+  f.write(shells + "kappa", res.shell_kappa);
+  f.write(shells + "grains", std::vector<std::int64_t>(r.shells.grains.begin(), r.shells.grains.end()));
+  f.set_attr("/observables/bulk_coordination/shells", "meaning",
+             std::string("Z and kappa of mobile grains with centre within R + width of the intruder, "
+                         "the samples of Z; grains: sample-grains counted in each ring between widths"));
   write_snapshots(f, "/snapshots/", r.snapshots);
   f.set_attr("/sanity", "report", sanity);
   f.set_attr("/sanity", "max_overlap", r.max_overlap);

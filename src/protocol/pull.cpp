@@ -236,12 +236,25 @@ void Pull::end_of_interval() {
   const double R = p.radius[in];
   const long n = static_cast<long>(p.size());
   long histogram[16] = {};
-#pragma omp parallel for schedule(static) reduction(+ : histogram[:16])
+  constexpr int rings = CoordinationShells::rings;
+  long ring_grains[rings] = {}, ring_contacts[rings] = {};
+#pragma omp parallel for schedule(static) \
+    reduction(+ : histogram[:16], ring_grains[:rings], ring_contacts[:rings])
   for (long i = 0; i < n; ++i) {
     if (p.species[i] != Species::Mobile) continue;
-    if (bed_.box.min_image(p.x[i] - p.x[in]).norm() < R + spec_.shell) ++histogram[std::min(15, counts_[i])];
+    const double r = bed_.box.min_image(p.x[i] - p.x[in]).norm();
+    if (r < R + spec_.shell) ++histogram[std::min(15, counts_[i])];
+    const int k = CoordinationShells::ring(r - R);
+    if (k >= 0) {
+      ++ring_grains[k];
+      ring_contacts[k] += counts_[i];
+    }
   }
   for (int z = 0; z < 16; ++z) record_.z_histogram[z] += histogram[z];
+  for (int k = 0; k < rings; ++k) {
+    record_.shells.grains[k] += ring_grains[k];
+    record_.shells.contacts[k] += ring_contacts[k];
+  }
   // Snapshots evenly spread over the part of the pull after the transient.
   const long done = static_cast<long>(record_.snapshots.size());
   const double t_end = planned_steps_ * sim_.dt();
@@ -307,7 +320,10 @@ PullResult Pull::result() const {
     r.bulk_coordination = static_cast<double>(weighted) / total;
     for (long c : record_.z_histogram) r.z_distribution.push_back(static_cast<double>(c) / total);
   }
-  r.kappa = r.bulk_coordination / r.coordination * (D + 1) * (D + 1) / (2 * std::sqrt(3.0));
+  const double per_contact = (D + 1) * (D + 1) / (2 * std::sqrt(3.0));
+  r.kappa = r.bulk_coordination / r.coordination * per_contact;
+  r.shell_z = record_.shells.z();
+  for (double z : r.shell_z) r.shell_kappa.push_back(z / r.coordination * per_contact);
   return r;
 }
 

@@ -9,6 +9,7 @@
 
 #include "engine/run_guard.hpp"
 #include "engine/simulation.hpp"
+#include "protocol/coordination_shells.hpp"
 #include "protocol/observables.hpp"
 #include "protocol/pour.hpp"
 
@@ -65,6 +66,7 @@ struct PullRecord {
   std::vector<long> theta_histogram = std::vector<long>(36, 0);  // 5-degree bins on [0, pi]
   // Bulk coordination number of grains in the shell, after the transient.
   std::vector<long> z_histogram = std::vector<long>(16, 0);  // Z = 0 .. 15 (15: >= 15)
+  CoordinationShells shells;  // Z in nested shells of every width, the same samples
   std::vector<Snapshot> snapshots;
   double work = 0;         // done by the intruder on the grains
   double max_overlap = 0;  // largest overlap seen at a sample, d
@@ -101,10 +103,11 @@ struct PullResult {
   double coordination = NAN;        // n: mean number of grains touching the intruder
   double coordination_error = NAN;  // its standard error (mean_error, as the drag's)
   double theta = NAN, theta_error = NAN;
-  double bulk_coordination = NAN;      // Z
-  std::vector<double> z_distribution;  // P(Z)
-  double kappa = NAN;                  // (Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8
-  double froude = NAN;                 // 2V sqrt(2D/g)/(D+d), paper Eq. 4
+  double bulk_coordination = NAN;            // Z
+  std::vector<double> z_distribution;        // P(Z)
+  double kappa = NAN;                        // (Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8
+  std::vector<double> shell_z, shell_kappa;  // Z and kappa within R + CoordinationShells::widths
+  double froude = NAN;                       // 2V sqrt(2D/g)/(D+d), paper Eq. 4
 };
 
 double froude_number(double speed, double diameter);

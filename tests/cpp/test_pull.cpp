@@ -237,6 +237,22 @@ TEST(Observables, CumulativeAverage) {
   EXPECT_DOUBLE_EQ(c[2], 4);
 }
 
+TEST(CoordinationShells, RingsAreHalfOpenAndNested) {
+  EXPECT_EQ(CoordinationShells::ring(-0.3), 0);  // overlapping the intruder: the first ring
+  EXPECT_EQ(CoordinationShells::ring(0.4999), 0);
+  EXPECT_EQ(CoordinationShells::ring(0.5), 1);
+  EXPECT_EQ(CoordinationShells::ring(5.99), 8);
+  EXPECT_EQ(CoordinationShells::ring(6.0), -1);
+  CoordinationShells s;
+  s.grains = {2, 0, 2, 0, 0, 0, 0, 0, 0};
+  s.contacts = {8, 0, 4, 0, 0, 0, 0, 0, 0};
+  const std::vector<double> z = s.z();
+  EXPECT_DOUBLE_EQ(z[0], 4.0);
+  EXPECT_DOUBLE_EQ(z[1], 4.0);  // an empty ring changes nothing
+  EXPECT_DOUBLE_EQ(z[2], 3.0);  // (8 + 4) contacts of 4 grains
+  EXPECT_DOUBLE_EQ(z[8], 3.0);
+}
+
 TEST(Pull, FroudeNumberIsPaperEq4) { EXPECT_DOUBLE_EQ(froude_number(1.0, 4.0), 2.0 * std::sqrt(8.0) / 5.0); }
 
 TEST(Pull, MeasuresDragAndContactsOfAMovingIntruder) {
@@ -262,6 +278,14 @@ TEST(Pull, MeasuresDragAndContactsOfAMovingIntruder) {
   for (double pz : r.z_distribution) total += pz;
   EXPECT_NEAR(total, 1.0, 1e-12);
   EXPECT_NEAR(r.kappa, r.bulk_coordination / r.coordination * 9.0 / (2 * std::sqrt(3.0)), 1e-12);
+  // The nested shells count the same samples: at the main shell's width (2 d) their Z is the
+  // histogram's, accumulated separately; kappa follows Eq. 8 in each.
+  ASSERT_EQ(r.shell_z.size(), CoordinationShells::widths.size());
+  EXPECT_EQ(CoordinationShells::widths[3], spec.shell);
+  EXPECT_NEAR(r.shell_z[3], r.bulk_coordination, 1e-12);
+  for (std::size_t k = 0; k < r.shell_z.size(); ++k)
+    EXPECT_NEAR(r.shell_kappa[k], r.shell_z[k] / r.coordination * 9.0 / (2 * std::sqrt(3.0)), 1e-12);
+  EXPECT_GT(pull.record().shells.grains[0], 0);  // touching grains were seen
   EXPECT_EQ(pull.record().snapshots.size(), 3u);
   // The intruder moved exactly the requested distance (rounded up to whole samples).
   const Particles& p = pull.simulation().particles();
