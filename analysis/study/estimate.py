@@ -10,7 +10,9 @@ bounds). dt is the config's, or granudrag's default (analysis.physics.default_dt
 proportional to K_n^-0.4). Core-hours = particle-steps / throughput x threads, where
 throughput is the particle-steps per second of one job on `threads` threads
 (the config's `throughput`, measured with `granudrag pull`, which prints it).
-Wall time on N cores assumes N / threads jobs at a time, perfectly packed.
+Wall time on N cores (default: this machine's) assumes N / threads jobs at a time, perfectly
+packed; on fewer cores than a job's threads, the jobs run one at a time on N threads at the
+throughput's rate per thread (the core-hours over N), never at the rate of the job's own node.
 
 --measure replaces the config's throughput by one measured here on the workload the jobs run:
 `granudrag pour` settles a bed of G grains (default: the smallest system's, at most 70,000;
@@ -88,6 +90,17 @@ def measure_throughput(binary, grains, threads):
                           f"efficiency = {scaled:.3g} for a {threads}-thread job")
 
 
+def wall_seconds(particle_steps, throughput, threads, cores):
+    """(jobs at a time, wall seconds, whether a job gets fewer cores than its threads) of
+    `particle_steps` on `cores` cores, for jobs of `threads` threads running at `throughput`
+    particle-steps/s each. With fewer cores than threads a job runs at cores/threads of that
+    rate: a throughput measured on a 16-thread node says nothing faster about a 2-core one."""
+    if cores >= threads:
+        parallel = cores // threads
+        return parallel, particle_steps / throughput / parallel, False
+    return 1, particle_steps / throughput * threads / cores, True
+
+
 def hours(seconds):
     h = seconds / 3600.0
     return f"{h:.3g} h" if h >= 1 else f"{seconds / 60.0:.3g} min"
@@ -97,7 +110,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("config", help="study config (YAML)")
     ap.add_argument("--throughput", type=float, help="particle-steps/s of one job (default: the config's)")
-    ap.add_argument("--cores", type=int, default=2, help="cores for the wall-time estimate (default 2)")
+    ap.add_argument("--cores", type=int, default=os.cpu_count() or 1,
+                    help="cores for the wall-time estimate (default: this machine's)")
     ap.add_argument("--by-sweep", action="store_true", help="break the cost down by sweep")
     ap.add_argument("--by-figure", action="store_true",
                     help="the cost of the runs behind each figure (the sweeps' `figures` keys)")
@@ -126,7 +140,7 @@ def main(argv=None):
     s = study.summary(plan)
     tp, threads = float(config["throughput"]), s["threads"]
     total = s["bed_particle_steps"] + s["pull_particle_steps"]
-    parallel = max(1, args.cores // threads)
+    parallel, wall, squeezed = wall_seconds(total, tp, threads, args.cores)
     print(f"{args.config}: {s['beds']} beds + {s['pulls']} pulls = {s['beds'] + s['pulls']} "
           f"simulation jobs (+ table, restitution, force trace, report)")
     print(f"  particle-steps: beds <= {s['bed_particle_steps']:.3g}, pulls {s['pull_particle_steps']:.3g}")
@@ -134,8 +148,9 @@ def main(argv=None):
     print(f"  cost: {s['core_hours']:.3g} core-hours "
           f"(beds <= {s['bed_particle_steps'] / tp * threads / 3600:.3g}, "
           f"pulls {s['pull_particle_steps'] / tp * threads / 3600:.3g})")
-    print(f"  wall time on {args.cores} cores ({parallel} job(s) at a time): "
-          f"<= {hours(total / tp / parallel)}")
+    packing = (f"each {threads}-thread job on {args.cores} cores, one at a time: the core-hours / {args.cores}"
+               if squeezed else f"{parallel} job(s) at a time")
+    print(f"  wall time on {args.cores} cores ({packing}): <= {hours(wall)}")
     longest = max(plan.pulls.values(), key=lambda p: study.pull_cost(p, config))
     print(f"  longest pull: {longest.key} ({hours(study.job_seconds(study.pull_cost(longest, config), config))})")
     if args.by_sweep:

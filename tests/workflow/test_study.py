@@ -162,6 +162,25 @@ def test_estimate_cost_prints_jobs_and_core_hours():
     assert "simulation jobs" in out.stdout and "core-hours" in out.stdout
 
 
+def test_wall_time_on_fewer_cores_than_a_job_has_threads_is_the_core_hours_over_the_cores():
+    # faithful.yaml prices 16-thread jobs at a 16-thread node's throughput; on 2 cores that
+    # throughput is not available: the wall time is its core-hours / 2, not particle-steps / rate.
+    out = subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"),
+                          str(ROOT / "config/faithful.yaml"), "--cores", "2"],
+                         capture_output=True, text=True, check=True).stdout
+    core_hours = _cost_line(out)
+    wall = next(ln for ln in out.splitlines() if "wall time on 2 cores" in ln)
+    assert "each 16-thread job on 2 cores" in wall
+    assert float(wall.split("<=")[1].split()[0]) == pytest.approx(core_hours / 2, rel=0.01)
+    # With the threads' cores, jobs run side by side at the stated throughput.
+    out = subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"),
+                          str(ROOT / "config/faithful.yaml"), "--cores", "32"],
+                         capture_output=True, text=True, check=True).stdout
+    wall = next(ln for ln in out.splitlines() if "wall time on 32 cores" in ln)
+    assert "2 job(s) at a time" in wall
+    assert float(wall.split("<=")[1].split()[0]) == pytest.approx(_cost_line(out) / 32, rel=0.01)
+
+
 def _cost_line(stdout):
     return float(next(ln for ln in stdout.splitlines() if "cost:" in ln).split("cost:")[1].split()[0])
 
