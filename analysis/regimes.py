@@ -100,6 +100,40 @@ def fit_regimes(Fr, drag, sigma=None, *, regime1="constant", continuous=True,
     return fitter.result(x, best, reps, how, y, w)
 
 
+def profile_fr2(Fr, drag, sigma=None, fr2_values=None, *, regime1="constant", continuous=True, grid=40):
+    """The profile of the fit's weighted sum of squares over Fr2: for each Fr2 in fr2_values
+    the best fit with Fr2 held there (Fr1 and the coefficients free), as rows (Fr2, chi2,
+    delta). delta = (chi2 - chi2_min) / (chi2_min / dof) is the profile's likelihood-ratio
+    statistic with the noise scaled to the fit's own residuals (one parameter: ~chi2 with 1
+    dof; delta < 3.84 is the 95 % profile interval). It asks whether the data can tell a
+    crossover at Fr2 = 5 (the paper's, read off its Fig. 5 where linear and quadratic fits
+    were applied on chosen ranges) from the fitted one, whatever the bootstrap's spread.
+    NaN where no Fr1 leaves enough points in every regime."""
+    fitter = RegimeFitter(regime1, continuous, grid)
+    x, y, w = fitter.prepare(Fr, drag, sigma)
+    best = fitter.best(x, y, w)
+    c = np.array([[best["Fr1"], best["Fr2"], best.get("c0", 1.0)]])
+    chi2_min = float(fitter._solve(x, y, w, c)[0][0])
+    dof = len(x) - len(best)
+    if fr2_values is None:
+        fr2_values = np.geomspace(x[x > 0].min(), x.max(), 60)
+    scale = chi2_min / dof if dof > 0 and chi2_min > 0 else np.nan
+    lo = max(x[x > 0].min() if np.any(x > 0) else 1e-3, 1e-6)
+    ux = np.unique(x)
+    c0 = C0_GRID if fitter.power else np.array([best.get("c0", 1.0)])
+    rows = []
+    for f2 in np.asarray(fr2_values, float):
+        f1 = np.geomspace(lo, f2, 200) if continuous else 0.5 * (ux[1:] + ux[:-1])
+        f1 = f1[(f1 < f2) & fitter._counts_ok(x, f1, np.full_like(f1, f2))]
+        if not len(f1):
+            rows.append((float(f2), np.nan, np.nan))
+            continue
+        c = np.column_stack([np.repeat(f1, len(c0)), np.full(len(f1) * len(c0), f2), np.tile(c0, len(f1))])
+        chi2 = float(np.min(fitter._solve(x, y, w, c)[0]))
+        rows.append((float(f2), chi2, (chi2 - chi2_min) / scale))
+    return rows
+
+
 class RegimeFitter:
     """One variant of the model (power-law regime I or not, continuous or not)
     and its profile least-squares search."""

@@ -195,3 +195,19 @@ def test_the_bed_scatter_comes_from_the_replicated_points():
     assert point_bed_scatter(pts) == pytest.approx(0.05)
     assert point_bed_scatter(pts.assign(n_beds=1)) == 0.0
     assert point_bed_scatter(pts.drop(columns="n_beds")) == 0.0
+
+
+def test_fr2_profile_excludes_a_far_crossover_and_keeps_the_true_one():
+    # A three-regime series with Fr2 = 5 and 3 % noise: the profile is lowest near 5, the
+    # 95 % interval (delta < 3.84) holds 5 and excludes 8; held at the fitted Fr2 it is ~0.
+    from analysis.regimes import fit_regimes, profile_fr2, regime_curve
+    rng = np.random.default_rng(3)
+    Fr = np.array([0.25, 0.5, 0.75, 1.5, 2, 2.5, 3, 3.5, 4, 6, 7, 8, 9, 10, 12])
+    true = regime_curve(Fr, a0=100, a1=60, b1=40, a2=110, b2=6, Fr1=1.0, Fr2=5.0)
+    sigma = 0.03 * true
+    drag = true + sigma * rng.standard_normal(len(Fr))
+    fit = fit_regimes(Fr, drag, sigma, n_boot=0)
+    rows = dict((f2, d) for f2, _, d in profile_fr2(Fr, drag, sigma, [fit["Fr2"].value, 5.0, 8.0]))
+    assert abs(rows[fit["Fr2"].value]) < 0.05
+    assert rows[5.0] < 3.84
+    assert rows[8.0] > 3.84
