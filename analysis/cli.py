@@ -5,6 +5,9 @@
     python -m analysis report TABLE.csv --fits fits.json --output-dir DIR [--trace trace.csv ...]
     python -m analysis predict --fits fits.json --D 4 --h 50 --mu 0.5 --V 2
     python -m analysis validate {yield_speed,box_size,stiffness,pull_length} RUNS.csv --output-dir DIR
+    python -m analysis ladder collect --config config/ladder/X.yaml --results results/ladder/X
+                                      --wall-seconds 1234 --cores 2 [--started ISO] [--out DIR]
+    python -m analysis ladder table results/reproduction [--n-boot 100] [--seed 0]
 
 `fit` does what the workflow's `fits` rule does, on any table with the columns of
 results/table.csv (analysis.table.COLUMNS); the file it writes is described in
@@ -12,7 +15,10 @@ analysis/README.md. `report` draws every figure and writes report.md and report.
 workflow's figure and report rules do (figures whose data are not given are listed as not
 drawn). `predict` is `python -m analysis.predict`. `validate` compares a validation study's
 runs with the reference protocol (analysis.validation), or finds how long pulls must be
-(analysis.pull_length), and writes a figure, the comparison table and a sentence. Errors go to standard error with exit
+(analysis.pull_length), and writes a figure, the comparison table and a sentence. `ladder`
+keeps the reproduction ladder (analysis.ladder): `collect` copies a finished study's small
+files into a rung directory (default results/reproduction/<config stem>), `table` writes the
+claims-by-rungs table, its figures and README section. Errors go to standard error with exit
 status 2; outputs are written under a temporary name and renamed when complete.
 """
 import argparse
@@ -91,6 +97,25 @@ def _validate(args):
     return 0
 
 
+def _ladder(args):
+    from . import ladder
+
+    if args.ladder_command == "collect":
+        out = args.out or Path("results/reproduction") / Path(args.config).stem
+        info = ladder.collect(args.config, args.results, out, wall_seconds=args.wall_seconds,
+                              cores=args.cores, started=args.started)
+        hours = info["core_hours"]
+        print(f"{out}: rung {info['rung']}, {info['jobs']} jobs, "
+              + (f"{hours:.3g} core-hours ({info['core_hours_from']})" if hours is not None
+                 else f"core-hours unknown ({info['core_hours_from']})") + f", commit {info['commit']}")
+        for note in info["notes"]:
+            print(f"note: {note}", file=sys.stderr)
+        return 0
+    paths = ladder.write_ladder(args.root, n_boot=args.n_boot, seed=args.seed)
+    print("\n".join(map(str, paths)))
+    return 0
+
+
 def _predict(argv):
     from .predict import main as predict_main
 
@@ -99,7 +124,7 @@ def _predict(argv):
 
 def parser():
     ap = argparse.ArgumentParser(prog="python -m analysis", description=__doc__.split("\n")[0])
-    sub = ap.add_subparsers(dest="command", required=True, metavar="{fit,report,predict,validate}")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="{fit,report,predict,validate,ladder}")
     f = sub.add_parser("fit", help="every fit of the report -> fits.json")
     f.add_argument("table", help="pull table (CSV with the columns of results/table.csv)")
     f.add_argument("--output", required=True, help="fit file to write (JSON, analysis/README.md)")
@@ -128,7 +153,27 @@ def parser():
     v.add_argument("--output-dir", required=True, help="directory of validate_<study>.png/.csv/.md")
     sub.add_parser("predict", help="drag from a fit file (python -m analysis predict --help)",
                    add_help=False)
+    _ladder_parser(sub)
     return ap
+
+
+def _ladder_parser(sub):
+    lad = sub.add_parser("ladder", help="the reproduction ladder: collect a rung, write its table")
+    lsub = lad.add_subparsers(dest="ladder_command", required=True, metavar="{collect,table}")
+    c = lsub.add_parser("collect", help="a finished study's small files -> a rung directory")
+    c.add_argument("--config", required=True, help="the study's config (config/ladder/<rung>.yaml)")
+    c.add_argument("--results", required=True, help="the study's results directory (results/ladder/<rung>)")
+    c.add_argument("--wall-seconds", required=True, type=_non_negative(float, "--wall-seconds"),
+                   help="wall time of the study [s]")
+    c.add_argument("--cores", required=True, type=_non_negative(int, "--cores"),
+                   help="cores the study ran on")
+    c.add_argument("--started", help="when the study started (ISO 8601)")
+    c.add_argument("--out", help="rung directory (default results/reproduction/<config stem>)")
+    t = lsub.add_parser("table", help="ladder.csv, ladder.md, figures and README section of a ladder root")
+    t.add_argument("root", help="the ladder's root with ladder.yaml (results/reproduction)")
+    t.add_argument("--n-boot", type=_non_negative(int, "--n-boot"), default=100,
+                   help="bootstrap refits of the Fr_2-range fits (default 100)")
+    t.add_argument("--seed", type=_non_negative(int, "--seed"), default=0, help="bootstrap seed")
 
 
 def main(argv=None):
@@ -139,7 +184,7 @@ def main(argv=None):
     from .table import TableError
 
     try:
-        return {"fit": _fit, "report": _report, "validate": _validate}[args.command](args)
+        return {"fit": _fit, "report": _report, "validate": _validate, "ladder": _ladder}[args.command](args)
     except (TableError, FitFileError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

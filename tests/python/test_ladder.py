@@ -1,0 +1,316 @@
+"""analysis.ladder: a rung collected from a study's results, the claims-by-rungs table with the
+report's verdicts, the κ shell slopes and the Fr_2-range refits, and the `ladder` CLI."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pandas as pd
+import pytest
+import synth
+from test_runs import write_run
+
+from analysis.fitset import load_results, run_fits, save_results
+from analysis.ladder import (
+    LADDER_BEGIN,
+    LADDER_END,
+    NOT_RUN,
+    SHELL_COLUMNS,
+    LadderError,
+    collect,
+    fr2_vs_range,
+    kappa_shell_slopes,
+    parse_fitted,
+    rung_claims,
+    write_ladder,
+)
+from analysis.report import comparisons
+from analysis.table import combine_beds, load_csv, save_csv
+
+ROOT = Path(synth.__file__).resolve().parents[2]
+FR = np.array([0.2, 0.4, 0.6, 0.8, 1.5, 2, 3, 4, 5.5, 6.5, 8, 10, 12, 15])
+WIDTHS = np.array([0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0])
+KAPPA_SLOPE = "κ(Fr) slope (Fig. 8)"
+
+
+def point_table(kappa=(0.887, 0.185), seed=0, Ds=(2, 3), seeds=(1, 2), noise=0.02):
+    """A rung's table.csv: system I, μ = 0.5, a drag obeying the three-regime law with Fr_1 = 1
+    and Fr_2 = 5 (synth), κ = k0 + k1 Fr, θ of Eq. 7, replicate beds combined as the workflow does."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for D in Ds:
+        for s in seeds:
+            for fr in FR:
+                F = synth.drag_true(D, 14.0, 0.5, fr) * (1 + noise * rng.standard_normal())
+                k = kappa[0] + kappa[1] * fr + 0.01 * rng.standard_normal()
+                n = 0.5 * (D + 1.0) ** 2 / (1.0 + 0.2 * fr)
+                rows.append(dict(system="I", D=float(D), h=14.0, mu=0.5, kn=2e5, gamman=792.4466,
+                                 V=float(synth.speed_for(fr, D)), Fr=float(fr), drag=F, drag_err=noise * F,
+                                 n_contacts=n, theta=-0.15 * fr ** 0.38 + np.pi / 2.45
+                                 + 0.005 * rng.standard_normal(), theta_err=0.005,
+                                 Z=k * n * 2 * np.sqrt(3) / (D + 1.0) ** 2, kappa=k, kappa_err=0.01,
+                                 run=f"pulls/system~I/D~{D}/mu~0.5/seed~{s}/Fr~{fr:g}", seed=float(s),
+                                 plateau=True, drag_dof=20.0))
+    return combine_beds(pd.DataFrame(rows))
+
+
+SHELL_SLOPES = ((1.0, 0.2), (3.0, 0.05))     # (width, slope of κ(Fr)) of shell_table
+
+
+def shell_table(slopes=SHELL_SLOPES, seed=0, noise=0.02):
+    """kappa_shells.csv rows: κ = 0.9 + slope(w) Fr + noise per run, D = 2 and 3, three beds;
+    plus μ = 0 runs, which the κ(Fr) of Fig. 8 (μ = 0.5) leaves out."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for mu in (0.5, 0.0):
+        for D in (2.0, 3.0):
+            for s in (1.0, 2.0, 3.0):
+                for fr in (0.5, 1, 2, 3, 4, 5, 6, 8, 10, 12):
+                    bed = 0.01 * rng.standard_normal()       # a bed shifts all its shells alike
+                    for w, k1 in slopes:
+                        rows.append(dict(system="I", D=D, h=14.0, mu=mu, kn=2e5, Fr=float(fr),
+                                         V=float(synth.speed_for(fr, D)), seed=s, n_contacts=5.0, width=w,
+                                         Z=4.0, kappa=0.9 + k1 * fr + bed + noise * rng.standard_normal(),
+                                         gamman=792.4466, ring_grains=100.0, run=f"D~{D:g}/seed~{s:g}/Fr~{fr:g}"))
+    return pd.DataFrame(rows)[SHELL_COLUMNS]
+
+
+# --- collect ---------------------------------------------------------------
+
+BED = "system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.05359/seed~1"
+BENCH_HEAD = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
+
+
+def add_shells(path, kappa):
+    with h5py.File(path, "a") as f:
+        g = f.create_group("observables/bulk_coordination/shells")
+        g["width"], g["Z"], g["kappa"] = WIDTHS, 3.0 + 0.1 * WIDTHS, kappa
+        g["grains"] = np.arange(len(WIDTHS), dtype=np.int64) * 10
+
+
+@pytest.fixture
+def study(tmp_path):
+    """A study's results directory as the workflow leaves it, and its config."""
+    res = tmp_path / "results" / "ladder" / "rung1"
+    (res / "report").mkdir(parents=True)
+    save_csv(point_table(), res / "table.csv")
+    (res / "runs.csv").write_text("system,D\nI,2\n")
+    (res / "report" / "fits.json").write_text('{"format": "granudrag-fits"}\n')
+    (res / "report" / "report.md").write_text("# report\n")
+    bench = res / "benchmarks" / "pulls" / BED
+    bench.mkdir(parents=True)
+    (bench / "Fr~1.tsv").write_text(BENCH_HEAD + "3.09\t0:00:03\t25.6\t40.6\t12.6\t17.2\t0.00\t8.92\t80.25\t2.96\n")
+    (bench / "Fr~2.tsv").write_text(BENCH_HEAD + "10.0\t0:00:10\tNA\tNA\tNA\tNA\tNA\tNA\tNA\tNA\n")
+    (res / "benchmarks" / "beds").mkdir()
+    (res / "benchmarks" / "beds" / "b.tsv").write_text(BENCH_HEAD + "6.0\t0:00:06\t1\t1\t1\t1\t0\t0\t90\t5.0\n")
+    pulls = res / "pulls" / BED
+    add_shells(write_run(pulls / "Fr~1" / "run.h5", speed=0.75), kappa=0.9 + 0.01 * WIDTHS)
+    add_shells(write_run(pulls / "Fr~2" / "run.h5", speed=1.5), kappa=1.1 + 0.01 * WIDTHS)
+    write_run(pulls / "Fr~0.5" / "run.h5", speed=0.375)              # before the engine recorded shells
+    (pulls / "Fr~3").mkdir()
+    (pulls / "Fr~3" / "run.h5").write_text("not hdf5")                # unusable: left out, counted
+    config = tmp_path / "config" / "rung1.yaml"
+    config.parent.mkdir()
+    config.write_text(f"results: {res}\nthreads: 1\n")
+    return config, res
+
+
+def test_collect_copies_the_files_and_counts_the_cost(study, tmp_path):
+    config, res = study
+    out = tmp_path / "reproduction" / "rung1"
+    info = collect(config, res, out, wall_seconds=1234.5, cores=2, started="2026-11-25T10:00:00")
+    for name, src in (("config.yaml", config), ("table.csv", res / "table.csv"), ("runs.csv", res / "runs.csv"),
+                      ("fits.json", res / "report" / "fits.json"), ("report.md", res / "report" / "report.md")):
+        assert (out / name).read_bytes() == src.read_bytes(), name
+    doc = json.loads((out / "run.json").read_text())
+    assert doc == info
+    assert doc["rung"] == "rung1" and doc["config"] == str(config) and doc["cores"] == 2
+    assert doc["wall_seconds"] == 1234.5 and doc["started"] == "2026-11-25T10:00:00"
+    # cpu_time where the benchmark has it (2.96 + 5.0 s), wall seconds x 1 thread where it is NA (10 s).
+    assert doc["core_hours"] == pytest.approx((2.96 + 5.0 + 10.0) / 3600)
+    assert doc["jobs"] == 3 and "cpu_time" in doc["core_hours_from"] and "s × 1 thread" in doc["core_hours_from"]
+    assert {"cpu", "cores", "memory_gib"} <= set(doc["machine"]) and doc["commit"] and doc["date"]
+    shells = pd.read_csv(out / "kappa_shells.csv")
+    assert list(shells.columns) == SHELL_COLUMNS
+    assert len(shells) == 2 * len(WIDTHS)                             # two runs with shells, a row per width
+    one = shells[np.isclose(shells.Fr, 1.0)].sort_values("width")
+    np.testing.assert_allclose(one.width, WIDTHS)
+    np.testing.assert_allclose(one.kappa, 0.9 + 0.01 * WIDTHS)
+    assert (one.D == 2).all() and (one.seed == 1).all() and (one.mu == 0.5).all() and (one.system == "I").all()
+    notes = " ".join(doc["notes"])
+    assert "1 of 4 runs have no" in notes and "1 unusable run files" in notes
+    assert not list(out.glob("*.tmp"))
+
+
+def test_collect_names_the_missing_file_and_the_fix(study, tmp_path):
+    config, res = study
+    (res / "report" / "fits.json").unlink()
+    with pytest.raises(LadderError, match=r"fits\.json: no such file \(run the study first: tools/study\.sh"):
+        collect(config, res, tmp_path / "out", wall_seconds=1, cores=1)
+    assert not (tmp_path / "out" / "run.json").exists()
+
+
+def test_collect_without_shells_writes_a_header_only(study, tmp_path):
+    config, res = study
+    import shutil
+    shutil.rmtree(res / "pulls")
+    info = collect(config, res, tmp_path / "out", wall_seconds=1, cores=1)
+    assert pd.read_csv(tmp_path / "out" / "kappa_shells.csv").empty
+    assert any("header only" in n for n in info["notes"])
+
+
+def test_collect_from_the_command_line_defaults_to_results_reproduction(study, tmp_path):
+    config, res = study
+    r = subprocess.run([sys.executable, "-m", "analysis", "ladder", "collect", "--config", str(config),
+                        "--results", str(res), "--wall-seconds", "60", "--cores", "2"],
+                       cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert json.loads((tmp_path / "results" / "reproduction" / "rung1" / "run.json").read_text())["cores"] == 2
+
+
+# --- the ladder --------------------------------------------------------------
+
+def make_rung(root, name, kappa, seed):
+    """A collected rung: the files `collect` writes, fitted from a synthetic table."""
+    d = root / name
+    d.mkdir(parents=True)
+    df = point_table(kappa=kappa, seed=seed)
+    save_csv(df, d / "table.csv")
+    save_results(d / "fits.json", run_fits(df, n_boot=20, seed=0))
+    shell_table(seed=seed).to_csv(d / "kappa_shells.csv", index=False)
+    (d / "run.json").write_text(json.dumps({
+        "rung": name, "config": f"config/ladder/{name}.yaml", "wall_seconds": 3725.0, "cores": 2,
+        "started": "2026-11-25T10:00:00", "core_hours": 1.5, "core_hours_from": "cpu_time", "jobs": 56,
+        "machine": {"cpu": "Test CPU", "cores": 2, "memory_gib": 7.7}, "commit": "abc1234",
+        "date": "2026-11-25T12:00:00+00:00", "notes": []}))
+    return d
+
+
+README = f"# The ladder\n\nintro\n\n{LADDER_BEGIN}\nold table\n{LADDER_END}\n\ntail\n"
+
+
+@pytest.fixture(scope="module")
+def ladder_root(tmp_path_factory):
+    """Rung A reproduces κ(Fr) (the paper's line), rung B does not (κ falling with Fr), rung C is
+    listed but not run."""
+    root = tmp_path_factory.mktemp("reproduction")
+    (root / "ladder.yaml").write_text(
+        "rungs:\n  - {name: rung-a, label: 'K_n 2e5'}\n  - {name: rung-b, label: 'K_n 2e6'}\n"
+        "  - {name: rung-c, label: 'K_n 2e7'}\nclaims:\n  c: 'kappa line'\n")
+    make_rung(root, "rung-a", (0.887, 0.185), seed=1)
+    make_rung(root, "rung-b", (0.948, -0.020), seed=2)
+    (root / "README.md").write_text(README)
+    written = write_ladder(root, n_boot=10, seed=0)
+    return root, written
+
+
+def test_ladder_csv_has_the_reports_verdicts(ladder_root):
+    root, _ = ladder_root
+    t = pd.read_csv(root / "ladder.csv")
+    slope = t[t.quantity == KAPPA_SLOPE].set_index("rung")
+    assert slope.loc["rung-a", "verdict"] == "reproduced within error bars"
+    assert slope.loc["rung-b", "verdict"] == "not reproduced"
+    assert slope.loc["rung-c", "verdict"] == NOT_RUN and np.isnan(slope.loc["rung-c", "value"])
+    assert slope.loc["rung-a", "value"] == pytest.approx(0.185, abs=0.01)
+    assert slope.loc["rung-a", "core_hours"] == 1.5 and slope.loc["rung-a", "machine_cpu"] == "Test CPU"
+    assert (t[t.rung == "rung-c"].verdict == NOT_RUN).all()
+    assert {"a", "b", "c"} <= set(t.claim) and set(t.claim) <= set("abcdefg")
+    # Exactly the report's verdicts, in its order.
+    for name in ("rung-a", "rung-b"):
+        d = root / name
+        report = comparisons(load_results(d / "fits.json"), load_csv(d / "table.csv"))
+        claims = rung_claims(d)
+        assert [c["verdict"] for c in claims] == [r.verdict for r in report]
+        assert [c["report_quantity"] for c in claims] == [r.quantity for r in report]
+
+
+def test_ladder_md_and_readme_section(ladder_root):
+    root, written = ladder_root
+    md = (root / "ladder.md").read_text()
+    assert "| 3 | rung-c | K_n 2e7 | — | not run |" in md
+    assert "1:02:05 on 2 cores" in md and "abc1234" in md
+    assert "### (c) kappa line" in md and "### (a) three regimes" in md
+    top = [line for line in md.splitlines() if line.startswith(f"| c | {KAPPA_SLOPE} |")]
+    assert len(top) == 1 and "| rung-b |" in top[0] and top[0].endswith("| not reproduced |")
+    readme = (root / "README.md").read_text()
+    assert "old table" not in readme and md.strip() in readme
+    assert readme.startswith("# The ladder\n\nintro\n") and readme.endswith(f"{LADDER_END}\n\ntail\n")
+    for name in ("claim_a.png", "claim_b.png", "claim_c.png", "kappa_shells.png", "fr2_range.png"):
+        assert (root / name).stat().st_size > 1000 and root / name in written, name
+    assert not (root / "claim_d.png").exists()              # no φ_0 in these rungs: no figure
+    assert not list(root.glob("*.tmp"))
+    slopes = pd.read_csv(root / "kappa_shells.csv")
+    assert set(slopes.rung) == {"rung-a", "rung-b"} and {"all", "2", "3"} == set(slopes.D.astype(str))
+
+
+def test_readme_without_markers_is_left_alone(tmp_path):
+    (tmp_path / "ladder.yaml").write_text("rungs: [{name: later, label: not yet}]\n")
+    (tmp_path / "README.md").write_text("# no markers\n")
+    write_ladder(tmp_path, n_boot=5)
+    assert (tmp_path / "README.md").read_text() == "# no markers\n"
+    t = pd.read_csv(tmp_path / "ladder.csv")
+    assert list(t.rung) == ["later"] and list(t.verdict) == [NOT_RUN]
+
+
+def test_parse_fitted():
+    assert parse_fitted("1.23 ± 0.05") == (1.23, 0.05)
+    assert parse_fitted("μ_c = -0.12 ± 0.03") == (-0.12, 0.03)
+    v, e = parse_fitted("1.234")
+    assert v == 1.234 and np.isnan(e)
+    assert all(np.isnan(parse_fitted("n/a")))
+
+
+# --- diagnostics ---------------------------------------------------------------
+
+def test_kappa_shell_slopes_recover_a_known_slope():
+    s = kappa_shell_slopes(shell_table(seed=3))
+    for w, k1 in SHELL_SLOPES:
+        row = s[(s.D == "all") & (s.width == w)].iloc[0]
+        # Stated tolerance: 3 standard errors, and an error small enough to mean something.
+        assert abs(row.k1 - k1) < 3 * row.k1_err and row.k1_err < 0.01, row
+        assert abs(row.k0 - 0.9) < 3 * row.k0_err
+        assert row.n_points == 20 and row.n_runs == 60         # 2 D x 10 Fr, 3 beds averaged; μ = 0 left out
+        assert row.errors_from.startswith("between-bed")
+    per_d = s[(s.D == "2") & (s.width == 1.0)].iloc[0]
+    assert per_d.n_points == 10 and abs(per_d.k1 - 0.2) < 3 * per_d.k1_err
+
+
+def test_fr2_vs_range_recovers_fr2_and_drops_points_above_fr_max():
+    table = point_table(seed=4, Ds=(2,))
+    r = fr2_vs_range(table, fr_max_values=(0.5, 8, 15), n_boot=40, seed=0, rung="x").set_index(
+        ["fr_max", "continuous"])
+    full = r.loc[(15.0, True)]
+    assert abs(full.Fr2 - 5.0) < 3 * full.Fr2_err and full.Fr2_err < 1.5, full
+    assert full.n_points == len(FR) and full.fr_used_max == 15
+    cut = r.loc[(8.0, False)]
+    assert cut.n_points == int(np.sum(FR <= 8)) and cut.fr_used_max == 8
+    short = r.loc[(0.5, True)]                               # 2 points: no fit, said why
+    assert np.isnan(short.Fr2) and "at least" in short.note
+    assert (r.rung == "x").all() and (r.D == 2).all()
+
+
+# --- the command line ------------------------------------------------------------
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "analysis", *map(str, args)], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_cli_table_rewrites_the_same_files(ladder_root):
+    root, _ = ladder_root
+    names = ("ladder.csv", "ladder.md", "claim_c.png", "fr2_range.csv", "kappa_shells.png")
+    before = {n: (root / n).read_bytes() for n in names}
+    r = run("ladder", "table", root, "--n-boot", 10, "--seed", 0)
+    assert r.returncode == 0, r.stderr
+    assert {n: (root / n).read_bytes() for n in names} == before     # deterministic
+
+
+def test_cli_missing_root_names_it(tmp_path):
+    missing = tmp_path / "nowhere"
+    r = run("ladder", "table", missing)
+    assert r.returncode == 2 and str(missing) in r.stderr and "Traceback" not in r.stderr
+    (tmp_path / "ladder.yaml").write_text("rungs: []\n")
+    r = run("ladder", "table", tmp_path)
+    assert r.returncode == 2 and "ladder.yaml" in r.stderr and "Traceback" not in r.stderr
