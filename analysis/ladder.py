@@ -36,7 +36,7 @@ import pandas as pd
 from . import paper
 from .fits import fit_linear, write_text_atomic
 from .fitset import load_results, point_bed_scatter
-from .regimes import fit_regimes
+from .regimes import fit_regimes, profile_fr2
 from .report import comparisons
 from .runs import RunFileError, read_run
 from .table import is_yield, load_csv, pooled_drag_err, reference_params, select, write_csv
@@ -543,8 +543,8 @@ def _diagnostics_markdown(slopes, fr2, names, infos, figures):
                    f"Fr_2 ≈ {paper.CROSSOVER_FR2:g}.\n")
         if "fr2_range.png" in figures:
             out.append("![Fr_2 against fr_max](fr2_range.png)\n")
-        out.append("Cells: Fr_2 (points fitted); * the fit ends on a bound or breaks its model, "
-                   "fr2_range.csv says how.\n")
+        out.append("Cells: Fr_2 (points fitted; Δ₅: the fit's χ² profile at Fr_2 = 5, above 3.84 the data "
+                   "exclude 5 at 95 %); * the fit ends on a bound or breaks its model, fr2_range.csv says how.\n")
         fr_max = sorted(fr2.fr_max.unique())
         body = []
         for (rung, D, cont), g in fr2.groupby(["rung", "D", "continuous"], sort=False):
@@ -552,7 +552,8 @@ def _diagnostics_markdown(slopes, fr2, names, infos, figures):
             for m in fr_max:
                 hit = g[np.isclose(g.fr_max, m)]
                 r = hit.iloc[0] if len(hit) else None
-                cells.append("—" if r is None else f"{_pm(r.Fr2, r.Fr2_err)} ({int(r.n_points)})"
+                delta = f"; Δ₅ = {r.delta_at_5:.1f}" if r is not None and np.isfinite(r.delta_at_5) else ""
+                cells.append("—" if r is None else f"{_pm(r.Fr2, r.Fr2_err)} ({int(r.n_points)}{delta})"
                              + (" *" if isinstance(r.note, str) and r.note else ""))
             body.append([rung, f"{D:g}", "continuous" if cont else "discontinuous"] + cells)
         order = {n: i for i, n in enumerate(names)}
@@ -627,16 +628,18 @@ def kappa_shell_slopes(shells):
 
 # --- Fr_2 against the fitted range ----------------------------------------------
 
-FR2_COLUMNS = ["rung", "D", "fr_max", "continuous", "Fr1", "Fr1_err", "Fr2", "Fr2_err", "n_points",
-               "fr_used_max", "note"]
+FR2_COLUMNS = ["rung", "D", "fr_max", "continuous", "Fr1", "Fr1_err", "Fr2", "Fr2_err", "delta_at_5",
+               "n_points", "fr_used_max", "note"]
 
 
 def fr2_vs_range(table_df, fr_max_values=FR_MAX_VALUES, *, n_boot=100, seed=0, rung=""):
     """The crossovers of the μ = 0.5 drag-vs-Fr series of each D (system I, the reference
     contact law, yield pulls out: as fitset.run_fits fits them, with pooled_drag_err weights
     and the table's bed scatter) refitted on the points with Fr <= fr_max, continuous and not.
-    Does Fr_2 settle as the range grows, or follow it? A fit that cannot be made (too few
-    points) is a row with NaN and the reason in `note`. Fixed seed: deterministic."""
+    Does Fr_2 settle as the range grows, or follow it? delta_at_5: the fit's chi-square profile
+    at Fr_2 = 5, the paper's (regimes.profile_fr2; above 3.84 the data exclude 5 at 95 %
+    whatever the bootstrap says). A fit that cannot be made (too few points) is a row with NaN
+    and the reason in `note`. Fixed seed: deterministic."""
     df = table_df
     kn, gn = reference_params(df)
     series = select(select(df, kn=kn, gamman=gn), mu=0.5, system="I")
@@ -654,11 +657,13 @@ def fr2_vs_range(table_df, fr_max_values=FR_MAX_VALUES, *, n_boot=100, seed=0, r
                                       continuous=continuous, n_boot=n_boot, seed=seed, bed_scatter=bed_scatter,
                                       beds=int(used["n_beds"].min()) if "n_beds" in used.columns else 1)
                 except ValueError as exc:
-                    rows.append({**row, **dict.fromkeys(("Fr1", "Fr1_err", "Fr2", "Fr2_err"), math.nan),
+                    rows.append({**row, **dict.fromkeys(("Fr1", "Fr1_err", "Fr2", "Fr2_err", "delta_at_5"), math.nan),
                                  "note": str(exc)})
                     continue
+                delta = profile_fr2(used.Fr, used.drag, pooled_drag_err(used), [paper.CROSSOVER_FR2],
+                                    continuous=continuous)[0][2]
                 rows.append({**row, "Fr1": fit["Fr1"].value, "Fr1_err": fit["Fr1"].err, "Fr2": fit["Fr2"].value,
-                             "Fr2_err": fit["Fr2"].err,
+                             "Fr2_err": fit["Fr2"].err, "delta_at_5": delta,
                              "note": "; ".join(fit.meta.get("at_bounds", []) + fit.meta.get("violations", []))})
     return pd.DataFrame(rows, columns=FR2_COLUMNS)
 

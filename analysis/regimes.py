@@ -130,7 +130,8 @@ def profile_fr2(Fr, drag, sigma=None, fr2_values=None, *, regime1="constant", co
             continue
         c = np.column_stack([np.repeat(f1, len(c0)), np.full(len(f1) * len(c0), f2), np.tile(c0, len(f1))])
         chi2 = float(np.min(fitter._solve(x, y, w, c)[0]))
-        rows.append((float(f2), chi2, (chi2 - chi2_min) / scale))
+        # Rounding can put a held fit a hair below the free one (same points in each regime).
+        rows.append((float(f2), chi2, max(0.0, (chi2 - chi2_min) / scale)))
     return rows
 
 
