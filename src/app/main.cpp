@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "app/command.hpp"
+#include "core/build_stamp.hpp"
 #include "core/error.hpp"
 
 namespace {
@@ -52,7 +53,7 @@ int main(int argc, char** argv) {
   args.erase(args.begin());
   try {
     if (command == "version" || command == "--version") {
-      std::cout << "granudrag " << GRANUDRAG_VERSION << " (commit " << GRANUDRAG_COMMIT << ")\n";
+      std::cout << "granudrag " << GRANUDRAG_VERSION << " (commit " << granudrag::build_commit() << ")\n";
       return 0;
     }
     for (const auto& c : granudrag::commands())

@@ -4,17 +4,18 @@
 
 #include <filesystem>
 
+#include "core/build_stamp.hpp"
 #include "core/error.hpp"
 #include "io/hdf5_internals.hpp"
 
 namespace granudrag {
 
 void write_file_header(h5::File& file, const std::string& format) {
-  h5::write_h5md_header(file, std::string(GRANUDRAG_VERSION) + " (" + GRANUDRAG_COMMIT + ")");
+  h5::write_h5md_header(file, std::string(GRANUDRAG_VERSION) + " (" + build_commit() + ")");
   file.set_attr("/granudrag", "format", format);
   file.set_attr("/granudrag", "version", kFileVersion);
   file.set_attr("/granudrag", "code_version", std::string(GRANUDRAG_VERSION));
-  file.set_attr("/granudrag", "commit", std::string(GRANUDRAG_COMMIT));
+  file.set_attr("/granudrag", "commit", std::string(build_commit()));
 }
 
 std::int64_t check_file_header(const h5::File& file, const std::string& format, std::int64_t oldest,
