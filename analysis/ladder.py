@@ -406,13 +406,17 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     write_csv(slopes, root / "kappa_shells.csv")
     written.append(root / "kappa_shells.csv")
     written += _kappa_figure(root, slopes, shells, rungs)
+    decomposition = kappa_decomposition(shells) if len(shells) else pd.DataFrame(columns=DECOMPOSITION_COLUMNS)
+    write_csv(decomposition, root / "kappa_decomposition.csv")
+    written.append(root / "kappa_decomposition.csv")
     fr2 = [fr2_vs_range(load_csv(root / r["name"] / "table.csv"), fr_max_values, n_boot=n_boot, seed=seed,
                         rung=r["name"]) for r in rungs if infos[r["name"]] is not None]
     fr2 = pd.concat(fr2, ignore_index=True) if fr2 else pd.DataFrame(columns=FR2_COLUMNS)
     write_csv(fr2, root / "fr2_range.csv")
     written.append(root / "fr2_range.csv")
     written += _fr2_figure(root, fr2, rungs)
-    md = ladder_markdown(table, rungs, claims, infos, slopes, fr2, figures=[p.name for p in written])
+    md = ladder_markdown(table, rungs, claims, infos, slopes, fr2, figures=[p.name for p in written],
+                         decomposition=decomposition)
     write_text_atomic(root / "ladder.md", md)
     written.append(root / "ladder.md")
     readme = root / "README.md"
@@ -478,7 +482,7 @@ def _rung_line(i, rung, info):
             f"{m.get('cpu', '?')} ({m.get('cores', '?')} cores{mem})", date, info.get("commit", "?")]
 
 
-def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=()):
+def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=(), decomposition=None):
     """ladder.md: the rungs, each claim's quantities against the rungs, the verdict at the top
     rung, and the two diagnostics. Deterministic: only what the rungs' files say."""
     names = [r["name"] for r in rungs]
@@ -514,11 +518,11 @@ def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=
             top = rows.loc[rows.order.idxmax()]
             body.append([letter, q, top.rung, top.fitted, top.published, top.verdict])
         out.append(_md_table(["claim", "quantity", "top rung", "fitted", "paper", "verdict"], body))
-    out += _diagnostics_markdown(slopes, fr2, names, infos, figures)
+    out += _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition)
     return "\n".join(out)
 
 
-def _diagnostics_markdown(slopes, fr2, names, infos, figures):
+def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None):
     out = []
     if slopes is not None and len(slopes):
         pooled = slopes[slopes.D.astype(str) == "all"]
@@ -537,6 +541,18 @@ def _diagnostics_markdown(slopes, fr2, names, infos, figures):
                              else NOT_RUN if infos.get(n) is None else "—")
             body.append([f"{w:g}"] + cells)
         out.append(_md_table(["width w [d]"] + names, body))
+    if decomposition is not None and len(decomposition):
+        out.append("### κ's rise taken apart: n and Z from Fr ≈ 1 to Fr ≈ 10\n")
+        out.append("κ = (Z/n)(D+d)²/(2√3 d²) rises by the factor Z_ratio / n_ratio (high/low Fr); the paper's "
+                   "line rises by 2.55 from Fr 1 to 10, with n falling faster than Z (Sec. III B). "
+                   "kappa_decomposition.csv has the numbers.\n")
+        order = {n: i for i, n in enumerate(names)}
+        dec = decomposition.assign(_o=decomposition.rung.map(order)).sort_values(["_o", "D", "width"])
+        body = [[r.rung, f"{r.D:g}", f"{r.width:g}", f"{r.Fr_low:g} → {r.Fr_high:g}",
+                 f"{r.n_low:.3g} → {r.n_high:.3g} (×{r.n_ratio:.2f})",
+                 f"{r.Z_low:.3g} → {r.Z_high:.3g} (×{r.Z_ratio:.2f})",
+                 f"×{r.kappa_ratio:.2f}"] for r in dec.itertuples()]
+        out.append(_md_table(["rung", "D", "shell w [d]", "Fr", "n", "Z", "κ"], body))
     if fr2 is not None and len(fr2):
         out.append("### Fr_2 against the largest Fr fitted\n")
         out.append(f"The three-regime law refitted (μ = 0.5, per D) on the points with Fr ≤ fr_max; paper: "
@@ -624,6 +640,41 @@ def kappa_shell_slopes(shells):
                              "k0_err": fit["k0"].err, "k1": fit["k1"].value, "k1_err": fit["k1"].err,
                              "n_points": len(p), "n_runs": int(p.n_beds.sum()), "errors_from": how})
     return pd.DataFrame(rows, columns=SLOPE_COLUMNS)
+
+
+DECOMPOSITION_COLUMNS = ["rung", "D", "width", "Fr_low", "Fr_high", "n_low", "n_high", "Z_low", "Z_high",
+                         "n_ratio", "Z_ratio", "kappa_ratio"]
+# The Froude numbers the decomposition compares: the paper's Fig. 8 runs from about Fr = 1 to 10.
+DECOMPOSITION_FR = (1.0, 10.0)
+DECOMPOSITION_WIDTHS = (2.0, 6.0)
+
+
+def kappa_decomposition(shells, fr=DECOMPOSITION_FR, widths=DECOMPOSITION_WIDTHS):
+    """Why κ = (Z/n)(D+d)²/(2√3 d²) rises or not: n and Z at the pulled Froude numbers nearest
+    fr (low, high) for each D and shell width, bed-averaged, and their ratios high/low. κ rises
+    by n_ratio⁻¹ Z_ratio; the paper's line rises by (0.887 + 0.185·10)/(0.887 + 0.185) = 2.55
+    from Fr 1 to 10, and says "n … decreases faster than Z" (Sec. III B)."""
+    shells = shells if "rung" in shells.columns else shells.assign(rung="")
+    df = shells[np.isfinite(shells.kappa.astype(float))]
+    df = df[(df.system.astype(str) == "I") & np.isclose(df.mu.astype(float), 0.5)]
+    rows = []
+    for (rung, D), g in df.groupby(["rung", "D"], sort=False):
+        g = g[np.isclose(g.kn, g.kn.value_counts().idxmax())]
+        frs = np.unique(g.Fr.astype(float))
+        lo, hi = (float(frs[np.argmin(np.abs(frs - f))]) for f in fr)
+        if lo == hi:
+            continue
+        for w in widths:
+            at = g[np.isclose(g.width.astype(float), w)]
+            if at.empty:
+                continue
+            a, b = at[np.isclose(at.Fr, lo)], at[np.isclose(at.Fr, hi)]
+            n_lo, n_hi = a.n_contacts.mean(), b.n_contacts.mean()
+            z_lo, z_hi = a.Z.mean(), b.Z.mean()
+            rows.append({"rung": rung, "D": float(D), "width": w, "Fr_low": lo, "Fr_high": hi, "n_low": n_lo,
+                         "n_high": n_hi, "Z_low": z_lo, "Z_high": z_hi, "n_ratio": n_hi / n_lo,
+                         "Z_ratio": z_hi / z_lo, "kappa_ratio": (z_hi / n_hi) / (z_lo / n_lo)})
+    return pd.DataFrame(rows, columns=DECOMPOSITION_COLUMNS)
 
 
 # --- Fr_2 against the fitted range ----------------------------------------------

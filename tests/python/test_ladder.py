@@ -21,6 +21,7 @@ from analysis.ladder import (
     LadderError,
     collect,
     fr2_vs_range,
+    kappa_decomposition,
     kappa_shell_slopes,
     parse_fitted,
     rung_claims,
@@ -275,6 +276,25 @@ def test_kappa_shell_slopes_recover_a_known_slope():
         assert row.errors_from.startswith("between-bed")
     per_d = s[(s.D == "2") & (s.width == 1.0)].iloc[0]
     assert per_d.n_points == 10 and abs(per_d.k1 - 0.2) < 3 * per_d.k1_err
+
+
+def test_kappa_decomposition_takes_the_ratios_at_the_nearest_froude_numbers():
+    # n halves and Z falls by a quarter from Fr 1 to 10 (beds averaged): kappa rises x1.5; the
+    # nearest pulled Fr stand for 1 and 10 (here 1.1 and 9.5); mu = 0 rows are not Fig. 8's.
+    rows = []
+    for seed, bump in ((1, 0.1), (2, -0.1)):
+        for fr, n, z in ((0.5, 12.0, 4.2), (1.1, 10.0, 4.0), (5.0, 7.0, 3.5), (9.5, 5.0, 3.0)):
+            for w in (2.0, 6.0):
+                rows.append(dict(system="I", D=3.0, mu=0.5, kn=2e5, Fr=fr, seed=seed, width=w,
+                                 n_contacts=n + bump, Z=z + (0.5 if w == 6.0 else 0.0),
+                                 kappa=(z / n) * 16 / (2 * np.sqrt(3))))
+                rows.append({**rows[-1], "mu": 0.0, "n_contacts": 1.0})
+    d = kappa_decomposition(pd.DataFrame(rows).assign(rung="r"))
+    assert list(d.width) == [2.0, 6.0] and (d.Fr_low == 1.1).all() and (d.Fr_high == 9.5).all()
+    at2 = d.iloc[0]
+    assert at2.n_ratio == pytest.approx(0.5) and at2.Z_ratio == pytest.approx(0.75)
+    assert at2.kappa_ratio == pytest.approx(1.5)
+    assert d.iloc[1].Z_ratio == pytest.approx(3.5 / 4.5)
 
 
 def test_fr2_vs_range_recovers_fr2_and_drops_points_above_fr_max():
