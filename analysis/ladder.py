@@ -96,6 +96,7 @@ def collect(config, results_dir, out_dir, *, wall_seconds, cores, started=None):
             notes.append(f"{name}: the study has no {results / rel}; not copied")
             (out / name).unlink(missing_ok=True)       # never keep an older study's copy
     notes += write_kappa_shells(results, out / "kappa_shells.csv")
+    notes += write_startup(results, out / "startup.csv")
     hours, source, jobs = core_hours(results, threads=_config_threads(config))
     info = {"rung": config.stem, "config": str(config), "results": str(results),
             "wall_seconds": float(wall_seconds), "cores": int(cores), "started": started,
@@ -233,6 +234,31 @@ def write_kappa_shells(results, path):
     if not rows:
         notes.append(f"kappa_shells.csv: header only: no run file under {Path(results) / 'pulls'} records shells")
     return notes
+
+
+STARTUP_COLUMNS = ["system", "D", "h", "mu", "kn", "Fr", "V", "seed", "drag", "drag_err", "whole_mean",
+                   "travel", "transient_distance"]
+
+
+def write_startup(results, path):
+    """startup.csv: per run, the drag after the discarded transient (`drag`, the table's) and the
+    mean of -F_x over the whole pull, start included (`whole_mean`: the last value of the run's
+    cumulative average, the paper's Fig. 4 "cumulative average"), with the travel. The paper
+    does not say it discarded a start; `startup_refit` asks what its drag would be if not."""
+    import h5py
+    rows, unusable = [], []
+    for p in sorted(Path(results).glob("pulls/**/run.h5")):
+        try:
+            run = read_run(p, root=results)
+            with h5py.File(p, "r") as f:
+                whole = float(np.asarray(f["observables/cumulative_drag/value"][()], dtype=float)[-1])
+        except (RunFileError, OSError, KeyError, IndexError) as exc:
+            unusable.append(f"{p}: {exc}")
+            continue
+        rows.append({**{k: run[k] for k in STARTUP_COLUMNS if k in run}, "whole_mean": whole,
+                     "travel": run["distance"]})
+    write_csv(pd.DataFrame(rows, columns=STARTUP_COLUMNS), path)
+    return [f"startup.csv: {len(unusable)} run files left out: " + "; ".join(unusable)] if unusable else []
 
 
 def read_shells(path):
@@ -415,8 +441,13 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     write_csv(fr2, root / "fr2_range.csv")
     written.append(root / "fr2_range.csv")
     written += _fr2_figure(root, fr2, rungs)
+    startup = [startup_refit(pd.read_csv(root / r["name"] / "startup.csv"), n_boot=n_boot, seed=seed, rung=r["name"])
+               for r in rungs if infos[r["name"]] is not None and (root / r["name"] / "startup.csv").is_file()]
+    startup = pd.concat(startup, ignore_index=True) if startup else pd.DataFrame(columns=STARTUP_FIT_COLUMNS)
+    write_csv(startup, root / "startup_fr2.csv")
+    written.append(root / "startup_fr2.csv")
     md = ladder_markdown(table, rungs, claims, infos, slopes, fr2, figures=[p.name for p in written],
-                         decomposition=decomposition)
+                         decomposition=decomposition, startup=startup)
     write_text_atomic(root / "ladder.md", md)
     written.append(root / "ladder.md")
     readme = root / "README.md"
@@ -482,7 +513,8 @@ def _rung_line(i, rung, info):
             f"{m.get('cpu', '?')} ({m.get('cores', '?')} cores{mem})", date, info.get("commit", "?")]
 
 
-def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=(), decomposition=None):
+def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=(), decomposition=None,
+                    startup=None):
     """ladder.md: the rungs, each claim's quantities against the rungs, the verdict at the top
     rung, and the two diagnostics. Deterministic: only what the rungs' files say."""
     names = [r["name"] for r in rungs]
@@ -518,11 +550,11 @@ def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=
             top = rows.loc[rows.order.idxmax()]
             body.append([letter, q, top.rung, top.fitted, top.published, top.verdict])
         out.append(_md_table(["claim", "quantity", "top rung", "fitted", "paper", "verdict"], body))
-    out += _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition)
+    out += _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition, startup)
     return "\n".join(out)
 
 
-def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None):
+def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None, startup=None):
     out = []
     if slopes is not None and len(slopes):
         pooled = slopes[slopes.D.astype(str) == "all"]
@@ -575,6 +607,25 @@ def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None
         order = {n: i for i, n in enumerate(names)}
         body.sort(key=lambda b: (order.get(b[0], len(order)), float(b[1]), b[2] != "continuous"))
         out.append(_md_table(["rung", "D", "fit"] + [f"Fr ≤ {m:g}" for m in fr_max], body))
+    if startup is not None and len(startup):
+        out.append("### Fr_2 with the start of each pull kept, as a cumulative average over 40 d\n")
+        out.append("The paper's drag is \"the cumulative average\" of the force (Fig. 4); it does not say a start was "
+                   "discarded. Here: each pull's start (discarded in the table) kept and its excess spread over a 40 d "
+                   "pull (startup_fr2.csv; analysis.ladder.startup_refit), beside the steady drag. Cells: Fr_2 "
+                   "(Δ₅); * at a bound or breaking the model.\n")
+        body = []
+        for (rung, D, pull, fr_max), g in startup.groupby(["rung", "D", "pull", "fr_max"], sort=False):
+            cells = []
+            for cont in (True, False):
+                hit = g[g.continuous == cont]
+                r = hit.iloc[0] if len(hit) else None
+                delta = f" (Δ₅ = {r.delta_at_5:.1f})" if r is not None and np.isfinite(r.delta_at_5) else ""
+                cells.append("—" if r is None else f"{_pm(r.Fr2, r.Fr2_err)}{delta}"
+                             + (" *" if isinstance(r.note, str) and r.note else ""))
+            body.append([rung, f"{D:g}", pull, f"≤ {fr_max:g}"] + cells)
+        order = {n: i for i, n in enumerate(names)}
+        body.sort(key=lambda b: (order.get(b[0], len(order)), float(b[1]), b[2] != "steady", b[3]))
+        out.append(_md_table(["rung", "D", "drag", "Fr", "continuous fit", "discontinuous fit"], body))
     return out
 
 
@@ -675,6 +726,59 @@ def kappa_decomposition(shells, fr=DECOMPOSITION_FR, widths=DECOMPOSITION_WIDTHS
                          "n_high": n_hi, "Z_low": z_lo, "Z_high": z_hi, "n_ratio": n_hi / n_lo,
                          "Z_ratio": z_hi / z_lo, "kappa_ratio": (z_hi / n_hi) / (z_lo / n_lo)})
     return pd.DataFrame(rows, columns=DECOMPOSITION_COLUMNS)
+
+
+# --- the start of a pull, kept as the paper may have kept it ----------------------
+
+STARTUP_FIT_COLUMNS = ["rung", "D", "pull", "fr_max", "continuous", "Fr1", "Fr1_err", "Fr2", "Fr2_err",
+                       "delta_at_5", "note"]
+PAPER_PULL = 40.0  # d: system I's box length, the paper's pull
+
+
+def kept_drag(drag, whole_mean, travel, pull=PAPER_PULL):
+    """The mean force over a pull of `pull` d whose start is the one pulled here (over `travel`
+    d, mean whole_mean) and whose rest runs at the steady drag: the start's excess work
+    (whole_mean - drag) travel spread over `pull`."""
+    return drag + (whole_mean - drag) * travel / pull
+
+
+def startup_refit(startup, fr_max_values=(10.0, 15.0), *, n_boot=100, seed=0, rung=""):
+    """Fr_2 of the mu = 0.5 series per D fitted to the drag with the start of each pull kept and
+    diluted over the paper's 40 d pull: drag + (whole_mean - drag) travel / 40, i.e. the start's
+    excess work (over the travel pulled here) averaged over 40 d of travel, the rest at the
+    steady drag. The start of a fast pull is an impact (the intruder starts at V), whose excess
+    force grows about as V^2: kept in a cumulative average it adds a quadratic rise by itself.
+    Beside it, the same fit of the steady drag (pull = "steady"). Replicate beds averaged;
+    weights: the runs' drag errors combined."""
+    df = startup[np.isclose(startup.mu.astype(float), 0.5) & (startup.system.astype(str) == "I")]
+    rows = []
+    if df.empty:
+        return pd.DataFrame(rows, columns=STARTUP_FIT_COLUMNS)
+    df = df[np.isclose(df.kn, df.kn.value_counts().idxmax())]
+    df = df.assign(kept=kept_drag(df.drag, df.whole_mean, df.travel), var=df.drag_err ** 2)
+    for D, g in df.groupby("D"):
+        pts = g.groupby(g.Fr.round(6)).agg(steady=("drag", "mean"), kept=("kept", "mean"), var=("var", "sum"),
+                                          k=("drag", "size")).reset_index()
+        err = np.sqrt(pts["var"]) / pts.k
+        for col, label in (("steady", "steady"), ("kept", f"start kept, {PAPER_PULL:g} d")):
+            for fr_max in fr_max_values:
+                m = (pts.Fr <= fr_max + 1e-9).to_numpy()
+                for continuous in (True, False):
+                    row = {"rung": rung, "D": float(D), "pull": label, "fr_max": float(fr_max),
+                           "continuous": continuous}
+                    try:
+                        fit = fit_regimes(pts.Fr[m], pts[col][m], err[m], continuous=continuous, n_boot=n_boot,
+                                          seed=seed)
+                        delta = profile_fr2(pts.Fr[m], pts[col][m], err[m], [paper.CROSSOVER_FR2],
+                                            continuous=continuous)[0][2]
+                    except ValueError as exc:
+                        rows.append({**row, **dict.fromkeys(("Fr1", "Fr1_err", "Fr2", "Fr2_err", "delta_at_5"),
+                                                            math.nan), "note": str(exc)})
+                        continue
+                    rows.append({**row, "Fr1": fit["Fr1"].value, "Fr1_err": fit["Fr1"].err,
+                                 "Fr2": fit["Fr2"].value, "Fr2_err": fit["Fr2"].err, "delta_at_5": delta,
+                                 "note": "; ".join(fit.meta.get("at_bounds", []) + fit.meta.get("violations", []))})
+    return pd.DataFrame(rows, columns=STARTUP_FIT_COLUMNS)
 
 
 # --- Fr_2 against the fitted range ----------------------------------------------

@@ -23,10 +23,13 @@ from analysis.ladder import (
     fr2_vs_range,
     kappa_decomposition,
     kappa_shell_slopes,
+    kept_drag,
     parse_fitted,
     rung_claims,
+    startup_refit,
     write_ladder,
 )
+from analysis.regimes import regime_curve
 from analysis.report import comparisons
 from analysis.table import combine_beds, load_csv, save_csv
 
@@ -295,6 +298,27 @@ def test_kappa_decomposition_takes_the_ratios_at_the_nearest_froude_numbers():
     assert at2.n_ratio == pytest.approx(0.5) and at2.Z_ratio == pytest.approx(0.75)
     assert at2.kappa_ratio == pytest.approx(1.5)
     assert d.iloc[1].Z_ratio == pytest.approx(3.5 / 4.5)
+
+
+def test_startup_kept_spreads_the_start_over_the_papers_pull_and_refits():
+    # 12 d pulled with a mean of 180 over the whole pull and 100 steady: 960 of excess work,
+    # spread over 40 d: +24.
+    assert kept_drag(100.0, 180.0, 12.0) == pytest.approx(124.0)
+    assert kept_drag(100.0, 180.0, 12.0, pull=12.0) == pytest.approx(180.0)
+    # A series without start excess: the kept drag is the steady one, so both fits agree and
+    # find the known Fr_2 = 5; mu = 0 rows are not the series.
+    rows, rng = [], np.random.default_rng(5)
+    for seed in (1, 2):
+        for fr, y in zip(FR, regime_curve(FR, a0=100, a1=60, b1=40, a2=110, b2=6, Fr1=1.0, Fr2=5.0)):
+            noisy = y * (1 + 0.02 * rng.standard_normal())
+            rows.append(dict(system="I", D=2.0, mu=0.5, kn=2e5, Fr=fr, seed=seed, drag=noisy, drag_err=0.02 * y,
+                             whole_mean=noisy, travel=12.0))
+            rows.append({**rows[-1], "mu": 0.0, "drag": 1.0, "whole_mean": 1.0})
+    r = startup_refit(pd.DataFrame(rows), fr_max_values=(15.0,), n_boot=20, rung="x")
+    assert len(r) == 4 and set(r.pull) == {"steady", "start kept, 40 d"}
+    cont = r[r.continuous]
+    assert cont.Fr2.iloc[0] == pytest.approx(cont.Fr2.iloc[1])
+    assert abs(cont.Fr2.iloc[0] - 5.0) < 3 * cont.Fr2_err.iloc[0] and (cont.delta_at_5 < 3.84).all()
 
 
 def test_fr2_vs_range_recovers_fr2_and_drops_points_above_fr_max():
