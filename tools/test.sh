@@ -8,8 +8,18 @@
 # and Snakemake 7.21, and with the project environment's Python and Snakemake 9; and the
 # smoke study through both SLURM profiles on a real one-node cluster with accounting.
 # Prints how long each step took.
+#   tools/test.sh           every test (the README's test command, and CI's)
+#   tools/test.sh --quick   the inner loop: lint, build, the C++ unit tests and the Python unit
+#                           tests (tests/python) under the project environment; no sanitizers,
+#                           command-line, workflow or SLURM tests
 set -euo pipefail
 cd "$(dirname "$0")/.."
+quick=false
+case "${1:-}" in
+  --quick) quick=true ;;
+  "") ;;
+  *) echo "tools/test.sh: unknown option '$1' (use --quick for the inner loop, nothing for every test)" >&2; exit 2 ;;
+esac
 tools/install-deps.sh test
 # Debian's interpreter, not whichever python3 comes first on PATH (it may lack the packages).
 PY=/usr/bin/python3
@@ -29,6 +39,14 @@ cmake --build build -j "$jobs"
 took "build"
 # Side by side: each test declares its cores (PROCESSORS 2 for the two-thread tests, one
 # thread for the others; see CMakeLists.txt), so ctest never oversubscribes the machine.
+if $quick; then
+  (cd build && ctest -j "$jobs" --output-on-failure -L unit)
+  took "C++ unit tests"
+  GRANUDRAG="$PWD/build/granudrag" .venv/bin/python -m pytest -q -p no:cacheprovider tests/python
+  took "Python unit tests"
+  echo "quick tests passed in $((SECONDS - start)) s (every test: tools/test.sh)"
+  exit 0
+fi
 (cd build && ctest -j "$jobs" --output-on-failure)
 took "C++ and command-line tests"
 
