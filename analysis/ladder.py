@@ -62,7 +62,7 @@ SHELL_GROUP = "observables/bulk_coordination/shells"
 # The run's keys (analysis.runs.read_run), then the shell's; ring_grains: grains seen in the ring
 # [R + w_prev, R + w) summed over the samples (its weight in Z), run: the run directory.
 SHELL_COLUMNS = ["system", "D", "h", "mu", "kn", "Fr", "V", "seed", "n_contacts", "width", "Z", "kappa",
-                 "gamman", "ring_grains", "run"]
+                 "gamman", "ring_grains", "run", "lx", "ly"]
 NOT_RUN = "not run"
 FR_MAX_VALUES = (8.0, 10.0, 12.0, 15.0)
 
@@ -101,10 +101,28 @@ def collect(config, results_dir, out_dir, *, wall_seconds, cores, started=None):
     info = {"rung": config.stem, "config": str(config), "results": str(results),
             "wall_seconds": float(wall_seconds), "cores": int(cores), "started": started,
             "core_hours": hours, "core_hours_from": source, "jobs": jobs, "machine": machine(),
-            "commit": commit(), "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+            "commit": commit(), "engine_commits": engine_commits(results),
+            "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
             "notes": notes}
     write_text_atomic(out / "run.json", json.dumps(info, indent=1, ensure_ascii=False) + "\n")
     return info
+
+
+def engine_commits(results):
+    """The engines that wrote the study's files: the distinct /granudrag commit stamps of its
+    run and bed files, with how many files each ({stamp: count}). `commit` in run.json is the
+    repository at collect time (the analysis); these are what simulated."""
+    import h5py
+    counts = {}
+    for p in sorted(Path(results).glob("pulls/**/run.h5")) + sorted(Path(results).glob("beds/**/bed.h5")):
+        try:
+            with h5py.File(p, "r") as f:
+                stamp = f["granudrag"].attrs.get("commit", b"unknown")
+        except (OSError, KeyError):
+            stamp = b"unreadable"
+        stamp = stamp.decode() if isinstance(stamp, bytes) else str(stamp)
+        counts[stamp] = counts.get(stamp, 0) + 1
+    return counts
 
 
 def _copy_atomic(src, dst):
@@ -191,7 +209,7 @@ def commit(repo=None):
     repo = Path(repo) if repo else Path(__file__).resolve().parents[1]
     try:
         head = _git(repo, "rev-parse", "--short", "HEAD").strip()
-        status = _git(repo, "status", "--porcelain")
+        status = _git(repo, "status", "--porcelain", "--untracked-files=no")
     except (OSError, subprocess.SubprocessError):
         return "unknown"
     changed = [p for line in status.splitlines() if line.strip()
@@ -222,7 +240,7 @@ def write_kappa_shells(results, path):
             without += 1
             continue
         keys = {k: run[k] for k in SHELL_COLUMNS if k in run and k not in shells}
-        rows.append(pd.DataFrame({**keys, **shells})[SHELL_COLUMNS])
+        rows.append(pd.DataFrame({**keys, **shells}).reindex(columns=SHELL_COLUMNS))
     df = pd.concat(rows, ignore_index=True) if rows else pd.DataFrame(columns=SHELL_COLUMNS)
     write_csv(df, path)
     notes = []
@@ -441,7 +459,8 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     write_csv(fr2, root / "fr2_range.csv")
     written.append(root / "fr2_range.csv")
     written += _fr2_figure(root, fr2, rungs)
-    startup = [startup_refit(pd.read_csv(root / r["name"] / "startup.csv"), n_boot=n_boot, seed=seed, rung=r["name"])
+    startup = [startup_refit(pd.read_csv(root / r["name"] / "startup.csv"), load_csv(root / r["name"] / "table.csv"),
+                             n_boot=n_boot, seed=seed, rung=r["name"])
                for r in rungs if infos[r["name"]] is not None and (root / r["name"] / "startup.csv").is_file()]
     startup = pd.concat(startup, ignore_index=True) if startup else pd.DataFrame(columns=STARTUP_FIT_COLUMNS)
     write_csv(startup, root / "startup_fr2.csv")
@@ -639,11 +658,22 @@ def _pm(value, err):
 SLOPE_COLUMNS = ["rung", "D", "width", "k0", "k0_err", "k1", "k1_err", "n_points", "n_runs", "errors_from"]
 
 
+def inside_box(shells):
+    """The rows whose shell stays a ball: D/2 + w <= min(lx, ly)/2. Beyond it the minimum-image
+    distance clips the shell by the periodic box (it counts the images' neighbourhoods), so its Z
+    is not a shell's. Rows without lx, ly (files collected before they were recorded) are kept."""
+    if not {"lx", "ly"} <= set(shells.columns):
+        return shells
+    half = np.minimum(shells.lx.astype(float), shells.ly.astype(float)) / 2
+    reach = shells.D.astype(float) / 2 + shells.width.astype(float)
+    return shells[~(reach > half)]
+
+
 def kappa_points(shells):
     """The runs of a kappa_shells table that Fig. 8 is about (system I, μ = 0.5, the most common
     K_n: the rows fitset's κ fit uses), replicate beds (same D, Fr and width, other seed)
     averaged: columns D, Fr, width, kappa, n_beds, var (their variance, NaN for one bed)."""
-    df = shells[np.isfinite(shells.kappa.astype(float))]
+    df = inside_box(shells[np.isfinite(shells.kappa.astype(float))])
     df = df[(df.system.astype(str) == "I") & np.isclose(df.mu.astype(float), 0.5)]
     if df.empty:
         return pd.DataFrame(columns=["D", "Fr", "width", "kappa", "n_beds", "var"])
@@ -697,7 +727,7 @@ DECOMPOSITION_COLUMNS = ["rung", "D", "width", "Fr_low", "Fr_high", "n_low", "n_
                          "n_ratio", "Z_ratio", "kappa_ratio"]
 # The Froude numbers the decomposition compares: the paper's Fig. 8 runs from about Fr = 1 to 10.
 DECOMPOSITION_FR = (1.0, 10.0)
-DECOMPOSITION_WIDTHS = (2.0, 6.0)
+DECOMPOSITION_WIDTHS = (2.0, 4.0, 6.0)
 
 
 def kappa_decomposition(shells, fr=DECOMPOSITION_FR, widths=DECOMPOSITION_WIDTHS):
@@ -706,7 +736,7 @@ def kappa_decomposition(shells, fr=DECOMPOSITION_FR, widths=DECOMPOSITION_WIDTHS
     by n_ratio⁻¹ Z_ratio; the paper's line rises by (0.887 + 0.185·10)/(0.887 + 0.185) = 2.55
     from Fr 1 to 10, and says "n … decreases faster than Z" (Sec. III B)."""
     shells = shells if "rung" in shells.columns else shells.assign(rung="")
-    df = shells[np.isfinite(shells.kappa.astype(float))]
+    df = inside_box(shells[np.isfinite(shells.kappa.astype(float))])
     df = df[(df.system.astype(str) == "I") & np.isclose(df.mu.astype(float), 0.5)]
     rows = []
     for (rung, D), g in df.groupby(["rung", "D"], sort=False):
@@ -742,34 +772,41 @@ def kept_drag(drag, whole_mean, travel, pull=PAPER_PULL):
     return drag + (whole_mean - drag) * travel / pull
 
 
-def startup_refit(startup, fr_max_values=(10.0, 15.0), *, n_boot=100, seed=0, rung=""):
+def startup_refit(startup, table, fr_max_values=(10.0, 15.0), *, n_boot=100, seed=0, rung=""):
     """Fr_2 of the mu = 0.5 series per D fitted to the drag with the start of each pull kept and
-    diluted over the paper's 40 d pull: drag + (whole_mean - drag) travel / 40, i.e. the start's
-    excess work (over the travel pulled here) averaged over 40 d of travel, the rest at the
-    steady drag. The start of a fast pull is an impact (the intruder starts at V), whose excess
-    force grows about as V^2: kept in a cumulative average it adds a quadratic rise by itself.
-    Beside it, the same fit of the steady drag (pull = "steady"). Replicate beds averaged;
-    weights: the runs' drag errors combined."""
-    df = startup[np.isclose(startup.mu.astype(float), 0.5) & (startup.system.astype(str) == "I")]
+    diluted over the paper's 40 d pull (kept_drag), beside the same fit of the steady drag
+    (pull = "steady"): the start of a fast pull is an impact (the intruder starts at V), whose
+    excess force grows about as V^2, so kept in a cumulative average it could add a quadratic
+    rise by itself. Both fits take the point table's series, weights (pooled_drag_err) and bed
+    scatter exactly as fr2_vs_range does; the kept drag shifts each point by the bed-averaged
+    start excess of its runs in `startup`."""
     rows = []
-    if df.empty:
+    kn, gn = reference_params(table)
+    series = select(select(table, kn=kn, gamman=gn), mu=0.5, system="I")
+    series = series[~is_yield(series)]
+    st = startup[np.isclose(startup.mu.astype(float), 0.5) & (startup.system.astype(str) == "I")]
+    st = st[np.isclose(st.kn.astype(float), kn)]
+    if series.empty or st.empty:
         return pd.DataFrame(rows, columns=STARTUP_FIT_COLUMNS)
-    df = df[np.isclose(df.kn, df.kn.value_counts().idxmax())]
-    df = df.assign(kept=kept_drag(df.drag, df.whole_mean, df.travel), var=df.drag_err ** 2)
-    for D, g in df.groupby("D"):
-        pts = g.groupby(g.Fr.round(6)).agg(steady=("drag", "mean"), kept=("kept", "mean"), var=("var", "sum"),
-                                          k=("drag", "size")).reset_index()
-        err = np.sqrt(pts["var"]) / pts.k
-        for col, label in (("steady", "steady"), ("kept", f"start kept, {PAPER_PULL:g} d")):
+    excess = (kept_drag(st.drag, st.whole_mean, st.travel) - st.drag).groupby(
+        [st.D.astype(float).round(6), st.Fr.astype(float).round(6)]).mean()
+    bed_scatter = point_bed_scatter(table)
+    for D, g in series.groupby("D"):
+        g = g.sort_values("Fr")
+        shift = np.array([excess.get((round(float(D), 6), round(float(fr), 6)), np.nan) for fr in g.Fr])
+        err, fr = np.asarray(pooled_drag_err(g), float), g.Fr.to_numpy(float)
+        beds = int(g["n_beds"].min()) if "n_beds" in g.columns else 1
+        for label, y in (("steady", g.drag.to_numpy(float)),
+                         (f"start kept, {PAPER_PULL:g} d", g.drag.to_numpy(float) + shift)):
             for fr_max in fr_max_values:
-                m = (pts.Fr <= fr_max + 1e-9).to_numpy()
+                m = (fr <= fr_max + 1e-9) & np.isfinite(y)
                 for continuous in (True, False):
                     row = {"rung": rung, "D": float(D), "pull": label, "fr_max": float(fr_max),
                            "continuous": continuous}
                     try:
-                        fit = fit_regimes(pts.Fr[m], pts[col][m], err[m], continuous=continuous, n_boot=n_boot,
-                                          seed=seed)
-                        delta = profile_fr2(pts.Fr[m], pts[col][m], err[m], [paper.CROSSOVER_FR2],
+                        fit = fit_regimes(fr[m], y[m], err[m], continuous=continuous, n_boot=n_boot, seed=seed,
+                                          bed_scatter=bed_scatter, beds=beds)
+                        delta = profile_fr2(fr[m], y[m], err[m], [paper.CROSSOVER_FR2],
                                             continuous=continuous)[0][2]
                     except ValueError as exc:
                         rows.append({**row, **dict.fromkeys(("Fr1", "Fr1_err", "Fr2", "Fr2_err", "delta_at_5"),

@@ -114,7 +114,9 @@ def profile_fr2(Fr, drag, sigma=None, fr2_values=None, *, regime1="constant", co
     best = fitter.best(x, y, w)
     c = np.array([[best["Fr1"], best["Fr2"], best.get("c0", 1.0)]])
     chi2_min = float(fitter._solve(x, y, w, c)[0][0])
-    dof = len(x) - len(best)
+    # Free parameters: the linear coefficients (the design's columns; a1 and a2 of the
+    # continuous law are derived from them) and the two crossovers (c0 too, in the power law).
+    dof = len(x) - (fitter._design(x, c).shape[-1] + 2 + (1 if fitter.power else 0))
     if fr2_values is None:
         fr2_values = np.geomspace(x[x > 0].min(), x.max(), 60)
     scale = chi2_min / dof if dof > 0 and chi2_min > 0 else np.nan

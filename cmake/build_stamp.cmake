@@ -5,8 +5,14 @@
 #   cmake -DSOURCE_DIR=... -DOUTPUT=.../build_stamp.cpp -P cmake/build_stamp.cmake
 execute_process(COMMAND git rev-parse --short HEAD WORKING_DIRECTORY ${SOURCE_DIR}
                 OUTPUT_VARIABLE commit OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET RESULT_VARIABLE rc)
-if(NOT rc EQUAL 0 OR NOT commit)
-  set(commit "unknown")  # a source tree without git (a release tarball)
+# A source tree without git (a release tarball), or one unpacked inside another repository,
+# whose commit is not this tree's.
+execute_process(COMMAND git rev-parse --show-toplevel WORKING_DIRECTORY ${SOURCE_DIR}
+                OUTPUT_VARIABLE top OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+get_filename_component(top "${top}" REALPATH)
+get_filename_component(here "${SOURCE_DIR}" REALPATH)
+if(NOT rc EQUAL 0 OR NOT commit OR NOT top STREQUAL here)
+  set(commit "unknown")
 else()
   execute_process(COMMAND git status --porcelain --untracked-files=no -- . ":(exclude)results"
                   WORKING_DIRECTORY ${SOURCE_DIR} OUTPUT_VARIABLE status ERROR_QUIET)

@@ -101,6 +101,16 @@ def wall_seconds(particle_steps, throughput, threads, cores):
     return 1, particle_steps / throughput * threads / cores, True
 
 
+def _positive_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of cores") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} cores: give at least 1")
+    return value
+
+
 def hours(seconds):
     h = seconds / 3600.0
     return f"{h:.3g} h" if h >= 1 else f"{seconds / 60.0:.3g} min"
@@ -110,7 +120,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("config", help="study config (YAML)")
     ap.add_argument("--throughput", type=float, help="particle-steps/s of one job (default: the config's)")
-    ap.add_argument("--cores", type=int, default=os.cpu_count() or 1,
+    ap.add_argument("--cores", type=_positive_int, default=len(os.sched_getaffinity(0)) or 1,
                     help="cores for the wall-time estimate (default: this machine's)")
     ap.add_argument("--by-sweep", action="store_true", help="break the cost down by sweep")
     ap.add_argument("--by-figure", action="store_true",

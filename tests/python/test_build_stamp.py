@@ -9,6 +9,8 @@ import re
 import subprocess
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag")).resolve()
 
@@ -20,6 +22,8 @@ def _git(*args):
 
 def test_version_names_the_commit_the_engine_was_built_from():
     assert BINARY.is_file(), f"no granudrag binary at {BINARY}: build it (cmake --build build) or set GRANUDRAG"
+    if not (ROOT / ".git").exists():
+        pytest.skip("a source tree without git: the engine says 'unknown' (tested below)")
     out = subprocess.run([str(BINARY), "--version"], capture_output=True, text=True, check=True).stdout
     m = re.fullmatch(r"granudrag \S+ \(commit (\S+?)(-dirty)?\)\n", out)
     assert m, out
@@ -51,6 +55,11 @@ def test_stamp_script_marks_a_dirty_tree(tmp_path):
         return re.search(r'return "([^"]*)"', out.read_text()).group(1)
 
     assert stamp() == head
+    # A tree without git of its own, inside another repository: not that repository's commit.
+    (repo / "sub").mkdir()
+    inner_out = subprocess.run(["cmake", f"-DSOURCE_DIR={repo / 'sub'}", f"-DOUTPUT={out}", "-P",
+                                str(ROOT / "cmake" / "build_stamp.cmake")], check=True, capture_output=True)
+    assert inner_out.returncode == 0 and 'return "unknown"' in out.read_text()
     (repo / "results" / "r.csv").write_text("y\n")
     assert stamp() == head
     (repo / "a.txt").write_text("b\n")

@@ -21,6 +21,7 @@ from analysis.ladder import (
     LadderError,
     collect,
     fr2_vs_range,
+    inside_box,
     kappa_decomposition,
     kappa_shell_slopes,
     kept_drag,
@@ -29,7 +30,6 @@ from analysis.ladder import (
     startup_refit,
     write_ladder,
 )
-from analysis.regimes import regime_curve
 from analysis.report import comparisons
 from analysis.table import combine_beds, load_csv, save_csv
 
@@ -77,7 +77,8 @@ def shell_table(slopes=SHELL_SLOPES, seed=0, noise=0.02):
                         rows.append(dict(system="I", D=D, h=14.0, mu=mu, kn=2e5, Fr=float(fr),
                                          V=float(synth.speed_for(fr, D)), seed=s, n_contacts=5.0, width=w,
                                          Z=4.0, kappa=0.9 + k1 * fr + bed + noise * rng.standard_normal(),
-                                         gamman=792.4466, ring_grains=100.0, run=f"D~{D:g}/seed~{s:g}/Fr~{fr:g}"))
+                                         gamman=792.4466, ring_grains=100.0, run=f"D~{D:g}/seed~{s:g}/Fr~{fr:g}",
+                                         lx=20.0, ly=20.0))
     return pd.DataFrame(rows)[SHELL_COLUMNS]
 
 
@@ -281,6 +282,15 @@ def test_kappa_shell_slopes_recover_a_known_slope():
     assert per_d.n_points == 10 and abs(per_d.k1 - 0.2) < 3 * per_d.k1_err
 
 
+def test_shells_that_wrap_around_the_periodic_box_are_left_out():
+    # D = 3 in a 12 d box: R + w must stay within 6 d, so widths 5 and 6 go; in 20 d all stay.
+    rows = pd.DataFrame([dict(D=3.0, width=w, lx=L, ly=L) for L in (12.0, 20.0) for w in (0.5, 4.0, 4.5, 5.0, 6.0)])
+    kept = inside_box(rows)
+    assert sorted(kept[kept.lx == 12.0].width) == [0.5, 4.0, 4.5]
+    assert len(kept[kept.lx == 20.0]) == 5
+    assert len(inside_box(rows.drop(columns=["lx", "ly"]))) == len(rows)   # files without the box: kept
+
+
 def test_kappa_decomposition_takes_the_ratios_at_the_nearest_froude_numbers():
     # n halves and Z falls by a quarter from Fr 1 to 10 (beds averaged): kappa rises x1.5; the
     # nearest pulled Fr stand for 1 and 10 (here 1.1 and 9.5); mu = 0 rows are not Fig. 8's.
@@ -305,20 +315,24 @@ def test_startup_kept_spreads_the_start_over_the_papers_pull_and_refits():
     # spread over 40 d: +24.
     assert kept_drag(100.0, 180.0, 12.0) == pytest.approx(124.0)
     assert kept_drag(100.0, 180.0, 12.0, pull=12.0) == pytest.approx(180.0)
-    # A series without start excess: the kept drag is the steady one, so both fits agree and
-    # find the known Fr_2 = 5; mu = 0 rows are not the series.
-    rows, rng = [], np.random.default_rng(5)
-    for seed in (1, 2):
-        for fr, y in zip(FR, regime_curve(FR, a0=100, a1=60, b1=40, a2=110, b2=6, Fr1=1.0, Fr2=5.0)):
-            noisy = y * (1 + 0.02 * rng.standard_normal())
-            rows.append(dict(system="I", D=2.0, mu=0.5, kn=2e5, Fr=fr, seed=seed, drag=noisy, drag_err=0.02 * y,
-                             whole_mean=noisy, travel=12.0))
-            rows.append({**rows[-1], "mu": 0.0, "drag": 1.0, "whole_mean": 1.0})
-    r = startup_refit(pd.DataFrame(rows), fr_max_values=(15.0,), n_boot=20, rung="x")
+    # The steady fit is fr2_vs_range's (same series, weights and bed scatter); without start
+    # excess the kept drag is the steady one, so both fits agree and find the known Fr_2 = 5;
+    # mu = 0 rows are not the series.
+    table = point_table(seed=4, Ds=(2,))
+    rows = [dict(system=r.system, D=r.D, mu=r.mu, kn=r.kn, Fr=r.Fr, seed=1, drag=r.drag, drag_err=r.drag_err,
+                 whole_mean=r.drag, travel=12.0) for r in table.itertuples()]
+    r = startup_refit(pd.DataFrame(rows), table, fr_max_values=(15.0,), n_boot=40, rung="x")
     assert len(r) == 4 and set(r.pull) == {"steady", "start kept, 40 d"}
     cont = r[r.continuous]
     assert cont.Fr2.iloc[0] == pytest.approx(cont.Fr2.iloc[1])
     assert abs(cont.Fr2.iloc[0] - 5.0) < 3 * cont.Fr2_err.iloc[0] and (cont.delta_at_5 < 3.84).all()
+    ref = fr2_vs_range(table, fr_max_values=(15.0,), n_boot=40, seed=0, rung="x")
+    assert cont.Fr2.iloc[0] == pytest.approx(ref[ref.continuous].Fr2.iloc[0])
+    # A start excess of 40 per pulled d (whole_mean - drag = 40 over 12 d): +12 on every point.
+    shifted = startup_refit(pd.DataFrame(rows).assign(whole_mean=lambda d: d.drag + 40.0), table,
+                            fr_max_values=(15.0,), n_boot=0, rung="x")
+    kept = shifted[(shifted.pull != "steady") & shifted.continuous].iloc[0]
+    assert kept.Fr2 == pytest.approx(cont.Fr2.iloc[0], rel=0.05)   # a constant shift moves no crossover
 
 
 def test_fr2_vs_range_recovers_fr2_and_drops_points_above_fr_max():
