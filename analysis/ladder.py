@@ -669,15 +669,21 @@ def inside_box(shells):
     return shells[~(reach > half)]
 
 
-def kappa_points(shells):
-    """The runs of a kappa_shells table that Fig. 8 is about (system I, μ = 0.5, the most common
-    K_n: the rows fitset's κ fit uses), replicate beds (same D, Fr and width, other seed)
-    averaged: columns D, Fr, width, kappa, n_beds, var (their variance, NaN for one bed)."""
+def _fig8_shells(shells):
+    """The rows of a kappa_shells table (one rung's) that Fig. 8 is about: finite κ, shells that
+    stay inside the box, system I, μ = 0.5, the most common K_n (the rows fitset's κ fit uses)."""
     df = inside_box(shells[np.isfinite(shells.kappa.astype(float))])
     df = df[(df.system.astype(str) == "I") & np.isclose(df.mu.astype(float), 0.5)]
+    return df[np.isclose(df.kn, df.kn.value_counts().idxmax())] if len(df) else df
+
+
+def kappa_points(shells):
+    """The runs of a kappa_shells table that Fig. 8 is about (_fig8_shells), replicate beds
+    (same D, Fr and width, other seed) averaged: columns D, Fr, width, kappa, n_beds, var (their
+    variance, NaN for one bed)."""
+    df = _fig8_shells(shells)
     if df.empty:
         return pd.DataFrame(columns=["D", "Fr", "width", "kappa", "n_beds", "var"])
-    df = df[np.isclose(df.kn, df.kn.value_counts().idxmax())]
     df = df.assign(Fr=df.Fr.astype(float).round(6), width=df.width.astype(float).round(6))
     g = df.groupby(["D", "Fr", "width"]).kappa
     return pd.DataFrame({"kappa": g.mean(), "n_beds": g.size(), "var": g.var(ddof=1)}).reset_index()
@@ -736,11 +742,9 @@ def kappa_decomposition(shells, fr=DECOMPOSITION_FR, widths=DECOMPOSITION_WIDTHS
     by n_ratio⁻¹ Z_ratio; the paper's line rises by (0.887 + 0.185·10)/(0.887 + 0.185) = 2.55
     from Fr 1 to 10, and says "n … decreases faster than Z" (Sec. III B)."""
     shells = shells if "rung" in shells.columns else shells.assign(rung="")
-    df = inside_box(shells[np.isfinite(shells.kappa.astype(float))])
-    df = df[(df.system.astype(str) == "I") & np.isclose(df.mu.astype(float), 0.5)]
+    df = pd.concat([_fig8_shells(s) for _, s in shells.groupby("rung", sort=False)]) if len(shells) else shells
     rows = []
     for (rung, D), g in df.groupby(["rung", "D"], sort=False):
-        g = g[np.isclose(g.kn, g.kn.value_counts().idxmax())]
         frs = np.unique(g.Fr.astype(float))
         lo, hi = (float(frs[np.argmin(np.abs(frs - f))]) for f in fr)
         if lo == hi:
@@ -765,6 +769,28 @@ STARTUP_FIT_COLUMNS = ["rung", "D", "pull", "fr_max", "continuous", "Fr1", "Fr1_
 PAPER_PULL = 40.0  # d: system I's box length, the paper's pull
 
 
+def _drag_series(table):
+    """The μ = 0.5 drag-vs-Fr series that fitset.run_fits fits (system I, the reference contact
+    law, yield pulls out) and the table's bed scatter."""
+    kn, gn = reference_params(table)
+    series = select(select(table, kn=kn, gamman=gn), mu=0.5, system="I")
+    return series[~is_yield(series)], point_bed_scatter(table), kn
+
+
+def _crossover_fit(fr, drag, err, continuous, *, bed_scatter, beds, n_boot, seed):
+    """Fr1, Fr2 (with errors), the χ² profile at the paper's Fr2 (delta_at_5) and the fit's
+    notes, as a row's fields; NaN and the reason when the fit cannot be made."""
+    try:
+        fit = fit_regimes(fr, drag, err, regime1="constant", continuous=continuous, n_boot=n_boot, seed=seed,
+                          bed_scatter=bed_scatter, beds=beds)
+    except ValueError as exc:
+        return {**dict.fromkeys(("Fr1", "Fr1_err", "Fr2", "Fr2_err", "delta_at_5"), math.nan), "note": str(exc)}
+    delta = profile_fr2(fr, drag, err, [paper.CROSSOVER_FR2], continuous=continuous)[0][2]
+    return {"Fr1": fit["Fr1"].value, "Fr1_err": fit["Fr1"].err, "Fr2": fit["Fr2"].value,
+            "Fr2_err": fit["Fr2"].err, "delta_at_5": delta,
+            "note": "; ".join(fit.meta.get("at_bounds", []) + fit.meta.get("violations", []))}
+
+
 def kept_drag(drag, whole_mean, travel, pull=PAPER_PULL):
     """The mean force over a pull of `pull` d whose start is the one pulled here (over `travel`
     d, mean whole_mean) and whose rest runs at the steady drag: the start's excess work
@@ -781,16 +807,13 @@ def startup_refit(startup, table, fr_max_values=(10.0, 15.0), *, n_boot=100, see
     scatter exactly as fr2_vs_range does; the kept drag shifts each point by the bed-averaged
     start excess of its runs in `startup`."""
     rows = []
-    kn, gn = reference_params(table)
-    series = select(select(table, kn=kn, gamman=gn), mu=0.5, system="I")
-    series = series[~is_yield(series)]
+    series, bed_scatter, kn = _drag_series(table)
     st = startup[np.isclose(startup.mu.astype(float), 0.5) & (startup.system.astype(str) == "I")]
     st = st[np.isclose(st.kn.astype(float), kn)]
     if series.empty or st.empty:
         return pd.DataFrame(rows, columns=STARTUP_FIT_COLUMNS)
     excess = (kept_drag(st.drag, st.whole_mean, st.travel) - st.drag).groupby(
         [st.D.astype(float).round(6), st.Fr.astype(float).round(6)]).mean()
-    bed_scatter = point_bed_scatter(table)
     for D, g in series.groupby("D"):
         g = g.sort_values("Fr")
         shift = np.array([excess.get((round(float(D), 6), round(float(fr), 6)), np.nan) for fr in g.Fr])
@@ -801,20 +824,10 @@ def startup_refit(startup, table, fr_max_values=(10.0, 15.0), *, n_boot=100, see
             for fr_max in fr_max_values:
                 m = (fr <= fr_max + 1e-9) & np.isfinite(y)
                 for continuous in (True, False):
-                    row = {"rung": rung, "D": float(D), "pull": label, "fr_max": float(fr_max),
-                           "continuous": continuous}
-                    try:
-                        fit = fit_regimes(fr[m], y[m], err[m], continuous=continuous, n_boot=n_boot, seed=seed,
-                                          bed_scatter=bed_scatter, beds=beds)
-                        delta = profile_fr2(fr[m], y[m], err[m], [paper.CROSSOVER_FR2],
-                                            continuous=continuous)[0][2]
-                    except ValueError as exc:
-                        rows.append({**row, **dict.fromkeys(("Fr1", "Fr1_err", "Fr2", "Fr2_err", "delta_at_5"),
-                                                            math.nan), "note": str(exc)})
-                        continue
-                    rows.append({**row, "Fr1": fit["Fr1"].value, "Fr1_err": fit["Fr1"].err,
-                                 "Fr2": fit["Fr2"].value, "Fr2_err": fit["Fr2"].err, "delta_at_5": delta,
-                                 "note": "; ".join(fit.meta.get("at_bounds", []) + fit.meta.get("violations", []))})
+                    rows.append({"rung": rung, "D": float(D), "pull": label, "fr_max": float(fr_max),
+                                 "continuous": continuous,
+                                 **_crossover_fit(fr[m], y[m], err[m], continuous, bed_scatter=bed_scatter,
+                                                  beds=beds, n_boot=n_boot, seed=seed)})
     return pd.DataFrame(rows, columns=STARTUP_FIT_COLUMNS)
 
 
@@ -832,31 +845,18 @@ def fr2_vs_range(table_df, fr_max_values=FR_MAX_VALUES, *, n_boot=100, seed=0, r
     at Fr_2 = 5, the paper's (regimes.profile_fr2; above 3.84 the data exclude 5 at 95 %
     whatever the bootstrap says). A fit that cannot be made (too few points) is a row with NaN
     and the reason in `note`. Fixed seed: deterministic."""
-    df = table_df
-    kn, gn = reference_params(df)
-    series = select(select(df, kn=kn, gamman=gn), mu=0.5, system="I")
-    bed_scatter = point_bed_scatter(df)
+    series, bed_scatter, _ = _drag_series(table_df)
     rows = []
     for D, g in series.groupby("D"):
-        moving = g[~is_yield(g)].sort_values("Fr")
+        moving = g.sort_values("Fr")
         for fr_max in fr_max_values:
             used = moving[moving.Fr <= fr_max + 1e-9]
+            beds = int(used["n_beds"].min()) if "n_beds" in used.columns and len(used) else 1
             for continuous in (True, False):
-                row = {"rung": rung, "D": float(D), "fr_max": float(fr_max), "continuous": continuous,
-                       "n_points": len(used), "fr_used_max": float(used.Fr.max()) if len(used) else math.nan}
-                try:
-                    fit = fit_regimes(used.Fr, used.drag, pooled_drag_err(used), regime1="constant",
-                                      continuous=continuous, n_boot=n_boot, seed=seed, bed_scatter=bed_scatter,
-                                      beds=int(used["n_beds"].min()) if "n_beds" in used.columns else 1)
-                except ValueError as exc:
-                    rows.append({**row, **dict.fromkeys(("Fr1", "Fr1_err", "Fr2", "Fr2_err", "delta_at_5"), math.nan),
-                                 "note": str(exc)})
-                    continue
-                delta = profile_fr2(used.Fr, used.drag, pooled_drag_err(used), [paper.CROSSOVER_FR2],
-                                    continuous=continuous)[0][2]
-                rows.append({**row, "Fr1": fit["Fr1"].value, "Fr1_err": fit["Fr1"].err, "Fr2": fit["Fr2"].value,
-                             "Fr2_err": fit["Fr2"].err, "delta_at_5": delta,
-                             "note": "; ".join(fit.meta.get("at_bounds", []) + fit.meta.get("violations", []))})
+                rows.append({"rung": rung, "D": float(D), "fr_max": float(fr_max), "continuous": continuous,
+                             "n_points": len(used), "fr_used_max": float(used.Fr.max()) if len(used) else math.nan,
+                             **_crossover_fit(used.Fr, used.drag, pooled_drag_err(used), continuous,
+                                              bed_scatter=bed_scatter, beds=beds, n_boot=n_boot, seed=seed)})
     return pd.DataFrame(rows, columns=FR2_COLUMNS)
 
 
