@@ -24,6 +24,6 @@ PHI_0 = 2.0             # phi at mu = 0 (Sec. III E: cross-section argument)
 ALPHA_0 = 1.0           # alpha at mu = 0 (Sec. III H: hydrostatic pressure)
 SUM_RULE = 3.0          # alpha_mu + phi_mu (Sec. III G, Eq. 12)
 
-# The paper's scale (Sec. II; SPEC 3): box lx x ly (d), grains, K_n; pulls over one box length.
+# The paper's scale (Sec. II): box lx x ly (d), grains, K_n; pulls over one box length.
 SYSTEMS = {"I": (40.0, 40.0, 70000), "II": (80.0, 40.0, 300000)}
 KN = 2.0e8

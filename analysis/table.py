@@ -1,7 +1,7 @@
 """The tidy pull table: schema, validation and CSV loading (the Froude number: analysis.physics).
 
 One row per pull. All quantities are dimensionless in grain density rho,
-mean grain diameter d and gravity g (SPEC section 1).
+mean grain diameter d and gravity g.
 """
 from pathlib import Path
 
@@ -21,7 +21,8 @@ COLUMNS = {
     "V": ("number", "pulling speed [sqrt(g d)]"),
     "Fr": ("number", "Froude number, paper Eq. 4"),
     "drag": ("number", "time-averaged drag <F_x> [rho d^3 g]"),
-    "drag_err": ("number", "standard error of the drag (block averaging)"),
+    "drag_err": ("number", "standard error of the drag: the engine's, from the integrated autocorrelation "
+                 "time (Wolff's window, N/6 fallback; src/protocol/observables.cpp)"),
     "n_contacts": ("number", "mean intruder coordination number n"),
     "theta": ("number", "mean contact angle at contact formation, Eq. 6 [rad]"),
     "Z": ("number", "mean bulk coordination number near the intruder"),

@@ -1,6 +1,6 @@
 #pragma once
 // The Hertz contact law with tangential history, exactly as LAMMPS `pair gran/hertz/history`
-// and `fix wall/gran hertz/history` (SPEC §2, paper Eqs. 1-2):
+// and `fix wall/gran hertz/history` (paper Eqs. 1-2):
 //   F_n = sqrt(R_eff delta) (K_n delta - m_eff gamma_n v_n)            along n
 //   F_t = -min(mu |F_n|, |sqrt(R_eff delta)(K_t s + m_eff gamma_t v_t)|) along the trial force
 // A pure function of the pair's geometry, velocities and history: testable alone, shared by

@@ -1,5 +1,5 @@
 #pragma once
-// Contact-law parameters (SPEC §2, paper Eqs. 1-3) in the units of SPEC §1:
+// Contact-law parameters (paper Eqs. 1-3) in units of rho, d and g:
 // K_n, K_t in rho*d*g; gamma_n, gamma_t in sqrt(g/d^3); mu dimensionless.
 #include <string>
 

@@ -21,7 +21,7 @@ struct Particles {
   std::vector<Species> species;
 
   std::size_t size() const { return x.size(); }
-  // Adds a sphere of density 1 (SPEC units: mass rho*d^3), at rest; returns its index.
+  // Adds a sphere of density 1 (mass in units of rho*d^3), at rest; returns its index.
   std::size_t add(const Vec3& position, double radius, Species species);
   void reserve(std::size_t n);
 

@@ -5,7 +5,7 @@
 // kinetic-energy check (pour), never per step: one pass over the grains and two over the
 // contacts (largest overlap, elastic energy), which the protocols computed there anyway.
 //
-// The criteria, all in the units of SPEC §1 (d, rho g d^4):
+// The criteria, all in the units of docs/engine.md (d, rho g d^4):
 //   non-finite    a position, velocity, angular velocity, force or torque is NaN or inf
 //   grain lost    a mobile grain's centre is below the wall (z < 0), above z_max, or more than
 //                 one box length outside the periodic box in x or y (positions are wrapped at

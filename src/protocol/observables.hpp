@@ -1,5 +1,5 @@
 #pragma once
-// Statistics of a pull's time series (SPEC §4).
+// Statistics of a pull's time series (the drag, n, theta and Z of the paper's Sec. III).
 #include <vector>
 
 namespace granudrag {

@@ -1,5 +1,5 @@
 #pragma once
-// Pouring a bed (SPEC §3): an intruder held fixed, grains of diameter U[0.9, 1.1] d placed at
+// Pouring a bed (paper Sec. II): an intruder held fixed, grains of diameter U[0.9, 1.1] d placed at
 // random non-overlapping positions in a loose column above the wall, falling and settling under
 // gravity until the kinetic energy is negligible or a time limit is reached; then the grains
 // below 0.6 d are frozen into the rough base and the free surface is measured.

@@ -1,5 +1,5 @@
 #pragma once
-// Pulling the intruder (SPEC §3-4): it moves at constant V along +x at fixed y and z, across
+// Pulling the intruder (paper Sec. II): it moves at constant V along +x at fixed y and z, across
 // the periodic boundary, and the force on it and the state of the grains around it are
 // recorded. The step loop is the engine's; this adds sampling, statistics and checkpoints.
 #include <cmath>
