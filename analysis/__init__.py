@@ -18,3 +18,19 @@ Modules:
 
 Importing the package does not import matplotlib; only `figures` does.
 """
+
+from pathlib import Path as _Path
+
+
+def _release():
+    """The release, declared once in the repository's VERSION file (as the engine's
+    `granudrag --version`); an installed copy without the file asks its metadata."""
+    declared = _Path(__file__).resolve().parent.parent / "VERSION"
+    if declared.is_file():
+        return declared.read_text().split()[0]
+    from importlib.metadata import version
+
+    return version("granudrag-analysis")
+
+
+__version__ = _release()

@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import curve_fit
 
+from . import __version__
 from .regimes import RegimeFitter, fit_regimes, regime_curve
 from .result import Fit, Param
 from .table import froude, is_yield, pooled_drag_err, reference_params, select, yield_rows
@@ -32,7 +33,7 @@ __all__ = ["Fit", "Param", "fit_regimes", "regime_curve", "fit_theta", "fit_kapp
            "load_fits", "FitFileError"]
 
 FORMAT, VERSION = "granudrag-fits", 1
-_OWN_KEYS = ("format", "version", "units", "laws", "fits", "tables", "notes")
+_OWN_KEYS = ("format", "version", "written_by", "units", "laws", "fits", "tables", "notes")
 
 
 # --- model functions -----------------------------------------------------
@@ -442,7 +443,7 @@ class FitFile:
 def save_fits(path, laws=(), fits=None, tables=None, notes=(), summary=None):
     """Write a JSON fit file:
 
-        {"format": "granudrag-fits", "version": 1,
+        {"format": "granudrag-fits", "version": 1, "written_by": "granudrag-analysis 0.2.0",
          "laws":   [ScalingLaw: mu, kn, gamman, alpha, phi, regimes, ranges],
          "fits":   {name: Fit: model, params {name: {value, err}}, method,
                     n_points, x_range, meta, [replicates]},
@@ -454,7 +455,7 @@ def save_fits(path, laws=(), fits=None, tables=None, notes=(), summary=None):
     at_bounds, violations, options; analysis/README.md). Errors are one standard error;
     null stands for "not estimable".
     """
-    doc = {"format": FORMAT, "version": VERSION,
+    doc = {"format": FORMAT, "version": VERSION, "written_by": f"granudrag-analysis {__version__}",
            "units": "lengths in d, speeds in sqrt(g d), forces in rho d^3 g",
            "laws": [law.to_dict() for law in laws],
            "fits": {k: f.to_dict() for k, f in (fits or {}).items()},

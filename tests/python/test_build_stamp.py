@@ -64,3 +64,17 @@ def test_stamp_script_marks_a_dirty_tree(tmp_path):
     assert stamp() == head
     (repo / "a.txt").write_text("b\n")
     assert stamp() == head + "-dirty"
+
+
+def test_one_release_for_the_engine_the_analysis_and_the_changelog():
+    # VERSION declares it once; CMake and pyproject.toml read it, CHANGELOG.md describes it.
+    import analysis
+
+    release = (ROOT / "VERSION").read_text().strip()
+    assert re.fullmatch(r"\d+\.\d+\.\d+", release), f"VERSION holds {release!r}, not MAJOR.MINOR.PATCH"
+    assert analysis.__version__ == release
+    out = subprocess.run([str(BINARY), "--version"], capture_output=True, text=True, check=True).stdout
+    assert out.startswith(f"granudrag {release} "), f"{BINARY} says {out!r}, VERSION {release}: rebuild it"
+    assert f"## [{release}]" in (ROOT / "CHANGELOG.md").read_text(), "CHANGELOG.md has no entry for VERSION"
+    assert re.search(rf"^version: {re.escape(release)}$", (ROOT / "CITATION.cff").read_text(), re.M), \
+        "CITATION.cff's version is not VERSION's"

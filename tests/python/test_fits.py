@@ -1,5 +1,6 @@
 """Fits of theta, kappa, the yield-force exponents and the scaling law."""
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,6 +23,8 @@ from analysis.fits import (
     sum_rule,
 )
 from analysis.table import select, yield_rows
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def within(p, truth, n_err=3.0):
@@ -131,6 +134,9 @@ def test_fit_file_round_trip(table, tmp_path):
     assert np.allclose(back.tables["phi"].phi, phi.phi)
     doc = json.loads(path.read_text())
     assert doc["format"] == "granudrag-fits" and doc["version"] == 1
+    # The release that wrote it, as the engine's files record theirs (/granudrag code_version).
+    assert doc["written_by"] == f"granudrag-analysis {(ROOT / 'VERSION').read_text().strip()}"
+    assert "written_by" not in back.summary
 
 
 def test_fit_file_errors(tmp_path):
