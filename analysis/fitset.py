@@ -7,11 +7,13 @@ grouping in its meta and the fits that could not be made under "notes".
 """
 
 import dataclasses
+import sys
 from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
 
+from . import paper
 from .fits import (
     ALPHA_DRAG_COLUMNS,
     ALPHA_SPEED_COLUMNS,
@@ -148,12 +150,30 @@ def run_fits(df, n_boot=200, seed=0, options=None):
             fit = _try(r, f"F_Y(mu) saturation at D={D:g}", fit_saturation, g.mu, g.drag, g.drag_err)
             if fit is not None:
                 r.saturation[D] = fit
+    shallow_in = _shallow_pulls_note(df, opt.h_min)
+    if shallow_in:
+        r.notes.append(shallow_in)
+        print(f"warning: {shallow_in}", file=sys.stderr)
     for mu in sorted(set(r.sums.mu[np.isclose(r.sums.kn, kn) & np.isclose(r.sums.gamman, gn)])):
         law = _try(r, f"scaling law at mu={mu:g}", fit_scaling_law, df, r.phi, r.alpha,
                    mu=mu, kn=kn, gamman=gn, h_min=opt.h_min, n_boot=n_boot, seed=seed)
         if law is not None:
             r.laws.append(law)
     return r
+
+
+def _shallow_pulls_note(df, h_min):
+    """A warning when Eq. 12 (and Fig. 19) would mix pulls shallower than the paper's deep
+    limit with deeper ones: the paper's collapse holds only from DEEP_H on, so on a table that
+    reaches that deep, h_min below it silently bends the fit toward the shallow beds."""
+    h = df["h"].dropna()
+    shallow = (h >= h_min) & (h < paper.DEEP_H)
+    if not shallow.any() or not (h >= paper.DEEP_H).any():
+        return ""
+    n = int(shallow.sum())
+    return (f"Eq. 12 and Fig. 19 include {n} pull(s) at {h_min:g} <= h < {paper.DEEP_H:g} d, though the table "
+            f"has pulls at h >= {paper.DEEP_H:g} d, where the paper's collapse holds (Sec. III H): set "
+            f"report.h_min: {paper.DEEP_H:g} in the config (or fit --h-min {paper.DEEP_H:g}) to leave them out")
 
 
 def _beds(rows):

@@ -23,6 +23,7 @@ TABLE1 = {
 PHI_0 = 2.0             # phi at mu = 0 (Sec. III E: cross-section argument)
 ALPHA_0 = 1.0           # alpha at mu = 0 (Sec. III H: hydrostatic pressure)
 SUM_RULE = 3.0          # alpha_mu + phi_mu (Sec. III G, Eq. 12)
+DEEP_H = 45.0           # the depth (d) from which Eq. 12's collapse holds, h >~ 45 d (Sec. III H)
 
 # The paper's scale (Sec. II): box lx x ly (d), grains, K_n; pulls over one box length.
 SYSTEMS = {"I": (40.0, 40.0, 70000), "II": (80.0, 40.0, 300000)}

@@ -271,3 +271,19 @@ def test_yield_speeds_per_friction_are_steps_from_mu_zero():
     assert list(yield_speeds(0.01, [0, 0.9])) == [0.01, 0.01]
     with pytest.raises(ValueError, match="first step must start at mu = 0"):
         yield_speeds([{"mu": 0.5, "V": 0.1}], [0.5])
+
+
+def test_eq12_on_shallow_and_deep_pulls_is_flagged(capsys):
+    # The paper's Eq. 12 collapse holds for h >~ 45 d (Sec. III H). A table with pulls on both
+    # sides of it, fitted with h_min = 0, gets a note (and a warning on stderr) naming the
+    # shallow pulls and the key that leaves them out; with h_min = 45 there is none.
+    from analysis.fitset import Options, run_fits
+    df = synth.make_table(seed=5, mus=(0.0, 0.5), kn_variants=False)
+    assert (df.h < 45).any() and (df.h >= 45).any()
+    shallow = int(((df.h >= 0) & (df.h < 45)).sum())
+    notes = run_fits(df, n_boot=0).notes
+    flagged = [n for n in notes if "Sec. III H" in n]
+    assert len(flagged) == 1 and f"include {shallow} pull(s)" in flagged[0] and "report.h_min: 45" in flagged[0]
+    assert "warning: Eq. 12" in capsys.readouterr().err
+    deep_only = run_fits(df, n_boot=0, options=Options(n_boot=0, h_min=45.0)).notes
+    assert not [n for n in deep_only if "Sec. III H" in n]
