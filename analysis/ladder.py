@@ -346,16 +346,29 @@ def rung_claims(rung_dir):
     across rungs. Claims the rung did not study have no rows."""
     df, r = load_rung(rung_dir)
     kn = f"{reference_params(df)[0]:.3g}"
+    depths = _requested_depths(df)
     out = []
     for row in comparisons(r, df):
         value, error = parse_fitted(row.fitted)
         q = (row.quantity.replace(f" (K_n = {kn})", "").replace(f", K_n = {kn}", "")
              .replace(f"; K_n = {kn}", ""))
+        q = re.sub(r"\bh = ([^,;)\s]+)", lambda m: f"requested h = {depths[m.group(1)]:g}"
+                   if m.group(1) in depths else m.group(0), q)
         out.append({"claim": claim_of(row.quantity), "quantity": q, "report_quantity": row.quantity,
                     "fitted": row.fitted, "value": value, "error": error, "published": row.published,
                     "published_value": parse_published(row.published), "verdict": row.verdict,
                     "notes": "; ".join(row.notes)})
     return out
+
+
+def _requested_depths(df):
+    """{the report's text of a measured depth: the depth the config asked for}. The report names
+    a depth series by its measured h (the beds' mean), which moves between realizations and bed
+    counts (9.46 with one bed, 9.42 with two); the ladder lines rungs up by the requested one."""
+    if "h_requested" not in df.columns:
+        return {}
+    pairs = df[["h", "h_requested"]].dropna().drop_duplicates()
+    return {f"{h:.3g}": float(req) for h, req in zip(pairs.h, pairs.h_requested)}
 
 
 # --- the ladder -------------------------------------------------------------

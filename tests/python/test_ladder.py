@@ -372,3 +372,26 @@ def test_cli_missing_root_names_it(tmp_path):
     (tmp_path / "ladder.yaml").write_text("rungs: []\n")
     r = run("ladder", "table", tmp_path)
     assert r.returncode == 2 and "ladder.yaml" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_depth_series_line_up_by_the_requested_depth(tmp_path):
+    # The report names a system II series by its measured depth, the mean of its beds (9.46
+    # with one bed, 9.42 with two): the ladder names it by the depth the config asked for, so
+    # both rungs' rows are one quantity. Without h_requested the measured depth stays.
+    import synth
+
+    df = synth.make_table(seed=5, mus=(0.5,), kn_variants=False)
+    rows = []
+    for shift, name in ((0.04, "one-bed"), (-0.02, "two-beds")):
+        t = df.copy()
+        t["h_requested"] = t.h
+        t.loc[t.system == "II", "h"] += shift
+        d = tmp_path / name
+        d.mkdir()
+        save_csv(t, d / "table.csv")
+        save_results(d / "fits.json", run_fits(t, n_boot=0, seed=0))
+        rows.append({c["quantity"] for c in rung_claims(d) if "h =" in c["quantity"]})
+    assert rows[0] and rows[0] == rows[1]
+    assert all("requested h = " in q for q in rows[0])
+    assert {f"requested h = {h:g})" for h in df[df.system == "II"].h.unique()} >= \
+        {q[q.index("requested"):] for q in rows[0]}
