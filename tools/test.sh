@@ -52,8 +52,8 @@ took "C++ and command-line tests"
 
 # The unit tests under AddressSanitizer + UndefinedBehaviorSanitizer (-O1 -g, assertions on):
 # any out-of-bounds access, use after free, leak or undefined behaviour stops the run with a
-# stack. One process, so the pull tests pour their shared bed once (as separate ctest processes
-# each would pour it again: 205 s instead of 160 s). Not run here, the four tests that integrate
+# stack. A few processes, not one per test, so the pull tests pour their shared bed once per
+# process (as separate ctest processes each would pour it again: 205 s instead of 160 s). Not run here, the four tests that integrate
 # a whole bed for thousands of steps: minutes each under instrumentation (6 to 12 on a busy
 # 2-core machine), for the same
 # code (contact loops, integrator, pour and pull steps) the shorter tests run on fewer steps.
@@ -64,21 +64,53 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -
   -DGRANUDRAG_SANITIZE="address;undefined" -DGRANUDRAG_TESTS=ON >/dev/null
 cmake --build build-asan -j "$jobs" --target granudrag_tests
 took "sanitizer build"
-OMP_WAIT_POLICY=passive \
-  ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:abort_on_error=0:strict_string_checks=1 \
-  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-  build-asan/granudrag_tests --gtest_brief=1 --gtest_filter="-$asan_skip"
-took "unit tests under AddressSanitizer + UndefinedBehaviorSanitizer"
+# In as many shards as cores, side by side (GoogleTest's sharding: test i runs in shard
+# i mod N), one thread each but for the oracle tests' own 2 (waiting passively): the tests are
+# single-threaded at -O1 under instrumentation, so one process would leave a core idle.
+asan_shard() {  # asan_shard INDEX: runs shard INDEX of $jobs, its output to build-asan/shard-INDEX.log
+  GTEST_TOTAL_SHARDS=$jobs GTEST_SHARD_INDEX=$1 OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive \
+    ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:abort_on_error=0:strict_string_checks=1 \
+    UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+    build-asan/granudrag_tests --gtest_brief=1 --gtest_filter="-$asan_skip" > "build-asan/shard-$1.log" 2>&1
+}
+pids=()
+for ((i = 0; i < jobs; i++)); do asan_shard "$i" & pids+=($!); done
+asan_ok=true
+for i in "${!pids[@]}"; do
+  if ! wait "${pids[$i]}"; then
+    asan_ok=false
+    echo "test.sh: sanitizer shard $i of $jobs failed:" >&2
+    tail -50 "build-asan/shard-$i.log" >&2
+  fi
+done
+$asan_ok || exit 1
+tail -q -n 2 build-asan/shard-*.log
+took "unit tests under AddressSanitizer + UndefinedBehaviorSanitizer ($jobs shards)"
 
 # Python: the analysis package, then the workflow (lint, smoke study end to end, incremental
 # sweeps, report) on the binary just built, under each Snakemake generation: Debian's
-# interpreter and /usr/bin/snakemake 7.21 (Debian's packages only), then the project
-# environment (.venv/: pinned NumPy, pandas, SciPy, ... and Snakemake 9).
-GRANUDRAG="$PWD/build/granudrag" "$PY" -m pytest -q -p no:cacheprovider tests/python tests/workflow
-took "Python tests, Debian's Python and Snakemake 7.21"
+# interpreter and /usr/bin/snakemake 7.21 (Debian's packages only), and the project
+# environment (.venv/: pinned NumPy, pandas, SciPy, ... and Snakemake 9). The two passes run
+# side by side, each in its own temporary directories, each mostly one core's work: in sequence
+# they took 242 + 247 s on 2 cores. Their outputs are printed when both have ended.
+pytmp=$(mktemp -d)
+trap 'rm -rf "$pytmp"' EXIT
+GRANUDRAG="$PWD/build/granudrag" "$PY" -m pytest -q -p no:cacheprovider --basetemp "$pytmp/debian" \
+  tests/python tests/workflow > "$pytmp/debian.log" 2>&1 &
+debian_pid=$!
 GRANUDRAG="$PWD/build/granudrag" GRANUDRAG_SNAKEMAKE="$PWD/.venv/bin/snakemake" \
-  .venv/bin/python -m pytest -q -p no:cacheprovider tests/python tests/workflow
-took "Python tests, project environment and Snakemake 9"
+  .venv/bin/python -m pytest -q -p no:cacheprovider --basetemp "$pytmp/venv" \
+  tests/python tests/workflow > "$pytmp/venv.log" 2>&1 &
+venv_pid=$!
+py_ok=true
+for pass in "debian $debian_pid Debian's Python and Snakemake 7.21" \
+            "venv $venv_pid the project environment and Snakemake 9"; do
+  read -r name pid what <<<"$pass"
+  echo "--- Python tests, $what:"
+  if wait "$pid"; then tail -n 2 "$pytmp/$name.log"; else cat "$pytmp/$name.log"; py_ok=false; fi
+done
+$py_ok || { echo "test.sh: a Python pass failed (its output above)" >&2; exit 1; }
+took "Python tests, Debian's Python + Snakemake 7.21 and the project environment + Snakemake 9, side by side"
 # Both SLURM profiles on a real one-node cluster with accounting (slurmdbd, MariaDB) started
 # here (needs root or passwordless sudo): the smoke study through Snakemake 9 + the executor
 # plugin and through 7.21 + slurm-v7, and a pull killed at its time limit that resumes.
