@@ -56,37 +56,40 @@ run() {  # run DIR SNAKEMAKE CONFIG extra-args...: a run, its log in DIR/snakema
   "$sm" --snakefile "$root/workflow/Snakefile" --directory "$dir" --configfile "$cfg" "$@" \
     > "$dir/snakemake.log" 2>&1 || { echo "FAIL: $sm $* failed:"; tail -30 "$dir/snakemake.log"; exit 1; }
 }
-# `sacct` of this test's jobs: id|name|state|account|partition, one line per job.
-jobs_of() { sacct -n -X -P -S now-2hours -o JobID,JobName,State,Account,Partition; }
+# `sacct` of the jobs run from DIR: id|name|state|account|partition, one line per job (the runs
+# below go side by side, so their jobs are told apart by their working directory).
+jobs_in() { sacct -n -X -P -S now-2hours -o JobID,JobName,State,Account,Partition,WorkDir \
+  | grep -F "|$1" | cut -d'|' -f1-5 || true; }
 
 export SBATCH_ACCOUNT=granudrag SBATCH_PARTITION=debug
 # The plugin asks sacct 40 s after a submission, then every 40 s or more: right for a cluster,
 # slow for jobs of seconds; 3 s here.
 fast=(--slurm-init-seconds-before-status-checks 3)
-declare -A took
+# The two generations and the local reference at once: the SLURM runs spend most of their time
+# waiting on the scheduler and accounting (193 and 131 s one after the other, for jobs of seconds).
+t=$SECONDS
+run "$work/slurm9" "$sm9" "$work/smoke.yaml" --profile "$root/workflow/profiles/slurm" --jobs 4 "${fast[@]}" &
+pid9=$!
+run "$work/slurm7" "$sm7" "$work/smoke.yaml" --profile "$root/workflow/profiles/slurm-v7" --jobs 4 --cores 2 &
+pid7=$!
+run "$work/local" "$sm7" "$work/smoke.yaml" --cores 2 &
+pidlocal=$!
+wait $pid9 || exit 1
+wait $pid7 || exit 1
+wait $pidlocal || exit 1
+echo "the smoke study through Snakemake 9 + slurm, 7.21 + slurm-v7 and locally, side by side: $((SECONDS - t)) s"
+sleep 2   # slurmctld sends the last job's end to slurmdbd asynchronously
 for gen in 9 7; do
-  t=$SECONDS
-  before=$(jobs_of | wc -l)
-  if [ "$gen" = 9 ]; then
-    run "$work/slurm9" "$sm9" "$work/smoke.yaml" --profile "$root/workflow/profiles/slurm" --jobs 4 "${fast[@]}"
-  else
-    run "$work/slurm7" "$sm7" "$work/smoke.yaml" --profile "$root/workflow/profiles/slurm-v7" --jobs 4 --cores 2
-  fi
-  took[$gen]=$((SECONDS - t))
   # Accounting: the run's jobs (beds, pulls, and under 9 the analysis rules too) as COMPLETED
   # under the account and partition asked for. Snakemake 9 names its jobs after the run's id,
   # 7's profile after the rule.
-  sleep 2   # slurmctld sends the last job's end to slurmdbd asynchronously
-  new=$(jobs_of | tail -n +$((before + 1)))
+  new=$(jobs_in "$work/slurm$gen")
   n=$(grep -c . <<<"$new" || true)
   done_ok=$(grep -cE '\|COMPLETED\|granudrag\|debug$' <<<"$new" || true)
-  echo "Snakemake $gen through SLURM: ${took[$gen]} s, $n jobs in accounting, $done_ok COMPLETED under account granudrag, partition debug"
+  echo "Snakemake $gen through SLURM: $n jobs in accounting, $done_ok COMPLETED under account granudrag, partition debug"
   # 5 beds + 12 pulls at least
   [ "$done_ok" -ge 17 ] && [ "$done_ok" -eq "$n" ] || { echo "FAIL: sacct:"; echo "$new"; exit 1; }
 done
-t=$SECONDS
-run "$work/local" "$sm7" "$work/smoke.yaml" --cores 2
-echo "local run (reference): $((SECONDS - t)) s"
 
 # Same results as the local run (the smoke simulations use one thread each: bitwise).
 /usr/bin/python3 - "$work/slurm9" "$work/slurm7" "$work/local" <<'PY'
@@ -142,8 +145,7 @@ wait $pid7 || exit 1
 sleep 2   # slurmctld sends the last job's end to slurmdbd asynchronously
 for gen in 9 7; do
   # id|state|working directory of this generation's jobs
-  jobs=$(sacct -n -X -P -S now-2hours -o JobID,State,WorkDir | grep -F "|$work/limit$gen" || true)
-  timeouts=$(grep -c '|TIMEOUT|' <<<"$jobs" || true)
+  timeouts=$(jobs_in "$work/limit$gen" | grep -c '|TIMEOUT|' || true)
   log=$(find "$work/limit$gen/logs" -path '*pulls*' -name '*.log' | head -1)
   run_file=$(find "$work/limit$gen/results" -name run.h5 | head -1)
   echo "Snakemake $gen, a pull over its 1-minute limit: $((SECONDS - t)) s for both, $timeouts job(s) killed at the limit; $(grep -m1 'resuming from' "$log" | sed 's/ from .* at/ at/')"
