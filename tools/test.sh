@@ -89,7 +89,7 @@ asan_ok=true
 wait $rest_pid || asan_ok=false
 wait $long_pid || asan_ok=false
 $asan_ok || exit 1
-grep -h "tests ran" build-asan/rest.log build-asan/long.log
+grep -h "PASSED" build-asan/rest.log build-asan/long.log
 took "unit tests under AddressSanitizer + UndefinedBehaviorSanitizer (two processes)"
 
 # Python, on the binary just built: the analysis package (tests/python) under the project
