@@ -38,9 +38,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .agreement import Z_AGREE, ValidationError
 from .runs import _open
 from .table import write_csv
-from .validation import Z_AGREE, ValidationError
 
 TARGET = 0.05      # the relative error quoted (a 5 % drag)
 HONEST = 0.5       # a prefix's error below half the whole pull's e sqrt(T/L) is too small to stop on

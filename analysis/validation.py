@@ -24,9 +24,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from . import pull_length
+from .agreement import Z_AGREE, ValidationError
 from .table import combine_beds, write_csv
-
-Z_AGREE = 2.0   # |z| below this: agrees (a 95 % two-sided test for one comparison)
 
 
 @dataclass(frozen=True)
@@ -53,10 +53,6 @@ STUDIES = {
 # Every study `validate` runs: the comparisons above, and the pull length (analysis.pull_length),
 # which asks how long one protocol's pulls must be rather than comparing two protocols.
 NAMES = (*STUDIES, "pull_length")
-
-
-class ValidationError(ValueError):
-    """The table cannot answer the study's question (says what is missing)."""
 
 
 def _keys(df, study):
@@ -231,7 +227,6 @@ def validate(runs, study, outdir):
         if study not in NAMES:
             raise ValidationError(f"unknown validation study '{study}': one of {', '.join(NAMES)}")
         if study == "pull_length":
-            from . import pull_length
             return pull_length.validate(runs, outdir)
         study = STUDIES[study]
     cmp = compare(runs, study)

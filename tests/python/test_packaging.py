@@ -45,3 +45,36 @@ def test_workflow_does_not_touch_sys_path():
     offenders = [str(p.relative_to(ROOT)) for p in (ROOT / "workflow").rglob("*")
                  if p.is_file() and p.suffix in (".py", ".smk", "") and "sys.path" in p.read_text(errors="ignore")]
     assert offenders == []
+
+
+def test_the_analysis_modules_import_each_other_without_a_cycle():
+    # One direction per pair (analysis.validation dispatches to pull_length; both take what
+    # "agrees" means from analysis.agreement): a cycle makes the import order matter and hides
+    # which module owns a concept. Relative imports anywhere in a module count, deferred ones too.
+    import ast
+
+    pkg = Path(__file__).resolve().parents[2] / "analysis"
+    graph = {}
+    for path in pkg.rglob("*.py"):
+        parts = path.relative_to(pkg.parent).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        package = ".".join(parts[:-1])
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level:
+                base = package.rsplit(".", node.level - 1)[0] if node.level > 1 else package
+                targets = [f"{base}.{node.module}"] if node.module else [f"{base}.{a.name}" for a in node.names]
+                graph.setdefault(name, set()).update(t for t in targets if t != name)
+
+    def cycle_from(start, node, seen):
+        for nxt in graph.get(node, ()):
+            if nxt == start:
+                return [node, nxt]
+            if nxt not in seen:
+                seen.add(nxt)
+                rest = cycle_from(start, nxt, seen)
+                if rest:
+                    return [node, *rest]
+        return None
+
+    cycles = [c for m in sorted(graph) if (c := cycle_from(m, m, {m}))]
+    assert not cycles, f"import cycles in analysis/: {cycles}"
