@@ -443,7 +443,7 @@ class FitFile:
 def save_fits(path, laws=(), fits=None, tables=None, notes=(), summary=None):
     """Write a JSON fit file:
 
-        {"format": "granudrag-fits", "version": 1, "written_by": "granudrag-analysis 0.2.0",
+        {"format": "granudrag-fits", "version": 1, "written_by": "granudrag-analysis <VERSION>",
          "laws":   [ScalingLaw: mu, kn, gamman, alpha, phi, regimes, ranges],
          "fits":   {name: Fit: model, params {name: {value, err}}, method,
                     n_points, x_range, meta, [replicates]},

@@ -30,6 +30,26 @@ took() {  # took "what": the time since the previous step ended
   echo "test.sh: $1 took $((SECONDS - step_start)) s"
   step_start=$SECONDS
 }
+# Commands run side by side: `beside LOG COMMAND...` starts one in the background, its output
+# to LOG; `joined` waits for every one started, prints the last line of each log (the whole log
+# of one that failed) and fails if any did.
+beside_started=()
+beside() {
+  local log=$1
+  shift
+  "$@" > "$log" 2>&1 &
+  beside_started+=("$! $log")
+}
+joined() {
+  local ok=true entry pid log
+  for entry in "${beside_started[@]}"; do
+    read -r pid log <<<"$entry"
+    echo "--- $log:"
+    if wait "$pid"; then tail -n 1 "$log"; else cat "$log"; ok=false; fi
+  done
+  beside_started=()
+  $ok
+}
 
 tools/lint.sh
 took "format and lint checks"
@@ -76,20 +96,15 @@ took "sanitizer build"
 # the pull tests' shared bed once.
 asan_long=Pull.AResumedPullStopsAtTheSameStepAsAnUninterruptedOne:Pull.ResumedFromCheckpointIsBitwiseIdentical:FuzzReaders.*
 asan_long+=:Pour.ResumedFromACheckpointItEndsBitwiseAsAnUninterruptedPour:Observables.NinetyFivePercentIntervalsCoverRealForceSeries
-asan_run() {  # asan_run NAME FILTER: the unit tests FILTER selects, output to build-asan/NAME.log
+asan_tests() {  # asan_tests FILTER: the unit tests FILTER selects
   OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive \
     ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:abort_on_error=0:strict_string_checks=1 \
     UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-    build-asan/granudrag_tests --gtest_brief=1 --gtest_filter="$2" > "build-asan/$1.log" 2>&1 \
-    || { echo "test.sh: sanitizer tests ($1) failed:" >&2; tail -50 "build-asan/$1.log" >&2; return 1; }
+    build-asan/granudrag_tests --gtest_brief=1 --gtest_filter="$1"
 }
-asan_run rest "-$asan_skip:$asan_long" & rest_pid=$!
-asan_run long "$asan_long" & long_pid=$!
-asan_ok=true
-wait $rest_pid || asan_ok=false
-wait $long_pid || asan_ok=false
-$asan_ok || exit 1
-grep -h "PASSED" build-asan/rest.log build-asan/long.log
+beside build-asan/rest.log asan_tests "-$asan_skip:$asan_long"
+beside build-asan/long.log asan_tests "$asan_long"
+joined || { echo "test.sh: sanitizer tests failed (their output above)" >&2; exit 1; }
 took "unit tests under AddressSanitizer + UndefinedBehaviorSanitizer (two processes)"
 
 # Python, on the binary just built: the analysis package (tests/python) under the project
@@ -101,25 +116,15 @@ took "unit tests under AddressSanitizer + UndefinedBehaviorSanitizer (two proces
 # add only the packaging and command-line ones (the package installed for it, its entry points):
 # running all of them a second time cost 140 s on 2 cores. What this leaves untested on Debian's
 # packages is analysis code the smoke study does not reach (the ladder, the validation comparisons).
-# The two passes run side by side, each in its own temporary directories; their outputs are
-# printed when both have ended.
+# The two passes run side by side, each in its own temporary directories (debian.log: Debian's
+# Python and Snakemake 7.21; venv.log: the project environment and Snakemake 9).
 pytmp=$(mktemp -d)
 trap 'rm -rf "$pytmp"' EXIT
-GRANUDRAG="$PWD/build/granudrag" "$PY" -m pytest -q -p no:cacheprovider --basetemp "$pytmp/debian" \
-  tests/workflow tests/python/test_packaging.py tests/python/test_cli.py > "$pytmp/debian.log" 2>&1 &
-debian_pid=$!
-GRANUDRAG="$PWD/build/granudrag" GRANUDRAG_SNAKEMAKE="$PWD/.venv/bin/snakemake" \
-  .venv/bin/python -m pytest -q -p no:cacheprovider --basetemp "$pytmp/venv" \
-  tests/python tests/workflow > "$pytmp/venv.log" 2>&1 &
-venv_pid=$!
-py_ok=true
-for pass in "debian $debian_pid Debian's Python and Snakemake 7.21" \
-            "venv $venv_pid the project environment and Snakemake 9"; do
-  read -r name pid what <<<"$pass"
-  echo "--- Python tests, $what:"
-  if wait "$pid"; then tail -n 2 "$pytmp/$name.log"; else cat "$pytmp/$name.log"; py_ok=false; fi
-done
-$py_ok || { echo "test.sh: a Python pass failed (its output above)" >&2; exit 1; }
+beside "$pytmp/debian.log" env GRANUDRAG="$PWD/build/granudrag" "$PY" -m pytest -q -p no:cacheprovider \
+  --basetemp "$pytmp/debian" tests/workflow tests/python/test_packaging.py tests/python/test_cli.py
+beside "$pytmp/venv.log" env GRANUDRAG="$PWD/build/granudrag" GRANUDRAG_SNAKEMAKE="$PWD/.venv/bin/snakemake" \
+  .venv/bin/python -m pytest -q -p no:cacheprovider --basetemp "$pytmp/venv" tests/python tests/workflow
+joined || { echo "test.sh: a Python pass failed (its output above)" >&2; exit 1; }
 took "Python tests: the workflow under Debian's Python + Snakemake 7.21 and everything under the project environment + Snakemake 9, side by side"
 # Both SLURM profiles on a real one-node cluster with accounting (slurmdbd, MariaDB) started
 # here (needs root or passwordless sudo): the smoke study through Snakemake 9 + the executor
