@@ -102,6 +102,10 @@ int pull_command(const std::vector<std::string>& args) {
   spec.fresh_start = par.flag("fresh_start");
   spec.max_overlap = par.number("max_overlap");
   spec.keep_going = par.flag("keep_going");
+  spec.active.radius = par.number("active_radius");
+  spec.active.sleep_distance = par.number("sleep_distance");
+  spec.active.sleep_time = par.number("sleep_time");
+  spec.active.wake_force = par.number("wake_force");
   {
     const double distance = spec.distance > 0 ? spec.distance : bed.box.lx;
     const double total_time = distance / spec.speed;

@@ -13,6 +13,7 @@ void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactP
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
       if (p.species[i] == Species::Frozen && p.species[j] == Species::Frozen) continue;
+      if (both_held(i, j)) continue;  // its spring, if it touches, stays as it was
       const Vec3 del = box.min_image(p.x[i] - p.x[j]);
       const double radsum = p.radius[i] + p.radius[j];
       const double r = del.norm();
@@ -82,6 +83,30 @@ std::vector<PairHistory> BruteForceContacts::export_history() const {
 void BruteForceContacts::import_history(const std::vector<PairHistory>& history) {
   history_.clear();
   for (const PairHistory& h : history) history_[{h.i, h.j}] = h.shear;
+}
+
+void BruteForceContacts::held_pair_forces(const Particles& p, const Box& box, const ContactParams& c,
+                                          std::vector<Vec3>& force) const {
+  force.assign(p.size(), Vec3::Zero());
+  for (const auto& [key, stored] : history_) {
+    const auto [i, j] = key;
+    if (!both_held(i, j)) continue;
+    const Vec3 del = box.min_image(p.x[i] - p.x[j]);
+    const double radsum = p.radius[i] + p.radius[j];
+    ContactGeometry g;
+    g.del = del;
+    g.r = del.norm();
+    if (g.r >= radsum) continue;
+    g.contact_distance = radsum;
+    g.reff = p.radius[i] * p.radius[j] / radsum;
+    g.meff = effective_mass(p.mass[i], p.species[i], p.mass[j], p.species[j]);
+    g.rel_velocity = p.v[i] - p.v[j];
+    g.spin_sum = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
+    Vec3 shear = stored;
+    const PairForce pf = hertz_history(c, g, 0.0, shear, false);
+    force[i] += pf.force;
+    force[j] -= pf.force;
+  }
 }
 
 double BruteForceContacts::max_overlap(const Particles& p, const Box& box) const {

@@ -2,6 +2,7 @@
 // How the contact forces between bodies are found and summed. Two implementations share the
 // contact law: VerletContacts (cell grid, Verlet lists, parallel) and BruteForceContacts (every
 // pair, serial, obviously correct), which the tests keep as the oracle for the fast path.
+#include <cstdint>
 #include <vector>
 
 #include "contact/contact_params.hpp"
@@ -52,6 +53,24 @@ class ContactLoop {
   // The tangential springs of all touching pairs, and their restoration after a rebuild.
   virtual std::vector<PairHistory> export_history() const = 0;
   virtual void import_history(const std::vector<PairHistory>& history) = 0;
+
+  // The active region (engine/active_region.hpp): per body, 1 when it is held in place this
+  // step. A pair of two held bodies is skipped (neither its force nor its spring nor its
+  // `touching` changes); every other pair is computed as usual. nullptr (the default): none.
+  // The mask is read, not copied; held_changed() is called whenever its contents change.
+  void set_held(const std::vector<std::uint8_t>* held) {
+    held_ = held;
+    held_changed();
+  }
+  virtual void held_changed() {}
+  // Per body, the force from its touching partners held with it, their springs as they are
+  // (constant while both stay held); zero for the others. Called when the held set changes.
+  virtual void held_pair_forces(const Particles& p, const Box& box, const ContactParams& c,
+                                std::vector<Vec3>& force) const = 0;
+
+ protected:
+  bool both_held(int i, int j) const { return held_ && (*held_)[i] && (*held_)[j]; }
+  const std::vector<std::uint8_t>* held_ = nullptr;
 };
 
 }  // namespace granudrag

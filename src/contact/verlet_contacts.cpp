@@ -8,29 +8,11 @@
 
 #include "contact/contact_batch.hpp"
 #include "contact/contact_law.hpp"
+#include "contact/pair_geometry.hpp"
 #include "core/balanced_split.hpp"
 #include "core/ordered_sum.hpp"
 
 namespace granudrag {
-
-namespace {
-
-// Geometry of the pair (i, j) if it touches; false otherwise.
-inline bool pair_geometry(const Particles& p, const Box& box, int i, int j, ContactGeometry& g) {
-  g.del = box.min_image(p.x[i] - p.x[j]);
-  const double rsq = g.del.squaredNorm();
-  const double radsum = p.radius[i] + p.radius[j];
-  if (rsq >= radsum * radsum) return false;
-  g.r = std::sqrt(rsq);
-  g.contact_distance = radsum;
-  g.reff = p.radius[i] * p.radius[j] / radsum;
-  g.meff = effective_mass(p.mass[i], p.species[i], p.mass[j], p.species[j]);
-  g.rel_velocity = p.v[i] - p.v[j];
-  g.spin_sum = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
-  return true;
-}
-
-}  // namespace
 
 bool VerletContacts::update_lists(Particles& p, const Box& box, Timers* timers, double max_drift_sq) {
   if (!list_.rebuild_due(p.size(), max_drift_sq)) return false;
@@ -52,7 +34,34 @@ void VerletContacts::after_build() {
   intruder_force_.assign(list_.intruder_pairs().size(), Vec3::Zero());
   intruder_torque_.assign(list_.intruder_pairs().size(), Vec3::Zero());
   intruder_new_.assign(list_.intruder_pairs().size(), 0);
+  classify_rows();
   balance_rows(omp_get_max_threads());
+}
+
+void VerletContacts::held_changed() {
+  classify_rows();
+  if (!row_split_.empty()) balance_rows(omp_get_max_threads());
+}
+
+void VerletContacts::classify_rows() {
+  const PairList& pairs = list_.grain_pairs();
+  if (!held_ || held_->size() != pairs.rows()) {
+    row_mode_.clear();
+    return;
+  }
+  const std::uint8_t* held = held_->data();
+  const long n = static_cast<long>(pairs.rows());
+  row_mode_.resize(n);
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i) {
+    std::uint8_t mode = kAll;
+    if (held[i]) {
+      mode = kSkip;
+      for (int e = pairs.begin(i); e < pairs.end(i) && mode == kSkip; ++e)
+        if (!held[pairs.partner[e]]) mode = kAwakePartners;
+    }
+    row_mode_[i] = mode;
+  }
 }
 
 void VerletContacts::balance_rows(int threads) {
@@ -66,8 +75,11 @@ void VerletContacts::balance_rows(int threads) {
   std::vector<long> cost(n + 1, 0);
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < n; ++i) {
-    long c = 1 + pairs.end(i) - pairs.begin(i);
-    for (int e = pairs.begin(i); e < pairs.end(i); ++e) c += kTouchWeight * touching[e];
+    long c = 1;
+    if (row_mode_.empty() || row_mode_[i] != kSkip) {
+      c += pairs.end(i) - pairs.begin(i);
+      for (int e = pairs.begin(i); e < pairs.end(i); ++e) c += kTouchWeight * touching[e];
+    }
     cost[i + 1] = c;
   }
   for (long i = 0; i < n; ++i) cost[i + 1] += cost[i];
@@ -133,12 +145,16 @@ void VerletContacts::scan_rows(const Particles& p, const Box& box, const Contact
   const int* offset = pairs.offset.data();
   const std::uint8_t* wrapping = list_.wrapping_rows().data();
   const double lx = box.lx, ly = box.ly;
+  const std::uint8_t* mode = row_mode_.empty() ? nullptr : row_mode_.data();
+  const std::uint8_t* held = held_ ? held_->data() : nullptr;
   std::uint8_t* touching = grain_history_.touching.data();
   Vec3* shear = grain_history_.shear.data();
   int size = 0;
   // One row; `periodic`: its partners may lie across a boundary. Most rows have none, and
   // skip the minimum image's compares and jumps (a fifth of the scan's instructions).
-  auto scan_row = [&](long i, auto periodic) {
+  // `awake_only`: row i is held (active region), and so are some partners, whose pairs are left
+  // as they are.
+  auto scan_row = [&](long i, auto periodic, auto awake_only) {
     // Plain doubles rather than Vec3 here: Eigen packs x, y into one register and z into
     // another, and the shuffles and spills cost more than the arithmetic.
     const double xi = x[i].x(), yi = x[i].y(), zi = x[i].z();
@@ -146,6 +162,9 @@ void VerletContacts::scan_rows(const Particles& p, const Box& box, const Contact
     const int end = offset[i + 1];
     for (int e = offset[i]; e < end; ++e) {
       const int j = partner[e];
+      if constexpr (awake_only) {
+        if (held[j]) continue;
+      }
       double dx = xi - x[j].x(), dy = yi - x[j].y();
       if constexpr (periodic) {
         dx = Box::min_image(dx, lx);
@@ -174,10 +193,18 @@ void VerletContacts::scan_rows(const Particles& p, const Box& box, const Contact
     }
   };
   for (long i = i0; i < i1; ++i) {
+    if (mode && mode[i] != kAll) {
+      if (mode[i] == kSkip) continue;
+      if (wrapping[i])
+        scan_row(i, std::true_type{}, std::true_type{});
+      else
+        scan_row(i, std::false_type{}, std::true_type{});
+      continue;
+    }
     if (wrapping[i])
-      scan_row(i, std::true_type{});
+      scan_row(i, std::true_type{}, std::false_type{});
     else
-      scan_row(i, std::false_type{});
+      scan_row(i, std::false_type{}, std::false_type{});
   }
   b.size = size;
   evaluate_batch(p, c, dt, update_history, b, f, tq);
@@ -278,84 +305,6 @@ void VerletContacts::accumulate(Particles& p, const Box& box, const ContactParam
   }
 }
 
-// The checks below run every sample interval (the run guard, the coordination numbers): in
-// parallel over the rows, or on a study's interval of 40 steps they cost 7 % of a 2-thread pull.
-double VerletContacts::elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const {
-  auto pair_energy = [&](int i, int j) {
-    ContactGeometry g;
-    return pair_geometry(p, box, i, j, g) ? hertz_normal_energy(c.kn, g.reff, g.contact_distance - g.r) : 0.0;
-  };
-  const PairList& pairs = list_.grain_pairs();
-  double energy = ordered_sum<double>(static_cast<long>(pairs.rows()), [&](long i) {
-    double row = 0.0;
-    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-      row += pair_energy(static_cast<int>(i), pairs.partner[e]);
-    return row;
-  });
-  const PairList& intruders = list_.intruder_pairs();
-  for (std::size_t b = 0; b < intruders.rows(); ++b)
-    for (int e = intruders.begin(b); e < intruders.end(b); ++e)
-      energy += pair_energy(list_.intruder_bodies()[b], intruders.partner[e]);
-  return energy;
-}
-
-int VerletContacts::contacts_of(int body) const {
-  const PairList& intruders = list_.intruder_pairs();
-  const std::vector<int>& bodies = list_.intruder_bodies();
-  for (std::size_t b = 0; b < bodies.size(); ++b) {
-    if (bodies[b] != body) continue;
-    int n = 0;
-    for (int e = intruders.begin(b); e < intruders.end(b); ++e) n += intruder_history_.touching[e];
-    return n;
-  }
-  return 0;
-}
-
-void VerletContacts::new_contacts_of(int body, std::vector<int>& grains) const {
-  grains.clear();
-  const PairList& intruders = list_.intruder_pairs();
-  const std::vector<int>& bodies = list_.intruder_bodies();
-  for (std::size_t b = 0; b < bodies.size(); ++b) {
-    if (bodies[b] != body) continue;
-    for (int e = intruders.begin(b); e < intruders.end(b); ++e)
-      if (intruder_new_[e]) grains.push_back(intruders.partner[e]);
-  }
-}
-
-void VerletContacts::count_contacts(std::vector<int>& contacts) const {
-  // A row's partners belong to other threads' rows: threads past the first count into private
-  // arrays, added afterwards (integers: the same result in any order). Atomic increments instead
-  // made one thread slower than the serial pass.
-  const PairList& pairs = list_.grain_pairs();
-  const long rows = static_cast<long>(pairs.rows()), n = static_cast<long>(contacts.size());
-  std::vector<std::vector<int>> extra(omp_get_max_threads());
-#pragma omp parallel
-  {
-    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-    if (t > 0) extra[t].assign(n, 0);
-    int* count = t == 0 ? contacts.data() : extra[t].data();
-    for (long i = rows * t / nt; i < rows * (t + 1) / nt; ++i)
-      for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-        if (grain_history_.touching[e]) {
-          ++count[i];
-          ++count[pairs.partner[e]];
-        }
-#pragma omp barrier
-    if (nt > 1) {
-#pragma omp for schedule(static)
-      for (long k = 0; k < n; ++k)
-        for (int s = 1; s < nt; ++s) contacts[k] += extra[s][k];
-    }
-  }
-  const PairList& intruders = list_.intruder_pairs();
-  for (std::size_t b = 0; b < intruders.rows(); ++b)
-    for (int e = intruders.begin(b); e < intruders.end(b); ++e)
-      if (intruder_history_.touching[e]) {
-        ++contacts[list_.intruder_bodies()[b]];
-        ++contacts[intruders.partner[e]];
-      }
-}
-
 std::vector<PairHistory> VerletContacts::export_history() const {
   std::vector<PairHistory> out;
   const PairList& pairs = list_.grain_pairs();
@@ -409,32 +358,6 @@ void VerletContacts::import_history(const std::vector<PairHistory>& history) {
     }
   }
   balance_rows(omp_get_max_threads());
-}
-
-double VerletContacts::max_overlap(const Particles& p, const Box& box) const {
-  auto overlap = [&](int i, int j) {
-    return p.radius[i] + p.radius[j] - box.min_image(p.x[i] - p.x[j]).norm();
-  };
-  const PairList& pairs = list_.grain_pairs();
-  const long rows = static_cast<long>(pairs.rows());
-  double worst = 0;  // the largest is the same whatever the order
-#pragma omp parallel for schedule(static) reduction(max : worst)
-  for (long i = 0; i < rows; ++i)
-    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-      if (grain_history_.touching[e]) worst = std::max(worst, overlap(static_cast<int>(i), pairs.partner[e]));
-  const PairList& intruders = list_.intruder_pairs();
-  for (std::size_t b = 0; b < intruders.rows(); ++b)
-    for (int e = intruders.begin(b); e < intruders.end(b); ++e)
-      if (intruder_history_.touching[e])
-        worst = std::max(worst, overlap(list_.intruder_bodies()[b], intruders.partner[e]));
-  return worst;
-}
-
-long VerletContacts::contact_count() const {
-  long n = 0;
-  for (auto t : grain_history_.touching) n += t;
-  for (auto t : intruder_history_.touching) n += t;
-  return n;
 }
 
 }  // namespace granudrag

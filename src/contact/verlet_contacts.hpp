@@ -36,6 +36,9 @@ class VerletContacts : public ContactLoop {
   void rebuild(Particles& p, const Box& box) override;
   std::vector<PairHistory> export_history() const override;
   void import_history(const std::vector<PairHistory>& history) override;
+  void held_pair_forces(const Particles& p, const Box& box, const ContactParams& c,
+                        std::vector<Vec3>& force) const override;
+  void held_changed() override;
   const NeighborList& list() const { return list_; }
   // Whether the last balance allows the two-colour schedule (no private force arrays).
   bool colored() const { return colored_; }
@@ -46,6 +49,10 @@ class VerletContacts : public ContactLoop {
   ContactHistory grain_history_, intruder_history_;
   void balance_rows(int threads);
   void after_build();
+  // With bodies held (the active region): per row, what the scan computes (RowMode).
+  void classify_rows();
+  enum RowMode : std::uint8_t { kSkip = 0, kAll = 1, kAwakePartners = 2 };
+  std::vector<std::uint8_t> row_mode_;  // empty: every row kAll
   // Scans rows i0 .. i1 for touching pairs and adds their forces into f, tq.
   void scan_rows(const Particles& p, const Box& box, const ContactParams& c, double dt, bool update_history,
                  long i0, long i1, ContactBatch& b, Vec3* f, Vec3* tq);

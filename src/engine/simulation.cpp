@@ -38,6 +38,10 @@ Simulation::Simulation(Particles particles, Box box, ContactParams contact, Sett
     contacts_ = std::make_unique<BruteForceContacts>();
   else
     contacts_ = std::make_unique<VerletContacts>(settings_.skin);
+  if (settings_.active.enabled()) {
+    region_ = std::make_unique<ActiveRegion>(settings_.active, dt_, p_);
+    contacts_->set_held(&region_->held());
+  }
 }
 
 void Simulation::setup() {
@@ -64,8 +68,12 @@ void Simulation::step() {
   contact_forces(true);
   timers_.stamp(Phase::Force);
   final_integrate();
-  timers_.stamp(Phase::Integrate);
   ++steps_;
+  if (region_ && region_->after_step(p_, box_, steps_, settings_.gravity.norm())) {
+    contacts_->held_changed();
+    contacts_->held_pair_forces(p_, box_, contact_, region_->held_forces());
+  }
+  timers_.stamp(Phase::Integrate);
 }
 
 void Simulation::run(long steps, bool show_progress) {
@@ -94,13 +102,14 @@ double Simulation::initial_integrate() {
   const bool measure = reference && reference->size() == p_.size();
   const double* x0 = measure ? reference->data()->data() : nullptr;
   double max_drift_sq = measure ? 0.0 : HUGE_VAL;
+  const std::uint8_t* held = region_ ? region_->held().data() : nullptr;  // asleep: not moved
   ensure_body_split();
 #pragma omp parallel reduction(max : max_drift_sq)
   {
     const auto [first, last] = body_range(omp_get_thread_num(), omp_get_num_threads());
     for (long i = first; i < last; ++i) {
       const Species kind = p_.species[i];
-      if (kind == Species::Mobile) {
+      if (kind == Species::Mobile && !(held && held[i])) {
         const double kick_v = kick_v_[i], kick_w = kick_w_[i];
         for (int d = 0; d < 3; ++d) {
           v[3 * i + d] += kick_v * f[3 * i + d];
@@ -152,6 +161,7 @@ void Simulation::final_integrate() {
   double* w = p_.omega.data()->data();
   const double* f = p_.f.data()->data();
   const double* tq = p_.torque.data()->data();
+  const std::uint8_t* held = region_ ? region_->held().data() : nullptr;
   ensure_body_split();
 #pragma omp parallel
   {
@@ -159,6 +169,10 @@ void Simulation::final_integrate() {
     for (long i = first; i < last; ++i) {
       add_body_force(i);
       if (p_.species[i] != Species::Mobile) continue;
+      if (held && held[i]) {  // asleep: its force is summed for the wake test, not integrated
+        region_->add_force(i, p_.f[i]);
+        continue;
+      }
       const double kick_v = kick_v_[i], kick_w = kick_w_[i];
       for (int d = 0; d < 3; ++d) {
         v[3 * i + d] += kick_v * f[3 * i + d];
@@ -218,7 +232,8 @@ void Simulation::lists_rebuilt() {
 }
 
 Simulation::State Simulation::state() const {
-  return {p_, contacts_->export_history(), wall_.shear(), steps_};
+  return {p_, contacts_->export_history(), wall_.shear(), steps_,
+          region_ ? region_->state() : ActiveRegion::State{}};
 }
 
 void Simulation::restore(const State& s) {
@@ -226,6 +241,12 @@ void Simulation::restore(const State& s) {
     throw Error("state to restore has " + std::to_string(s.particles.size()) + " particles, the simulation " +
                 std::to_string(p_.size()));
   p_ = s.particles;
+  // The region's mask first: the rebuild sorts the contact loop's rows by it. A bed's state
+  // carries none (nothing asleep yet).
+  if (!s.region.held.empty()) {
+    if (!region_) throw Error("the state to restore has an active region, and this simulation has none");
+    region_->restore(s.region, p_);
+  }
   contacts_->rebuild(p_, box_);
   contacts_->import_history(s.pair_history);
   wall_.restore_shear(s.wall_history);

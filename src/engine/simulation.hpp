@@ -11,6 +11,7 @@
 #include "core/box.hpp"
 #include "core/particles.hpp"
 #include "core/timer.hpp"
+#include "engine/active_region.hpp"
 
 namespace granudrag {
 
@@ -18,7 +19,8 @@ struct Settings {
   double dt = 0.0;    // 0: derived from the Hertz collision time (default_time_step)
   double skin = 0.2;  // Verlet skin, in grain diameters
   Vec3 gravity{0.0, 0.0, -1.0};
-  bool brute_force = false;  // use the O(N^2) oracle instead of the neighbour lists
+  bool brute_force = false;     // use the O(N^2) oracle instead of the neighbour lists
+  ActiveRegionSettings active;  // off unless active.radius > 0
 };
 
 struct Energy {
@@ -51,6 +53,8 @@ class Simulation {
   const Timers& timers() const { return timers_; }
   Timers& timers() { return timers_; }
   const ContactLoop& contacts() const { return *contacts_; }
+  // nullptr when the active region is off.
+  const ActiveRegion* active_region() const { return region_.get(); }
 
   // Energy of the mobile grains: kinetic, rotational, gravitational, and elastic (normal
   // springs of all contacts). Conserved without damping and friction.
@@ -65,6 +69,7 @@ class Simulation {
     std::vector<PairHistory> pair_history;
     std::vector<Vec3> wall_history;
     long steps = 0;
+    ActiveRegion::State region;  // empty when the region is off (or the state is a bed's)
   };
   State state() const;
   void restore(const State& s);  // replaces particles, histories and the step count
@@ -91,6 +96,7 @@ class Simulation {
   Settings settings_;
   double dt_;
   std::unique_ptr<ContactLoop> contacts_;
+  std::unique_ptr<ActiveRegion> region_;
   WallContacts wall_;
   std::vector<long> body_split_;         // thread t integrates bodies body_split_[t] .. body_split_[t+1]
   std::vector<double> kick_v_, kick_w_;  // per body: dt / 2m and dt / 2I

@@ -36,6 +36,38 @@ void write_pull_record(h5::File& f, const PullRecord& r) {
   f.set_attr("/pull", "frames", static_cast<std::int64_t>(r.frames));
   f.set_attr("/pull", "snapshots", static_cast<std::int64_t>(r.snapshots.size()));
   write_snapshots(f, "/pull/snapshot_", r.snapshots);
+  if (!r.sleeping.empty()) f.write("/pull/sleeping", r.sleeping);
+}
+
+// The active region's state (engine/active_region.hpp), when the pull has one.
+void write_region(h5::File& f, const ActiveRegion::State& s) {
+  if (s.held.empty()) return;
+  f.write("/active_region/held", s.held);
+  f.write("/active_region/at_rest", std::vector<int>(s.at_rest.begin(), s.at_rest.end()));
+  f.write_rows("/active_region/anchor", s.anchor);
+  f.write_rows("/active_region/force_sum", s.force_sum);
+  f.write_rows("/active_region/held_force", s.held_force);
+  f.write_rows("/active_region/reference", s.reference);
+  f.write("/active_region/reference_due", s.reference_due);
+  f.write("/active_region/counters", std::vector<std::int64_t>{s.interval_steps, s.wake_ups, s.sleeps});
+}
+
+ActiveRegion::State read_region(const h5::File& f) {
+  ActiveRegion::State s;
+  if (!f.exists("/active_region/held")) return s;
+  s.held = f.read_uint8("/active_region/held");
+  const std::vector<int> at_rest = f.read_ints("/active_region/at_rest");
+  s.at_rest.assign(at_rest.begin(), at_rest.end());
+  s.anchor = f.read_vec3("/active_region/anchor");
+  s.force_sum = f.read_vec3("/active_region/force_sum");
+  s.held_force = f.read_vec3("/active_region/held_force");
+  s.reference = f.read_vec3("/active_region/reference");
+  s.reference_due = f.read_uint8("/active_region/reference_due");
+  const std::vector<std::int64_t> counters = f.read_int64("/active_region/counters");
+  s.interval_steps = counters.at(0);
+  s.wake_ups = counters.at(1);
+  s.sleeps = counters.at(2);
+  return s;
 }
 
 PullRecord read_pull_record(const h5::File& f) {
@@ -79,6 +111,7 @@ PullRecord read_pull_record(const h5::File& f) {
   const std::int64_t ns = f.get_attr_int64("/pull", "snapshots");
   if (ns < 0) throw Error("negative snapshot count under /pull");
   r.snapshots = read_snapshots(f, "/pull/snapshot_", static_cast<std::size_t>(ns));
+  if (f.exists("/pull/sleeping")) r.sleeping = f.read_doubles("/pull/sleeping");
   return r;
 }
 
@@ -109,6 +142,7 @@ void save_checkpoint(const std::string& path, const Pull& pull, const Parameters
   Bed bed = pull.bed();
   bed.state = pull.state();
   write_bed_groups(f, bed);
+  write_region(f, bed.state.region);
   write_pull_record(f, pull.record());
   f.commit();
 }
@@ -125,6 +159,7 @@ Checkpoint load_checkpoint(const std::string& path, const Bed& bed, const Parame
     try {
       saved = read_bed_groups(f);
       c.state = saved.state;
+      c.state.region = read_region(f);
       c.record = read_pull_record(f);
     } catch (const Error& e) {
       throw Error(std::string("it cannot be read: ") + e.what());

@@ -44,6 +44,16 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
   f.write("/observables/intruder_contacts/time", r.time);
   f.write("/observables/intruder_contacts/value", r.contacts);
   f.write("/observables/cumulative_drag/value", res.cumulative_drag);
+  if (const ActiveRegion* region = pull.simulation().active_region()) {
+    f.write("/observables/sleeping_grains/step", steps);
+    f.write("/observables/sleeping_grains/time", r.time);
+    f.write("/observables/sleeping_grains/value", r.sleeping);
+    f.set_attr("/observables/sleeping_grains", "wake_ups", static_cast<std::int64_t>(region->wake_ups()));
+    f.set_attr("/observables/sleeping_grains", "sleeps", static_cast<std::int64_t>(region->state().sleeps));
+    f.set_attr("/observables/sleeping_grains", "meaning",
+               std::string("active region (active_radius): grains asleep at the end of each interval; "
+                           "wake_ups and sleeps: how many times a grain woke or fell asleep in the pull"));
+  }
   auto scalar = [&](const std::string& name, double value, double error, const std::string& meaning) {
     f.set_attr("/observables/" + name, "value", value);
     f.set_attr("/observables/" + name, "error", error);

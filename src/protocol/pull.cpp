@@ -18,6 +18,9 @@ Settings pull_settings(const Bed& bed, const PullSpec& spec) {
   Settings s;
   s.dt = bed.dt;
   s.skin = spec.skin;
+  s.active = spec.active;
+  // Decisions four times per dwell, and before the intruder has moved half a grain diameter.
+  s.active.check_interval = std::max(bed.dt, std::min(0.25 * spec.active.sleep_time, 0.5 / spec.speed));
   return s;
 }
 }  // namespace
@@ -33,6 +36,16 @@ Pull::Pull(const Bed& bed, const PullSpec& spec)
       guard_(GuardLimits{}, 0.0) {
   spec_.validate();
   if (bed_.intruder < 0) throw Error("the bed has no intruder to pull: pour it with intruder_diameter > 0");
+  {
+    // Grains touching the intruder must stay awake: the region reaches past them.
+    const double reach = bed_.state.particles.radius[bed_.intruder] + 2.0;
+    if (spec_.active.enabled() && spec_.active.radius < reach) {
+      std::ostringstream msg;
+      msg << "'active_radius' = " << spec_.active.radius << " d does not reach past the grains around the "
+          << "intruder: it must be at least D/2 + 2 = " << reach << " d (or 0: off)";
+      throw Error(msg.str());
+    }
+  }
   check_pull_speed(spec_.speed, bed_, sim_.dt(), spec_.skin, spec_.max_overlap);
   if (spec_.fresh_start) {
     sim_.particles().v[bed_.intruder] = Vec3(spec_.speed, 0, 0);
@@ -208,6 +221,8 @@ void Pull::end_of_interval() {
   record_.fy.push_back(record_.force_sum.y() / k);
   record_.fz.push_back(record_.force_sum.z() / k);
   record_.contacts.push_back(record_.contact_sum / k);
+  if (const ActiveRegion* region = sim_.active_region())
+    record_.sleeping.push_back(static_cast<double>(region->sleeping()));
   record_.force_sum.setZero();
   record_.contact_sum = 0;
   // A failure stops the run here, before a checkpoint could save it.

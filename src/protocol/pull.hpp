@@ -38,6 +38,7 @@ struct PullSpec {
   // On a sanity failure other than a non-finite number: finish the pull and record the failure
   // as the run's verdict instead of stopping.
   bool keep_going = false;
+  ActiveRegionSettings active;  // the active region (engine/active_region.hpp); off by default
 
   // Every field within its key's range (pull_keys(), skin_key()); throws Error naming the key.
   void validate() const;
@@ -60,6 +61,8 @@ struct PullRecord {
   // One entry per sample interval: time at its end, mean force on the intruder over it,
   // mean intruder coordination number over it.
   std::vector<double> time, fx, fy, fz, contacts;
+  // With the active region: grains asleep at the end of each interval (empty without it).
+  std::vector<double> sleeping;
   // Contact angles (paper Eq. 6) at formation, after the transient.
   double theta_sum = 0, theta_sq_sum = 0;
   long theta_count = 0;

@@ -49,6 +49,32 @@ const std::vector<ParameterSpec>& pull_keys() {
           .default_value("0.5")
           .above(0)
           .help("half width of that slab in y"),
+      Key::number("active_radius")
+          .unit("d")
+          .default_value("0")
+          .at_least(0)
+          .help(
+              "active region: grains farther than this from the intruder's centre that stay at rest for "
+              "sleep_time fall asleep (held in place, their mutual contacts not computed) until the intruder "
+              "comes within it or wake_force wakes them; 0: off (every grain integrated); at least D/2 + 2"),
+      Key::number("sleep_distance")
+          .unit("d")
+          .default_value("0.01")
+          .above(0)
+          .help("active region: a grain that has moved less than this over sleep_time is at rest (not its "
+                "speed: elastic waves keep far grains vibrating at a few percent of V)"),
+      Key::number("sleep_time")
+          .unit("sqrt(d/g)")
+          .default_value("1")
+          .at_least(0)
+          .help("active region: how long a grain stays at rest before it falls asleep"),
+      Key::number("wake_force")
+          .unit("m g")
+          .default_value("0.5")
+          .above(0)
+          .help("active region: a sleeping grain wakes when the net force on it, averaged over a check "
+                "interval, "
+                "has changed by more than this fraction of its weight since it fell asleep"),
   };
   return keys;
 }
@@ -67,6 +93,10 @@ void PullSpec::validate() const {
                 {"shell", shell},
                 {"snapshots", snapshots},
                 {"slab_half_width", slab_half_width},
+                {"active_radius", active.radius},
+                {"sleep_distance", active.sleep_distance},
+                {"sleep_time", active.sleep_time},
+                {"wake_force", active.wake_force},
                 {"skin", skin},
                 {"max_overlap", max_overlap}},
                "pull settings");

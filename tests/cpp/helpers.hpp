@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "engine/simulation.hpp"
 #include "protocol/lattice_bed.hpp"
+#include "protocol/pour.hpp"
 
 namespace granudrag::support {
 
@@ -21,6 +22,23 @@ inline ContactParams conservative_params() {
   ContactParams c = soft_params(0.0);
   c.gamman = c.gammat = 0.0;
   return c;
+}
+
+// One shared small poured bed: 1200 soft frictional grains in a 10 d x 10 d box, D = 2 at depth 4.
+inline const Bed& small_bed() {
+  static const Bed bed = [] {
+    PourSpec s;
+    s.lx = s.ly = 10;
+    s.grains = 1200;
+    s.intruder_diameter = 2;
+    s.intruder_x = s.intruder_y = 5;
+    s.depth = 4;
+    s.contact = ContactParams{}.with_stiffness(2e4);
+    s.ke_threshold = 1e-4;
+    s.max_settle_time = 40;
+    return pour(s, false);
+  }();
+  return bed;
 }
 
 // Relative difference of two vectors on the scale `scale`.

@@ -69,6 +69,11 @@ TEST(CommandKeys, PullSpecDefaultsAreTheKeysDefaults) {
   EXPECT_EQ(p.integer("snapshots"), s.snapshots);
   EXPECT_EQ(p.number("slab_half_width"), s.slab_half_width);
   EXPECT_EQ(p.number("skin"), s.skin);
+  EXPECT_EQ(p.number("active_radius"), s.active.radius);
+  EXPECT_FALSE(s.active.enabled());  // off unless asked for
+  EXPECT_EQ(p.number("sleep_distance"), s.active.sleep_distance);
+  EXPECT_EQ(p.number("sleep_time"), s.active.sleep_time);
+  EXPECT_EQ(p.number("wake_force"), s.active.wake_force);
 }
 
 TEST(CommandKeys, SpecValidateUsesTheKeysRanges) {

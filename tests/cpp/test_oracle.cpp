@@ -106,6 +106,75 @@ TEST(Oracle, FastForcesEqualBruteForceOnIntruderScene) {
   }
 }
 
+TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
+  // The active region: grains outside 3.5 d of the intruder fall asleep after 200 steps of
+  // collisions (checks every step here; a sleep distance and a wake force so large that only
+  // the intruder's approach wakes them), and the intruder moving on wakes those it nears. Both
+  // paths skip the pairs of two held bodies and compute every other.
+  for (const auto& [threads, shuffled] : {std::pair{1, false}, {2, false}, {2, true}}) {
+    ThreadCount tc(threads);
+    const Scene scene = intruder_scene(shuffled);
+    Settings fast_s;
+    fast_s.skin = 0.05;
+    fast_s.active.radius = 3.5;
+    fast_s.active.sleep_distance = 10;
+    const ContactParams c = support::soft_params(0.5);
+    const double dt = Simulation(scene.particles, scene.box, c, Settings{}).dt();
+    fast_s.active.sleep_time = 200 * dt;
+    fast_s.active.wake_force = 1e9;
+    fast_s.active.check_interval = dt;  // every step
+    Settings brute_s = fast_s;
+    brute_s.brute_force = true;
+    Simulation fast(scene.particles, scene.box, c, fast_s);
+    Simulation brute(scene.particles, scene.box, c, brute_s);
+    const std::size_t n = scene.particles.size();
+    std::vector<std::uint8_t> always_held(n, 1);  // held at every step since step 300
+    std::vector<PairHistory> springs_then;
+    Particles then;
+    for (int step = 0; step < 600; ++step) {
+      fast.step();
+      brute.step();
+      const Particles& a = fast.particles();
+      const Particles& b = brute.particles();
+      ASSERT_EQ(fast.active_region()->held(), brute.active_region()->held()) << "step " << step;
+      const double scale = force_scale(b);
+      for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_LT(support::rel_diff(a.f[i], b.f[i], scale), 1e-9)
+            << "force on " << i << " at step " << step << ", threads " << threads;
+        ASSERT_LT(support::rel_diff(a.torque[i], b.torque[i], scale), 1e-9)
+            << "torque on " << i << " at step " << step << ", threads " << threads;
+      }
+      if (step == 300) {
+        springs_then = fast.state().pair_history;
+        then = a;
+      }
+      if (step >= 300)
+        for (std::size_t i = 0; i < n; ++i) always_held[i] &= fast.active_region()->held()[i];
+    }
+    const ActiveRegion& region = *fast.active_region();
+    EXPECT_GT(region.sleeping(), 300) << "most of the scene asleep";
+    EXPECT_GT(region.wake_ups(), 0) << "the intruder woke some";
+    EXPECT_EQ(region.wake_ups(), brute.active_region()->wake_ups());
+    // What was held throughout has not moved, nor have the springs between two such bodies.
+    long unchanged = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (always_held[i] && scene.particles.species[i] == Species::Mobile) {
+        ASSERT_EQ(scene.box.min_image(fast.particles().x[i] - then.x[i]).norm(), 0.0) << i;
+      }
+    }
+    const std::vector<PairHistory> springs_now = fast.state().pair_history;
+    for (const PairHistory& h : springs_then) {
+      if (!always_held[h.i] || !always_held[h.j]) continue;
+      const auto it = std::find_if(springs_now.begin(), springs_now.end(),
+                                   [&](const PairHistory& k) { return k.i == h.i && k.j == h.j; });
+      ASSERT_NE(it, springs_now.end()) << "the spring of " << h.i << "-" << h.j << " was lost";
+      ASSERT_EQ(it->shear, h.shear);
+      unchanged += h.shear.norm() > 0;
+    }
+    EXPECT_GT(unchanged, 50) << "springs with history between sleeping grains were kept";
+  }
+}
+
 TEST(Oracle, BitwiseReproducibleForAThreadCountAndAgreeingAcrossCounts) {
   // Both threaded schedules: two colours (ordered grains) and private force arrays (shuffled).
   for (bool shuffled : {false, true}) {

@@ -16,22 +16,7 @@ using namespace granudrag;
 
 namespace {
 
-// One shared small bed: 1200 soft frictional grains, D = 2 at depth 4.
-const Bed& small_bed() {
-  static const Bed bed = [] {
-    PourSpec s;
-    s.lx = s.ly = 10;
-    s.grains = 1200;
-    s.intruder_diameter = 2;
-    s.intruder_x = s.intruder_y = 5;
-    s.depth = 4;
-    s.contact = ContactParams{}.with_stiffness(2e4);
-    s.ke_threshold = 1e-4;
-    s.max_settle_time = 40;
-    return pour(s, false);
-  }();
-  return bed;
-}
+using support::small_bed;
 
 }  // namespace
 

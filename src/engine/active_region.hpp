@@ -1,0 +1,93 @@
+#pragma once
+// The active region (`granudrag pull --active_radius`): away from the intruder a gravity-settled
+// bed sits in static equilibrium, yet a plain step loop recomputes every one of its contacts.
+// Grains farther than the radius from every intruder that have stayed slow for a dwell time fall
+// asleep: they are held in place (not integrated, velocity and spin zero), and a contact between
+// two held bodies is neither computed nor changed (its tangential spring is kept as it was, as
+// for a grain at rest). A contact between a held and an awake body is computed as usual, so the
+// awake grains feel the sleeping bed as a boundary that pushes back exactly as it did.
+//
+// "At rest" is measured by displacement, not speed: while an intruder is pulled, elastic waves
+// keep every grain of a stiff bed vibrating at a few percent of V, far from the intruder too,
+// with amplitudes of 1e-4 d: speeds say all grains move, displacements say they do not.
+//
+// A sleeping grain wakes when it comes within the radius of an intruder (the region follows it
+// through the periodic box), or when the net force on it, averaged over a check interval, has
+// moved from its value in the first interval after it fell asleep by more than wake_force times
+// its weight: stress carried out of the region along a force chain wakes the grains it loads.
+// The net force is the sum over its awake partners (computed every step anyway, and summed over
+// the interval), gravity, and its contacts with other held bodies, which are constant while both
+// are held and evaluated once whenever the held set changes. Frozen base grains count as held.
+//
+// Decisions are taken every check interval (a fraction of sleep_time, short enough that the
+// intruder moves at most half a grain diameter) in one parallel pass, so the bookkeeping costs
+// an addition per held grain and step, and the held set changes only then. Off (radius 0),
+// nothing here runs and the step loop is bitwise the one without it.
+#include <cstdint>
+#include <vector>
+
+#include "core/box.hpp"
+#include "core/particles.hpp"
+
+namespace granudrag {
+
+// The defaults are the pull keys' (protocol/pull_keys.cpp; a test keeps them so).
+struct ActiveRegionSettings {
+  double radius = 0;             // d, from the intruder's centre; 0: off
+  double sleep_distance = 0.01;  // d: moved less than this over sleep_time counts as at rest
+  double sleep_time = 1.0;       // sqrt(d/g): at rest for this long before falling asleep
+  double wake_force = 0.5;       // fraction of the grain's weight m g
+  double check_interval = 0.25;  // sqrt(d/g) between decisions (the pull derives it)
+  bool enabled() const { return radius > 0; }
+};
+
+class ActiveRegion {
+ public:
+  // Everything a resumed run needs to continue bitwise (part of a checkpoint).
+  struct State {
+    std::vector<std::uint8_t> held;           // per body: 1 asleep (or frozen), 0 integrated
+    std::vector<std::int32_t> at_rest;        // per body: consecutive checks found at rest
+    std::vector<Vec3> anchor;                 // per awake grain: where its rest began
+    std::vector<Vec3> force_sum;              // per held grain: its force from awake partners and
+                                              // gravity, summed over the current interval
+    std::vector<Vec3> held_force;             // per held grain: from its held partners (constant)
+    std::vector<Vec3> reference;              // per held grain: its mean net force after it fell asleep
+    std::vector<std::uint8_t> reference_due;  // per held grain: take it at the next check
+    std::int64_t interval_steps = 0;          // steps summed into force_sum
+    std::int64_t wake_ups = 0, sleeps = 0;
+  };
+
+  ActiveRegion(const ActiveRegionSettings& settings, double dt, const Particles& p);
+
+  // Steps between checks.
+  long check_steps() const { return check_steps_; }
+  // Per body: 1 when held in place this step; the contact loop skips pairs of two.
+  const std::vector<std::uint8_t>& held() const { return s_.held; }
+  // Called by the integrator for each held grain once its force of the step is complete.
+  void add_force(long i, const Vec3& f) { s_.force_sum[i] += f; }
+  // After the forces and the second half-kick of step `step` (1-based): at a check, puts grains
+  // to sleep and wakes them. Returns true when the held set changed: the caller then re-sorts
+  // the contact loop and hands the held partners' forces to set_held_forces().
+  bool after_step(Particles& p, const Box& box, long step, double gravity);
+  std::vector<Vec3>& held_forces() { return s_.held_force; }
+
+  long sleeping() const { return sleeping_; }  // mobile grains asleep now
+  std::int64_t wake_ups() const { return s_.wake_ups; }
+  const ActiveRegionSettings& settings() const { return settings_; }
+  const State& state() const { return s_; }
+  void restore(const State& s, const Particles& p);
+
+ private:
+  // The smallest distance from x to an intruder's centre through the periodic box.
+  double distance_to_intruders(const Particles& p, const Box& box, const Vec3& x) const;
+
+  ActiveRegionSettings settings_;
+  double dt_;
+  long check_steps_ = 1;
+  std::int32_t dwell_checks_ = 1;  // checks at rest before falling asleep
+  std::vector<int> intruders_;
+  State s_;
+  long sleeping_ = 0;
+};
+
+}  // namespace granudrag

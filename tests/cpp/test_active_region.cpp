@@ -1,0 +1,162 @@
+// The active region (engine/active_region.hpp): when grains fall asleep and wake, that a region
+// wider than the box changes nothing (bitwise), and that a pull with sleeping grains resumes
+// from a checkpoint bitwise. The fast path against the oracle with sleeping grains is in
+// test_oracle.cpp.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "helpers.hpp"
+#include "protocol/pull.hpp"
+
+using namespace granudrag;
+using support::small_bed;
+
+namespace {
+
+// An intruder at the origin moving along +x at 1, a grain at x = 10 and one at x = 2.5.
+struct Pair {
+  Particles p;
+  Box box{40, 40, false};
+  int intruder, far, near;
+  Pair() {
+    far = static_cast<int>(p.add(Vec3(10, 0, 0), 0.5, Species::Mobile));
+    near = static_cast<int>(p.add(Vec3(2.5, 0, 0), 0.5, Species::Mobile));
+    intruder = static_cast<int>(p.add(Vec3(0, 0, 0), 1.0, Species::Intruder));
+    p.v[intruder] = Vec3(1, 0, 0);
+  }
+};
+
+ActiveRegionSettings settings() {
+  ActiveRegionSettings s;
+  s.radius = 4;
+  s.sleep_distance = 0.01;
+  s.sleep_time = 0.3;
+  s.wake_force = 0.5;
+  s.check_interval = 0.1;  // 10 steps of dt = 0.01: dwell 3 checks
+  return s;
+}
+
+// Runs `steps` steps of bookkeeping, the held grains' force being `force` at every step.
+bool run(ActiveRegion& region, Pair& s, long& step, long steps, const Vec3& force = Vec3(0, 0, 0)) {
+  bool changed = false;
+  for (long k = 0; k < steps; ++k) {
+    ++step;
+    for (int i : {s.far, s.near})
+      if (region.held()[i]) region.add_force(i, force);
+    changed |= region.after_step(s.p, s.box, step, 1.0);
+  }
+  return changed;
+}
+
+}  // namespace
+
+TEST(ActiveRegion, AGrainAtRestFarFromTheIntruderFallsAsleepAfterTheDwellAndIsHeldStill) {
+  Pair s;
+  ActiveRegion region(settings(), 0.01, s.p);
+  EXPECT_EQ(region.check_steps(), 10);
+  long step = 0;
+  s.p.v[s.far] = Vec3(0.2, 0, 0);  // fast, yet it does not go anywhere: speed is not the test
+  EXPECT_FALSE(run(region, s, step, 29));
+  EXPECT_FALSE(region.held()[s.far]);  // two checks at rest: not yet
+  EXPECT_TRUE(run(region, s, step, 1));
+  EXPECT_TRUE(region.held()[s.far]);  // the third: asleep, and held still
+  EXPECT_EQ(s.p.v[s.far], Vec3(0, 0, 0));
+  EXPECT_FALSE(region.held()[s.near]);  // inside the radius: never
+  EXPECT_EQ(region.sleeping(), 1);
+}
+
+TEST(ActiveRegion, AGrainThatDriftsFartherThanTheSleepDistanceStaysAwake) {
+  Pair s;
+  ActiveRegion region(settings(), 0.01, s.p);
+  long step = 0;
+  for (int check = 0; check < 6; ++check) {
+    s.p.x[s.far].x() += 0.004;  // 0.012 d over any three checks: above sleep_distance
+    run(region, s, step, 10);
+    EXPECT_FALSE(region.held()[s.far]) << "check " << check;
+  }
+}
+
+TEST(ActiveRegion, ASleepingGrainWakesWhenItsLoadChangesByTheWakeForceOrTheIntruderComesNear) {
+  Pair s;
+  const double weight = s.p.mass[s.far];  // g = 1
+  ActiveRegion region(settings(), 0.01, s.p);
+  long step = 0;
+  run(region, s, step, 30);
+  ASSERT_TRUE(region.held()[s.far]);
+  const Vec3 load(0, 0, -3.0);  // the interval after it fell asleep sets the reference
+  run(region, s, step, 10, load);
+  run(region, s, step, 30, load + Vec3(0.45 * weight, 0, 0));  // below wake_force = 0.5
+  EXPECT_TRUE(region.held()[s.far]);
+  EXPECT_TRUE(run(region, s, step, 10, load + Vec3(0.55 * weight, 0, 0)));
+  EXPECT_FALSE(region.held()[s.far]);
+  EXPECT_EQ(region.wake_ups(), 1);
+
+  run(region, s, step, 30);           // asleep again, then the intruder comes: within the radius plus
+  ASSERT_TRUE(region.held()[s.far]);  // the travel to the next check (4 + 0.1 d)
+  s.p.x[s.intruder].x() = 10 - 4.05;
+  run(region, s, step, 10);
+  EXPECT_FALSE(region.held()[s.far]);
+  EXPECT_EQ(region.wake_ups(), 2);
+}
+
+TEST(ActiveRegion, ARegionWiderThanTheBoxChangesNoBitOfAPull) {
+  support::ThreadCount tc(2);
+  PullSpec spec;
+  spec.speed = 0.5;
+  spec.distance = 0.5;
+  Pull plain(small_bed(), spec);
+  plain.run(false);
+  spec.active.radius = 100;
+  Pull wide(small_bed(), spec);
+  wide.run(false);
+  ASSERT_NE(wide.simulation().active_region(), nullptr);
+  EXPECT_EQ(wide.simulation().active_region()->sleeping(), 0);
+  EXPECT_EQ(plain.record().fx, wide.record().fx);
+  EXPECT_EQ(plain.record().contacts, wide.record().contacts);
+  EXPECT_EQ(plain.simulation().particles().x, wide.simulation().particles().x);
+  EXPECT_EQ(plain.simulation().particles().omega, wide.simulation().particles().omega);
+}
+
+TEST(ActiveRegion, APullWithSleepingGrainsResumesFromACheckpointBitwise) {
+  support::ThreadCount tc(2);
+  PullSpec spec;
+  spec.speed = 0.5;
+  spec.distance = 1.0;
+  spec.checkpoint_every = 400;
+  spec.active.radius = 3;
+  spec.active.sleep_time = 0.2;
+  spec.active.sleep_distance = 0.05;
+  Pull whole(small_bed(), spec);
+  std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
+  whole.run(false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); });
+  ASSERT_GE(checkpoints.size(), 3u);
+  const Simulation::State& at = checkpoints[2].first;
+  const long asleep = std::count(at.region.held.begin(), at.region.held.end(), 1) -
+                      static_cast<long>(small_bed().state.particles.count(Species::Frozen));
+  ASSERT_GT(asleep, 100) << "the checkpoint should catch grains asleep";
+  Pull resumed(small_bed(), spec, at, checkpoints[2].second);
+  resumed.run(false, [](const Pull&) {});
+  const Particles& a = whole.simulation().particles();
+  const Particles& b = resumed.simulation().particles();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a.x[i], b.x[i]) << i;
+    ASSERT_EQ(a.v[i], b.v[i]) << i;
+  }
+  EXPECT_EQ(whole.record().fx, resumed.record().fx);
+  EXPECT_EQ(whole.record().sleeping, resumed.record().sleeping);
+  EXPECT_EQ(whole.simulation().active_region()->wake_ups(), resumed.simulation().active_region()->wake_ups());
+}
+
+TEST(ActiveRegion, ARadiusInsideTheGrainsAroundTheIntruderIsRefused) {
+  PullSpec spec;
+  spec.active.radius = 2.5;  // D/2 + 2 = 3
+  try {
+    Pull pull(small_bed(), spec);
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("active_radius"), std::string::npos) << e.what();
+  }
+}
