@@ -192,19 +192,28 @@ void VerletContacts::scan_rows(const Particles& p, const Box& box, const Contact
       }
     }
   };
-  for (long i = i0; i < i1; ++i) {
-    if (mode && mode[i] != kAll) {
-      if (mode[i] == kSkip) continue;
+  if (!mode) {  // no active region: the loop without its test
+    for (long i = i0; i < i1; ++i) {
       if (wrapping[i])
-        scan_row(i, std::true_type{}, std::true_type{});
+        scan_row(i, std::true_type{}, std::false_type{});
       else
-        scan_row(i, std::false_type{}, std::true_type{});
-      continue;
+        scan_row(i, std::false_type{}, std::false_type{});
     }
-    if (wrapping[i])
-      scan_row(i, std::true_type{}, std::false_type{});
-    else
-      scan_row(i, std::false_type{}, std::false_type{});
+  } else {
+    for (long i = i0; i < i1; ++i) {
+      if (mode[i] == kSkip) continue;
+      const bool awake_only = mode[i] == kAwakePartners;
+      if (wrapping[i]) {
+        if (awake_only)
+          scan_row(i, std::true_type{}, std::true_type{});
+        else
+          scan_row(i, std::true_type{}, std::false_type{});
+      } else if (awake_only) {
+        scan_row(i, std::false_type{}, std::true_type{});
+      } else {
+        scan_row(i, std::false_type{}, std::false_type{});
+      }
+    }
   }
   b.size = size;
   evaluate_batch(p, c, dt, update_history, b, f, tq);
