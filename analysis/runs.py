@@ -45,7 +45,8 @@ import pandas as pd
 from .table import COLUMNS, froude, validate_table
 
 RUN_FORMAT = "granudrag-run"
-RUN_VERSIONS = (1, 2)   # 1: parameters as YAML text (legacy path), 2: parameters by key
+RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parameters by key,
+                           # 3: version 2 with a checksum on every dataset (h5py checks it)
 
 # Extra columns after the schema's: what a reader of the table may want to
 # check (requested depth, time step, how much of the pull was discarded) and

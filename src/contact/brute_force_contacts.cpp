@@ -118,6 +118,17 @@ double BruteForceContacts::max_overlap(const Particles& p, const Box& box) const
   return worst;
 }
 
+double BruteForceContacts::deepest_overlap(const Particles& p, const Box& box) const {
+  double worst = 0;
+  const int n = static_cast<int>(p.size());
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      if (p.species[i] == Species::Frozen && p.species[j] == Species::Frozen) continue;
+      worst = std::max(worst, p.radius[i] + p.radius[j] - box.min_image(p.x[i] - p.x[j]).norm());
+    }
+  return worst;
+}
+
 long BruteForceContacts::contact_count() const { return static_cast<long>(history_.size()); }
 
 }  // namespace granudrag

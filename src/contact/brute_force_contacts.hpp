@@ -20,6 +20,7 @@ class BruteForceContacts : public ContactLoop {
   int contacts_of(int body) const override;
   long contact_count() const override;
   double max_overlap(const Particles& p, const Box& box) const override;
+  double deepest_overlap(const Particles& p, const Box& box) const override;
   void new_contacts_of(int body, std::vector<int>& grains) const override;
   void count_contacts(std::vector<int>& contacts) const override;
   void rebuild(Particles&, const Box&) override {}

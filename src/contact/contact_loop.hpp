@@ -48,6 +48,9 @@ class ContactLoop {
   virtual void count_contacts(std::vector<int>& contacts) const = 0;
   // Largest overlap delta among touching pairs, d.
   virtual double max_overlap(const Particles& p, const Box& box) const = 0;
+  // Largest overlap among all pairs in reach, touching at the last evaluation or not (a bed
+  // just read, before any force evaluation), d.
+  virtual double deepest_overlap(const Particles& p, const Box& box) const = 0;
   // Rebuilds the pair lists now (wrapping positions), whether or not they are due.
   virtual void rebuild(Particles& p, const Box& box) = 0;
   // The tangential springs of all touching pairs, and their restoration after a rebuild.

@@ -31,6 +31,7 @@ class VerletContacts : public ContactLoop {
   int contacts_of(int body) const override;
   long contact_count() const override;
   double max_overlap(const Particles& p, const Box& box) const override;
+  double deepest_overlap(const Particles& p, const Box& box) const override;
   void new_contacts_of(int body, std::vector<int>& grains) const override;
   void count_contacts(std::vector<int>& contacts) const override;
   void rebuild(Particles& p, const Box& box) override;

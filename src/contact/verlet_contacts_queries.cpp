@@ -130,6 +130,24 @@ double VerletContacts::max_overlap(const Particles& p, const Box& box) const {
   return worst;
 }
 
+double VerletContacts::deepest_overlap(const Particles& p, const Box& box) const {
+  auto overlap = [&](int i, int j) {
+    return p.radius[i] + p.radius[j] - box.min_image(p.x[i] - p.x[j]).norm();
+  };
+  const PairList& pairs = list_.grain_pairs();
+  const long rows = static_cast<long>(pairs.rows());
+  double worst = 0;
+#pragma omp parallel for schedule(static) reduction(max : worst)
+  for (long i = 0; i < rows; ++i)
+    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
+      worst = std::max(worst, overlap(static_cast<int>(i), pairs.partner[e]));
+  const PairList& intruders = list_.intruder_pairs();
+  for (std::size_t b = 0; b < intruders.rows(); ++b)
+    for (int e = intruders.begin(b); e < intruders.end(b); ++e)
+      worst = std::max(worst, overlap(list_.intruder_bodies()[b], intruders.partner[e]));
+  return worst;
+}
+
 long VerletContacts::contact_count() const {
   long n = 0;
   for (auto t : grain_history_.touching) n += t;

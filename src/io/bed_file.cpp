@@ -1,6 +1,7 @@
 #include "io/bed_file.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "core/error.hpp"
 #include "io/file_header.hpp"
@@ -92,6 +93,11 @@ void save_bed(const std::string& path, const Bed& bed, const Parameters& paramet
 Bed load_bed(const std::string& path, ParameterRecord* parameters) {
   const h5::File f = h5::File::open(path);
   const std::int64_t version = check_file_header(f, kFormat, 1, "re-create it with this granudrag");
+  if (version < kFirstChecksummedVersion)
+    std::fprintf(stderr,
+                 "note: bed file '%s' (format version %lld) carries no checksums: damage to its data "
+                 "cannot be detected; pour it again with this granudrag to get them\n",
+                 path.c_str(), static_cast<long long>(version));
   try {
     Bed bed = read_bed_groups(f);
     if (parameters != nullptr) {

@@ -154,7 +154,7 @@ Checkpoint load_checkpoint(const std::string& path, const Bed& bed, const Parame
   bool other_bed = false;  // readable, but not this pull's: an Error, not UnreadableCheckpoint
   try {
     const h5::File f = h5::File::open(path);
-    check_file_header(f, kFormat, kFileVersion, "delete it to start the pull over");
+    check_file_header(f, kFormat, 2, "delete it to start the pull over");
     Bed saved;
     try {
       saved = read_bed_groups(f);

@@ -12,7 +12,11 @@ namespace granudrag {
 // The layout's version, one for all three kinds of file:
 //   1  the resolved parameters as one YAML text (/parameters attribute `yaml`)
 //   2  the parameters by key: /parameters/pour, /parameters/pull (io/parameter_record.hpp)
-constexpr std::int64_t kFileVersion = 2;
+//   3  every dataset with data carries HDF5's Fletcher-32 checksum, checked on every read
+//      (io/hdf5_internals.hpp); the layout is version 2's
+constexpr std::int64_t kFileVersion = 3;
+// The first version whose datasets carry checksums.
+constexpr std::int64_t kFirstChecksummedVersion = 3;
 
 void write_file_header(h5::File& file, const std::string& format);
 

@@ -26,12 +26,15 @@ void create_and_write(hid_t file, const std::string& file_name, bool compress, c
 
   Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
-  if (compress && total >= kCompressFrom) {
+  // Every dataset with data is chunked, so that it carries a checksum (an empty one has nothing
+  // to protect, and a chunk may not exceed a fixed extent of 0).
+  if (total > 0) {
     std::vector<hsize_t> chunk = dims;
     const hsize_t row = total / dims[0];
-    chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], kChunkElements / row));
+    chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], kChunkElements / std::max<hsize_t>(row, 1)));
     H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data());
-    set_compression(dcpl.get());
+    if (compress && total >= kCompressFrom) set_compression(dcpl.get());
+    set_checksum(dcpl.get());
   }
   const Handle lcpl = link_create_plist();
   Handle dset(H5Dcreate2(file, path.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
@@ -90,8 +93,7 @@ std::vector<Vec3> File::read_vec3(const std::string& path) const {
   std::vector<Vec3> out(d.dims[0]);
   if (!out.empty() &&
       H5Dread(d.dset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.front().data()) < 0)
-    throw Error("cannot read dataset " + in_file(d.path, path_) + hdf5_reason() +
-                "; the file may be damaged");
+    throw Error("cannot read dataset " + in_file(d.path, path_) + read_failure());
   return out;
 }
 

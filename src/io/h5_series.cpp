@@ -37,6 +37,7 @@ Handle create_extendible(hid_t file, const std::string& file_name, const std::st
   const Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   H5Pset_chunk(dcpl.get(), rank, chunk.data());
   set_compression(dcpl.get());
+  set_checksum(dcpl.get());
   const Handle lcpl = link_create_plist();
   Handle dset(H5Dcreate2(file, path.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
               H5Dclose);

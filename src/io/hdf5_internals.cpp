@@ -117,6 +117,16 @@ void set_compression(hid_t dcpl) {
   H5Pset_deflate(dcpl, 1);
 }
 
+void set_checksum(hid_t dcpl) { H5Pset_fletcher32(dcpl); }
+
+std::string read_failure() {
+  const std::string reason = hdf5_reason();
+  if (reason.find("Fletcher32") != std::string::npos || reason.find("checksum") != std::string::npos)
+    return ": its checksum fails, the file was damaged after it was written; regenerate it (pour or "
+           "pull again)";
+  return reason + "; the file may be damaged";
+}
+
 // Opens the group or dataset at `path`; with `create`, makes a group there (and on the way)
 // when nothing exists yet.
 Handle open_object(hid_t file, const std::string& file_name, const std::string& path, bool create) {

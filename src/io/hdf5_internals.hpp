@@ -74,6 +74,12 @@ Handle link_create_plist();
 // Byte shuffle + gzip level 1 on a chunked dataset's creation list, when HDF5 has gzip: level 1
 // gets most of the size reduction of level 9 at a fraction of the time per snapshot.
 void set_compression(hid_t dcpl);
+// HDF5's Fletcher-32 checksum on a chunked dataset's chunks, verified on every read: a flipped
+// bit in a file that travelled between file systems is named instead of read as data.
+void set_checksum(hid_t dcpl);
+// Why a dataset could not be read, to follow "cannot read dataset ... in ...": a failed checksum
+// says the file was damaged and to regenerate it; anything else, HDF5's reason.
+std::string read_failure();
 // Opens the group or dataset at `path`; with `create`, makes a group there (and on the way)
 // when nothing exists yet.
 Handle open_object(hid_t file, const std::string& file_name, const std::string& path, bool create);
@@ -101,8 +107,7 @@ template <class T>
 std::vector<T> read_whole(const Dataset& d, const std::string& file_name, hid_t mem_type) {
   std::vector<T> out(d.count);
   if (d.count > 0 && H5Dread(d.dset.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
-    throw Error("cannot read dataset " + in_file(d.path, file_name) + hdf5_reason() +
-                "; the file may be damaged");
+    throw Error("cannot read dataset " + in_file(d.path, file_name) + read_failure());
   return out;
 }
 

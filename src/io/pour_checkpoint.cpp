@@ -33,7 +33,7 @@ PourState load_pour_checkpoint(const std::string& path, const Parameters& now,
   std::string differences;
   try {
     const h5::File f = h5::File::open(path);
-    check_file_header(f, kFormat, kFileVersion, "delete it to start the pour over");
+    check_file_header(f, kFormat, 2, "delete it to start the pour over");
     s.state = read_particle_state(f);
     s.energy_start = f.get_attr_double("/pour", "energy_start");
     s.max_overlap_seen = f.get_attr_double("/pour", "max_overlap_seen");

@@ -46,7 +46,6 @@ Pull::Pull(const Bed& bed, const PullSpec& spec)
       throw Error(msg.str());
     }
   }
-  check_pull_speed(spec_.speed, bed_, sim_.dt(), spec_.skin, spec_.max_overlap);
   if (spec_.fresh_start) {
     sim_.particles().v[bed_.intruder] = Vec3(spec_.speed, 0, 0);
     sim_.setup();
@@ -54,6 +53,19 @@ Pull::Pull(const Bed& bed, const PullSpec& spec)
     sim_.restore(bed_.state);
     sim_.particles().v[bed_.intruder] = Vec3(spec_.speed, 0, 0);
   }
+  // A bed at rest has small overlaps; one beyond what the run guard allows at any step is a
+  // damaged or mislabelled bed, named as such before anything is blamed on the speed (with
+  // keep_going, the guard records it at the first sample instead).
+  if (const double deepest = sim_.contacts().deepest_overlap(sim_.particles(), bed_.box);
+      deepest > spec_.max_overlap && !spec_.keep_going) {
+    std::ostringstream msg;
+    msg << "the bed has grains overlapping by " << deepest
+        << " d before the first step, beyond 'max_overlap' = " << spec_.max_overlap
+        << " d: the bed file is damaged, or its grains were not poured with the contact law "
+        << "it records; pour it again (or, if the overlaps are meant, raise max_overlap)";
+    throw Error(msg.str());
+  }
+  check_pull_speed(spec_.speed, bed_, sim_.dt(), spec_.skin, spec_.max_overlap);
   const double distance = spec_.distance > 0 ? spec_.distance : bed_.box.lx;
   record_.samples_per_interval = std::max(1L, std::lround(spec_.sample_interval / sim_.dt()));
   const double steps_wanted = std::ceil(distance / (spec_.speed * sim_.dt()));

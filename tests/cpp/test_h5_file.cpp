@@ -90,7 +90,7 @@ TEST(H5File, RoundTripsEveryTypeAndShape) {
   }
 }
 
-TEST(H5File, LargeArraysAreChunkedAndCompressedSmallOnesAreNot) {
+TEST(H5File, EveryArrayIsChunkedWithAChecksumAndLargeOnesAreCompressed) {
   TempDir dir;
   const std::string path = dir.file("layout.h5");
   {
@@ -98,24 +98,36 @@ TEST(H5File, LargeArraysAreChunkedAndCompressedSmallOnesAreNot) {
     f.write("/small", ramp(4095));
     f.write("/large", ramp(4096));
     f.write_rows("/rows", std::vector<Vec3>(2000, Vec3(0.25, 0.5, 1.0)));  // 6000 elements
+    f.write("/empty", std::vector<double>{});
     f.commit();
   }
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(file, 0);
-  for (const char* name : {"/small", "/large", "/rows"}) {
+  for (const char* name : {"/small", "/large", "/rows", "/empty"}) {
     const hid_t dset = H5Dopen2(file, name, H5P_DEFAULT);
     const hid_t dcpl = H5Dget_create_plist(dset);
-    const bool big = std::string(name) != "/small";
-    EXPECT_EQ(H5Pget_layout(dcpl), big ? H5D_CHUNKED : H5D_CONTIGUOUS) << name;
-    EXPECT_EQ(H5Pget_nfilters(dcpl) > 0, big) << name;
+    const bool big = std::string(name) == "/large" || std::string(name) == "/rows";
+    const bool empty = std::string(name) == "/empty";
+    EXPECT_EQ(H5Pget_layout(dcpl), empty ? H5D_CONTIGUOUS : H5D_CHUNKED) << name;
+    // shuffle and deflate on the large ones, the checksum on every one with data
+    EXPECT_EQ(H5Pget_nfilters(dcpl), empty ? 0 : (big ? 3 : 1)) << name;
+    if (!empty) {
+      unsigned flags = 0;
+      std::size_t n = 0;
+      const int last = H5Pget_nfilters(dcpl) - 1;
+      EXPECT_EQ(H5Pget_filter2(dcpl, static_cast<unsigned>(last), &flags, &n, nullptr, 0, nullptr, nullptr),
+                H5Z_FILTER_FLETCHER32)
+          << name;
+    }
     H5Pclose(dcpl);
     H5Dclose(dset);
   }
   H5Fclose(file);
 }
 
-// Checkpoints are written with Compression::None: large arrays stay contiguous, unfiltered.
-TEST(H5File, AnUncompressedFileWritesNoFilters) {
+// Checkpoints are written with Compression::None: large arrays are stored as they are, with
+// only their checksum.
+TEST(H5File, AnUncompressedFileWritesOnlyTheChecksum) {
   TempDir dir;
   const std::string path = dir.file("checkpoint.h5");
   {
@@ -129,8 +141,8 @@ TEST(H5File, AnUncompressedFileWritesNoFilters) {
   for (const char* name : {"/large", "/rows"}) {
     const hid_t dset = H5Dopen2(file, name, H5P_DEFAULT);
     const hid_t dcpl = H5Dget_create_plist(dset);
-    EXPECT_EQ(H5Pget_layout(dcpl), H5D_CONTIGUOUS) << name;
-    EXPECT_EQ(H5Pget_nfilters(dcpl), 0) << name;
+    EXPECT_EQ(H5Pget_layout(dcpl), H5D_CHUNKED) << name;
+    EXPECT_EQ(H5Pget_nfilters(dcpl), 1) << name;
     H5Pclose(dcpl);
     H5Dclose(dset);
   }

@@ -448,6 +448,29 @@ TEST(Pull, RejectsBadInput) {
   EXPECT_THROW(Pull(no_intruder, PullSpec{}), Error);
 }
 
+TEST(Pull, ABedWhoseGrainsOverlapBeyondTheGuardIsRefusedWithThatReason) {
+  Bed bed = small_bed();
+  Particles& p = bed.state.particles;
+  std::size_t a = 0;
+  while (p.species[a] != Species::Mobile) ++a;
+  std::size_t b = a + 1;  // the nearest other grain, moved onto a to overlap it by 0.3 d
+  for (std::size_t k = 0; k < p.size(); ++k)
+    if (k != a && p.species[k] == Species::Mobile &&
+        bed.box.min_image(p.x[k] - p.x[a]).norm() < bed.box.min_image(p.x[b] - p.x[a]).norm())
+      b = k;
+  const Vec3 along = bed.box.min_image(p.x[b] - p.x[a]).normalized();
+  p.x[b] = p.x[a] + along * (p.radius[a] + p.radius[b] - 0.3);
+  try {
+    Pull pull(bed, PullSpec{});
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("overlapping by 0.3"), std::string::npos) << m;
+    EXPECT_NE(m.find("damaged"), std::string::npos) << m;
+  }
+  EXPECT_NO_THROW(Pull(small_bed(), PullSpec{}));
+}
+
 TEST(Pull, ASpeedTheBedCannotResolveIsRefusedBeforeAnyStep) {
   PullSpec spec;
   spec.speed = 1e6;  // ran to the end with NaN before the speed limits
