@@ -552,8 +552,10 @@ def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=
     names = [r["name"] for r in rungs]
     out = ["The reproduction ladder: each rung is a study that moves one factor toward the paper's "
            "conditions (ladder.yaml). Verdicts are the report's (analysis/report.py): within error bars = "
-           "within 2 standard errors of the paper's value, qualitatively = within 25 % of it, inconclusive = "
-           "no error bar, an error above 30 % of the value or a fit that breaks its model. A rung not run "
+           "the paper's value inside the 95 % interval (the Student-t quantile at the fit's degrees of "
+           "freedom times its standard error; 1.96 without a fit of its own), qualitatively = within 25 % "
+           "of it, inconclusive = no error bar, an error above 30 % of the value, a fit that breaks its "
+           "model or ended on a bound, or one with no degrees of freedom left. A rung not run "
            "shows no numbers; — : the rung does not study the quantity. Written by "
            "`granudrag-analysis ladder table`; do not edit by hand.\n",
            "### Rungs\n",

@@ -3,9 +3,12 @@
 Verdict for a number with a published value p (the paper gives no error
 bars, so only ours count):
   inconclusive       no error bar, an error above INCONCLUSIVE (30 %) of the value,
-                     or a fit that breaks its model (drag falling with Fr in regime
-                     II or III): such a number could agree with anything
-  within error bars  |fit - p| <= 2 standard errors
+                     a fit that breaks its model (drag falling with Fr in regime
+                     II or III) or ended on a bound of its parameters, or a fit with
+                     no degrees of freedom left: such a number could agree with anything
+  within error bars  |fit - p| <= t standard errors, t the two-sided 95 % Student-t
+                     quantile at the fit's degrees of freedom (points - parameters;
+                     1.96 for a number that has no fit of its own)
   qualitatively      otherwise, but |fit - p| <= 25 % of |p|
   not reproduced     otherwise (or no fit)
 The report counts each verdict apart. Beside every number it says whether its fit
@@ -19,6 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from scipy import stats
 
 from . import paper
 from .figure_list import FIGURES, NAMES, Inputs, draw
@@ -30,7 +34,7 @@ from .table import is_yield, reference_params, select, yield_rows
 
 __all__ = ["Results", "build_report", "comparisons", "run_fits", "verdict", "write_report"]
 
-SIGMAS, REL_TOL = 2.0, 0.25
+COVERAGE, REL_TOL = 0.95, 0.25   # the within-error interval's coverage; "qualitatively"
 INCONCLUSIVE = 0.30        # relative error above which a number cannot confirm anything
 VERDICTS = ("reproduced within error bars", "reproduced qualitatively", "not reproduced", "inconclusive")
 SEED_COLUMN = "seed"         # replicate bed of a pull (absent: one bed per point)
@@ -49,28 +53,50 @@ class Row:
     notes: list = field(default_factory=list)   # bounds, model violations, beds, plateaus
 
 
-def verdict(p, published, violations=()):
+def within_quantile(dof=None):
+    """How many standard errors the within-error interval spans: the two-sided COVERAGE
+    quantile of Student's t at `dof` degrees of freedom, or of the normal law without one."""
+    if dof is None or not math.isfinite(dof):
+        return float(stats.norm.ppf(0.5 + COVERAGE / 2))
+    return float(stats.t.ppf(0.5 + COVERAGE / 2, dof))
+
+
+def fit_dof(fit):
+    """Points minus parameters of a fit (None without a fit)."""
+    return None if fit is None else fit.n_points - len(fit.params)
+
+
+def verdict(p, published, violations=(), at_bounds=(), dof=None):
     """Verdict and its reason for Param p against a published number; violations: what
-    the fit breaks of its model (regimes.violations), which makes it inconclusive."""
+    the fit breaks of its model (regimes.violations), at_bounds: parameters that ended on a
+    bound, either of which makes it inconclusive; dof: the error's degrees of freedom."""
     if p is None or not math.isfinite(p.value):
         return "not reproduced", "no fit"
     if violations:
         return "inconclusive", "the fit breaks its model: " + "; ".join(violations)
+    if at_bounds:
+        return "inconclusive", "the fit ended on a bound: " + "; ".join(at_bounds)
     if not (math.isfinite(p.err) and p.err > 0):
         return "inconclusive", "no error bar"
+    if dof is not None and dof < 1:
+        return "inconclusive", f"the fit has {dof} degrees of freedom: its error means nothing"
     if p.err > INCONCLUSIVE * abs(p.value):
         return "inconclusive", f"error {p.err / abs(p.value):.0%} of the value, above {INCONCLUSIVE:.0%}"
     d = abs(p.value - published)
-    if d <= SIGMAS * p.err:
-        return "reproduced within error bars", f"{d / p.err:.1f} standard errors away"
+    q = within_quantile(dof)
+    test = f"Student-t at {dof:g} dof" if dof is not None and math.isfinite(dof) else "normal"
+    if d <= q * p.err:
+        return "reproduced within error bars", f"{d / p.err:.1f} standard errors away, within {q:.2f} ({test})"
     if d <= REL_TOL * abs(published):
-        return "reproduced qualitatively", f"within {REL_TOL:.0%} but {d / p.err:.1f} standard errors"
+        return ("reproduced qualitatively",
+                f"within {REL_TOL:.0%} but {d / p.err:.1f} standard errors, beyond {q:.2f} ({test})")
     return "not reproduced", f"off by {d / abs(published):.0%}" if published else "off"
 
 
-def _row(quantity, p, published, shown=None, fit=None, rows=None, extra=""):
+def _row(quantity, p, published, shown=None, fit=None, rows=None, extra="", dof=None):
     meta = fit.meta if fit is not None else {}
-    v, why = verdict(p, published, meta.get("violations", ()))
+    v, why = verdict(p, published, meta.get("violations", ()), meta.get("at_bounds", ()),
+                     fit_dof(fit) if dof is None else dof)
     shown = shown or f"{published:g}"
     notes = list(meta.get("at_bounds", [])) + list(meta.get("violations", []))
     if rows is not None:
@@ -155,7 +181,7 @@ def comparisons(r, df=None):
         for _, t in (tab[np.isclose(tab.mu, 0.0)].iterrows() if tab is not None else []):
             basis = None if yl is None else select(yl, mu=0.0, kn=t.kn, gamman=t.gamman, system=system)
             rows.append(_row(f"{name} (K_n = {t.kn:.3g})", Param(t[col], t[col + "_err"]), pub,
-                             f"≈ {pub:g}", rows=basis))
+                             f"≈ {pub:g}", rows=basis, dof=_table_dof(t, "n")))
     ad = r.alpha_drag if r.alpha_drag is not None else []
     for _, t in (ad[np.isclose(ad.mu, 0.0)].iterrows() if len(ad) else []):
         rows.append(_row(f"α_0 (drag, averaged over speeds {t.speeds}; K_n = {t.kn:.3g})",
@@ -165,10 +191,17 @@ def comparisons(r, df=None):
     for tab, how in ((r.sums, "α_μ from the yield force"), (r.sums_drag, "α_μ from the drag, averaged over speeds")):
         for _, t in (tab.iterrows() if tab is not None else []):
             rows.append(_row(f"α_μ + φ_μ ({how}; μ = {t.mu:g}, K_n = {t.kn:.3g})",
-                             Param(t["sum"], t["sum_err"]), paper.SUM_RULE, "≈ 3"))
+                             Param(t["sum"], t["sum_err"]), paper.SUM_RULE, "≈ 3", dof=_table_dof(t, "n_min")))
     for D, fit in sorted(r.saturation.items()):
         rows.append(_saturation_row(D, fit))
     return rows
+
+
+def _table_dof(t, column):
+    """A fitted table row's dof: its fit's points (`column`) minus the power law's 2 parameters;
+    None for tables written before the column."""
+    n = t.get(column) if hasattr(t, "get") else None
+    return None if n is None or not math.isfinite(float(n)) else float(n) - 2
 
 
 def counts(rows):
@@ -184,7 +217,7 @@ def _saturation_row(D, fit):
     notes = list(fit.meta.get("at_bounds", []))
     if notes:
         v = "inconclusive"
-    elif 3 * (mu_c.value + SIGMAS * err) < mu_max:
+    elif 3 * (mu_c.value + within_quantile(fit_dof(fit)) * err) < mu_max:
         v = "reproduced within error bars"
     elif 3 * mu_c.value < mu_max:
         v = "reproduced qualitatively"
@@ -210,9 +243,12 @@ def _blocks(df, r, figs, n_boot, seed):
                "least-squares covariance. Errors are one standard error."),
          ("p", _scale_text(df, kn)),
          ("p", f"Verdicts: inconclusive = no error bar, an error above {INCONCLUSIVE:.0%} of the "
-               "value, or a fit that breaks its model (drag falling with Fr in regime II or III); "
-               f"within error bars = within {SIGMAS:g} standard errors of the published "
-               f"value; qualitatively = within {REL_TOL:.0%} of it; else not reproduced. "
+               "value, a fit that breaks its model (drag falling with Fr in regime II or III) or "
+               "ended on a bound of its parameters, or one with no degrees of freedom left; "
+               f"within error bars = the published value inside the {COVERAGE:.0%} interval, "
+               "the Student-t quantile at the fit's degrees of freedom (points − parameters) times "
+               "its standard error (the normal 1.96 for a number without a fit of its own); "
+               f"qualitatively = within {REL_TOL:.0%} of it; else not reproduced. "
                "The paper publishes no error bars. Regime fits are made to the pulls at speed; "
                "the yield pull (V = 0.01) is shown beside them, not in them (paper Figs. 5, 10)."
                + (f" Eq. 12 and Fig. 19 use pulls at h ≥ {r.options.h_min:g} d only (h_min)."

@@ -77,6 +77,9 @@ def test_report_and_predict_subcommands(fitted, tmp_path):
     assert r.returncode == 0, r.stderr
     md = (tmp_path / "report.md").read_text()
     assert "α_μ from the drag, averaged over speeds; μ = 0.5" in md and "(fig19_scaled_drag_vs_Fr_h.png)" in md
+    # The report names its within-error test, and each verdict says which quantile it used.
+    assert "Student-t quantile at the fit's degrees of freedom" in md
+    assert "standard errors away, within" in md or "standard errors, beyond" in md
     p = run("predict", "--fits", d / "fits.json", "--D", 4, "--h", 45, "--mu", 0.5, "--V", 2, "--json")
     assert p.returncode == 0, p.stderr
     out = json.loads(p.stdout)

@@ -32,6 +32,20 @@ def test_verdict_rules():
     assert v == "inconclusive" and "regime II" in why
 
 
+def test_a_number_at_a_bound_is_inconclusive_and_the_within_test_is_students_t():
+    # On a bound, the fit's number and error say nothing about where the truth lies.
+    v, why = verdict(Param(7.0, 0.4), 7.0, at_bounds=["Fr2 at its upper bound 7"])
+    assert v == "inconclusive" and "bound" in why
+    # 2.5 standard errors off: outside the normal 95 % interval (1.96), inside Student's t at
+    # 3 dof (3.18), whose fits have few points to estimate their error from.
+    assert verdict(Param(1.0, 0.1), 1.25)[0] == "reproduced qualitatively"
+    v, why = verdict(Param(1.0, 0.1), 1.25, dof=3)
+    assert v == "reproduced within error bars" and "Student-t at 3 dof" in why and "3.18" in why
+    assert verdict(Param(1.0, 0.1), 1.25, dof=1000)[0] == "reproduced qualitatively"
+    # A fit with as many parameters as points has no error to speak of.
+    assert verdict(Param(1.0, 0.1), 1.0, dof=0)[0] == "inconclusive"
+
+
 def test_falling_regime_ii_is_flagged_and_counted_apart():
     # The default study's D = 1, mu = 0.5 series: a plateau at 135, then down to 95 at Fr = 1,
     # then rising (the shape the issue reports). The fit must flag it; the report counts it
