@@ -1,6 +1,9 @@
 #include "app/output_paths.hpp"
 
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 
 #include <filesystem>
 
@@ -89,6 +92,14 @@ void check_outputs(const std::vector<InputFile>& inputs, const std::vector<Outpu
                     option(outputs[j].key, outputs[j].path) + ": choose another output path");
   }
   for (const OutputFile& out : outputs) check_kind(out);
+  // A file its owner made read-only is kept, as cp and the shell keep it: the atomic write
+  // (a rename over it) would otherwise replace it, since that needs only the directory.
+  for (const OutputFile& out : outputs) {
+    std::error_code ec;
+    if (fs::is_regular_file(out.path, ec) && access(out.path.c_str(), W_OK) != 0 && errno == EACCES)
+      throw Error(option(out.key, out.path) + " is read-only: make it writable (chmod u+w " + out.path +
+                  ") to replace it, or choose another path");
+  }
 }
 
 std::vector<OutputLock> claim_outputs(const std::vector<InputFile>& inputs,

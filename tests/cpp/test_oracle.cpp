@@ -175,6 +175,25 @@ TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
   }
 }
 
+TEST(Oracle, AnActiveRegionWiderThanTheBoxChangesNoBitOnEitherThreadSchedule) {
+  // Two colours (ordered grains) and private force arrays (shuffled), on 2 threads: frozen rows
+  // take the held-partner scan, every other row the plain one, and nothing may differ.
+  ThreadCount tc(2);
+  for (bool shuffled : {false, true}) {
+    const Scene scene = intruder_scene(shuffled);
+    const ContactParams c = support::soft_params(0.5);
+    Settings wide;
+    wide.active.radius = 100;
+    Simulation plain(scene.particles, scene.box, c, Settings{}), region(scene.particles, scene.box, c, wide);
+    plain.run(400);
+    region.run(400);
+    EXPECT_EQ(region.active_region()->sleeping(), 0);
+    EXPECT_EQ(plain.particles().x, region.particles().x) << "shuffled " << shuffled;
+    EXPECT_EQ(plain.particles().omega, region.particles().omega) << "shuffled " << shuffled;
+    EXPECT_EQ(plain.particles().f, region.particles().f) << "shuffled " << shuffled;
+  }
+}
+
 TEST(Oracle, BitwiseReproducibleForAThreadCountAndAgreeingAcrossCounts) {
   // Both threaded schedules: two colours (ordered grains) and private force arrays (shuffled).
   for (bool shuffled : {false, true}) {
