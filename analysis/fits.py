@@ -502,5 +502,6 @@ def load_fits(path):
                        tables={k: pd.DataFrame(v) for k, v in doc.get("tables", {}).items()},
                        notes=[str(n) for n in doc.get("notes", [])],
                        summary={k: v for k, v in doc.items() if k not in _OWN_KEYS})
-    except (KeyError, TypeError, ValueError) as exc:
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError) as exc:
+        # A part of the wrong kind (a number where a fit's dict belongs, say): damaged.
         raise FitFileError(f"{path}: damaged fit file ({type(exc).__name__}: {exc})") from None

@@ -57,6 +57,9 @@ def _sweep_values(sweep, defaults, name, i):
     for k in ("D", "mu", "kn"):
         if k not in merged:
             raise ConfigError(f"{where}: no '{k}' (give it in the sweep or under 'defaults')")
+    if "seed" not in merged:
+        raise ConfigError(f"{where}: no 'seed' (give 'seed' or 'seeds', the beds' seeds, in the sweep "
+                          f"or under 'defaults')")
     if ("depth" in merged) == ("z" in merged):
         raise ConfigError(
             f"{where}: give exactly one of 'depth' (below the free surface) and 'z' "
