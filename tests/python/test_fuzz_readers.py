@@ -196,7 +196,7 @@ def test_damaged_study_configs_are_refused_by_name():
             del parent[key]
         else:
             parent[key] = rng.choice(swaps)
-        outcome(lambda: check(cfg), ConfigError)
+        outcome(lambda cfg=cfg: check(cfg), ConfigError)
 
 
 def test_the_count(request):
