@@ -12,185 +12,66 @@ draws many times); when they are not, the function fits what it draws
 without bootstrap. Data of the study's reference contact law (the (K_n,
 gamma_n) pair with most pulls) are drawn unless a figure is about varying
 it (Figs. 14, 18, 20). A figure without the data it needs raises NoData.
+
+The shared drawing (labels, the data record, saving, NoData, the "not drawn" placeholder) is in
+analysis.figures_drawing and the yield-force and scaling figures in analysis.figures_yield; both
+have their public names re-exported here, so analysis.figures still offers every figure.
 """
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 from matplotlib.patches import Circle
-from matplotlib.ticker import FormatStrFormatter
 
 from . import paper
-from .fits import evaluate, fit_alpha, fit_kappa, fit_phi, fit_regimes, fit_saturation, fit_theta
+from .figures_drawing import (
+    DATA_COLUMNS,
+    DP1_LABEL,
+    F_LABEL,
+    FR_LABEL,
+    FY_LABEL,
+    H_LABEL,
+    H_MATCH,
+    MARKERS,
+    MU_LABEL,
+    NOT_DRAWN,
+    NoData,
+    _curve,
+    _drag_panels,
+    _errorbars,
+    _moving,
+    _need,
+    _record,
+    _reference,
+    _regime_fits,
+    _save,
+    _sci,
+    _subplots,
+    draw_not_drawn,
+    not_drawn_reason,
+)
+from .figures_yield import (
+    fig12_yield_vs_mu,
+    fig13_yield_vs_D,
+    fig14_phi_vs_mu,
+    fig15_scaled_drag_D,
+    fig17_yield_vs_h,
+    fig18_alpha,
+    fig19_scaled_drag_h,
+)
+from .fits import fit_alpha, fit_kappa, fit_theta
 from .physics import gamman_ratio
 from .result import format_pm
-from .table import is_yield, reference_params, select, write_csv, yield_rows
+from .table import reference_params, select, yield_rows
 
-plt.switch_backend("Agg")  # files only, no display
-
-F_LABEL = r"$F^*_{\rm drag} = F_{\rm drag}/(\rho d^3 g)$"
-FY_LABEL = r"$F^*_Y = F_Y/(\rho d^3 g)$"
-FR_LABEL = r"Fr $= 2V\sqrt{2D/g}\,/\,(D+d)$"
-DP1_LABEL = r"$D^*+1 = D/d + 1$"
-H_LABEL = r"$h^* = h/d$"
-MU_LABEL = r"friction coefficient $\mu$"
-MARKERS = "osD^v<>ph*"
-H_MATCH = 1.0   # [d] depths closer than this count as the same depth (Fig. 20)
-
-
-class NoData(ValueError):
-    """The table lacks the pulls a figure needs."""
-
-
-def _subplots(*args, **kw):
-    # Constrained layout instead of bbox_inches="tight": one draw per format.
-    return plt.subplots(*args, layout="constrained", **kw)
-
-
-DATA_COLUMNS = ["figure", "panel", "series", "kind", "x", "y", "y_err"]
-
-
-def _record(ax, series, x, y, err=None, kind="points", **extra):
-    """Keep what is drawn on ax for the figure's CSV (see the module docstring)."""
-    fig = ax.figure
-    x, y = np.asarray(x, float).ravel(), np.asarray(y, float).ravel()
-    err = np.full(len(x), np.nan) if err is None else np.broadcast_to(np.asarray(err, float), x.shape)
-    panel = "abcdefgh"[fig.axes.index(ax)] if ax in fig.axes else "a"
-    label = str(series).replace("$", "").replace("\\", "") if series is not None else ""
-    frame = pd.DataFrame({"panel": panel, "series": label, "kind": kind, "x": x, "y": y, "y_err": err,
-                          **{k: np.asarray(v, float).ravel() for k, v in extra.items()}})
-    if not hasattr(fig, "_granudrag_data"):
-        fig._granudrag_data = []
-    fig._granudrag_data.append(frame)
-
-
-def _save(fig, outdir, name, png_metadata=None, data=None):
-    """<name>.png and .pdf, and <name>.csv with the recorded data (or `data`, a DataFrame)."""
-    outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
-    paths = [outdir / f"{name}.png", outdir / f"{name}.pdf"]
-    fig.savefig(paths[0], dpi=150, metadata=png_metadata)
-    fig.savefig(paths[1])
-    parts = getattr(fig, "_granudrag_data", [])
-    plt.close(fig)
-    if data is None and parts:
-        data = pd.concat(parts, ignore_index=True)
-        data.insert(0, "figure", name)
-    if data is not None:
-        write_csv(data, outdir / f"{name}.csv")
-        paths.append(outdir / f"{name}.csv")
-    return paths
-
-
-# PNG text key of a figure drawn in place of one without data (the workflow's figure rules
-# always write their files); its value says why.
-NOT_DRAWN = "granudrag-not-drawn"
-
-
-def draw_not_drawn(outdir, name, caption, reason):
-    """<name>.png and .pdf saying that the figure was not drawn, and why (tagged NOT_DRAWN)."""
-    fig, ax = _subplots(figsize=(5, 1.6))
-    ax.axis("off")
-    ax.text(0.5, 0.5, f"{caption}\nnot drawn: {reason}", ha="center", va="center", wrap=True, fontsize=9)
-    # Its data file has the columns and no rows (nothing was plotted).
-    return _save(fig, outdir, name, png_metadata={NOT_DRAWN: reason}, data=pd.DataFrame(columns=DATA_COLUMNS))
-
-
-def not_drawn_reason(png):
-    """Why the figure file png was not drawn (None if it is a real figure or is missing)."""
-    from PIL import Image
-
-    try:
-        with Image.open(png) as im:
-            return im.info.get(NOT_DRAWN)
-    except FileNotFoundError:
-        return None
-
-
-def _reference(df):
-    kn, gn = reference_params(df)
-    return select(df, kn=kn, gamman=gn)
-
-
-def _errorbars(ax, x, y, err, i, label, scale=1.0, series=None):
-    """Markers with error bars (where known); returns their colour."""
-    err = np.asarray(err, float) / scale
-    _record(ax, series if series is not None else label, x, np.asarray(y, float) / scale, err)
-    c = ax.errorbar(x, np.asarray(y, float) / scale,
-                    yerr=np.where(np.isfinite(err), err, 0.0) if np.isfinite(err).any() else None,
-                    fmt=MARKERS[i % len(MARKERS)], ms=4, capsize=2, mfc="none", label=label)
-    return c[0].get_color()
-
-
-def _curve(ax, fit, lo, hi, log=False, series=None, **kw):
-    x = np.geomspace(max(lo, 1e-4), hi, 200) if log else np.linspace(lo, hi, 200)
-    _record(ax, series or kw.get("label", "fit"), x, evaluate(fit, x), kind="curve")
-    return ax.plot(x, evaluate(fit, x), **({"color": "k", "lw": 1} | kw))[0]
-
-
-def _sci(v):
-    """Mathtext for a number: 2e+05 -> 2\\times10^{5}, 500 -> 500."""
-    text = f"{v:.3g}"
-    if "e" not in text:
-        return text
-    m, e = text.split("e")
-    return rf"{m}\times10^{{{int(e)}}}"
-
-
-def _plain_log(ax, which="x"):
-    """Log axis labelled 2, 3, 5, 10 rather than 2x10^0 (few decades here)."""
-    axis = ax.xaxis if which == "x" else ax.yaxis
-    (ax.set_xscale if which == "x" else ax.set_yscale)("log")
-    axis.set_major_formatter(FormatStrFormatter("%g"))
-    axis.set_minor_formatter(FormatStrFormatter("%g"))
-
-
-def _moving(rows, by):
-    """Groups that have pulls above the yield speed (drag-vs-Fr series)."""
-    keys = [rows[b] for b in by] if isinstance(by, (list, tuple)) else rows[by]
-    keep = pd.Series(~is_yield(rows), index=rows.index).groupby(keys).transform("any")
-    return rows[keep.astype(bool)]
-
-
-def _need(rows, what):
-    if len(rows) == 0:
-        raise NoData(f"no pulls for {what}")
-    return rows
-
-
-def _regime_fits(rows, by, mu, fits):
-    """Regime fits per group, reusing those passed in; groups too small to fit get none."""
-    fits = dict(fits or {})
-    for key, g in rows.groupby(by):
-        if key not in fits:
-            g = g[~is_yield(g)]      # fitted to the pulls at speed, as the report
-            try:
-                fits[key] = fit_regimes(g.Fr, g.drag, g.drag_err, n_boot=0,
-                                        regime1="power" if mu == 0 else "constant")
-            except ValueError:
-                fits[key] = None
-    return fits
-
-
-def _drag_panels(rows, by, label, mu, fits, name, outdir, enlarge=True):
-    fits = _regime_fits(rows, by, mu, fits)
-    ncol = 2 if enlarge else 1
-    fig, axes = _subplots(1, ncol, figsize=(5.2 * ncol, 4.0), squeeze=False)
-    for ax, lim in zip(axes[0], [None, 1.2][:ncol]):
-        for i, (key, g) in enumerate(rows.groupby(by)):
-            g = g if lim is None else g[g.Fr <= lim]
-            color = _errorbars(ax, g.Fr, g.drag, g.drag_err, i, label(key))
-            fit = fits.get(key)
-            if fit is not None and len(g):
-                _curve(ax, fit, 0.0, g.Fr.max(), color=color, lw=0.8, series=f"fit, {label(key)}")
-        ax.set_xlabel(FR_LABEL)
-        ax.set_ylabel(F_LABEL)
-    axes[0][0].legend(fontsize=7, title=rf"$\mu = {mu:g}$", title_fontsize=8)
-    axes[0][0].set_title("(a)", loc="left")
-    if enlarge:
-        axes[0][1].set_title("(b) regime I, enlarged", loc="left")
-    return _save(fig, outdir, name)
+__all__ = [
+    "F_LABEL", "FY_LABEL", "FR_LABEL", "DP1_LABEL", "H_LABEL", "MU_LABEL", "MARKERS", "H_MATCH", "NoData",
+    "DATA_COLUMNS", "NOT_DRAWN", "draw_not_drawn", "not_drawn_reason", "fit_alpha",
+    "fig02_restitution", "fig04_force_trace", "fig05_drag_vs_Fr", "fig06_theta", "fig07_coordination",
+    "fig08_kappa", "fig09_flow_field", "fig10_drag_vs_Fr_mu0", "fig11_quasistatic_mu", "fig12_yield_vs_mu",
+    "fig13_yield_vs_D", "fig14_phi_vs_mu", "fig15_scaled_drag_D", "fig16_drag_vs_Fr_depth",
+    "fig17_yield_vs_h", "fig18_alpha", "fig19_scaled_drag_h", "fig20_kn_gamman", "table1",
+]
 
 
 def fig02_restitution(v_n, e, theory_v, theory_e, outdir, sim_label="simulation"):
@@ -355,165 +236,6 @@ def fig11_quasistatic_mu(df, outdir, D=2.0, mu_max=0.3, fit_mu0=None):
     return _save(fig, outdir, "fig11_quasistatic_vs_mu")
 
 
-def _yield_I(df):
-    return _need(yield_rows(_reference(df)).query("system == 'I'"), "yield pulls of system I")
-
-
-def fig12_yield_vs_mu(df, outdir, saturation=None):
-    """Fig. 12: yield force vs mu per D; dashed: saturating fits (D -> Fit)."""
-    rows = _yield_I(df)
-    fig, ax = _subplots(figsize=(5, 3.8))
-    for i, (D, g) in enumerate(rows.groupby("D")):
-        color = _errorbars(ax, g.mu, g.drag, g.drag_err, i, f"$D = {D:g}d$")
-        fit = (saturation or {}).get(D)
-        if fit is None and g.mu.nunique() >= 4:
-            try:
-                fit = fit_saturation(g.mu, g.drag)
-            except (ValueError, RuntimeError):
-                fit = None
-        if fit is not None:
-            _curve(ax, fit, 0.0, g.mu.max(), color=color, ls="--", lw=0.8)
-    ax.set_xlabel(MU_LABEL)
-    ax.set_ylabel(FY_LABEL)
-    ax.legend(fontsize=7)
-    return _save(fig, outdir, "fig12_yield_vs_mu")
-
-
-def _scaling_panels(rows, xcol, xlabel, table, expo, pref, name, outdir, logx_b):
-    """Figs. 13 and 17: (a) log-log F_Y vs x per mu, (b) collapse, (c) prefactor vs mu."""
-    fig, axes = _subplots(1, 3, figsize=(14, 4))
-    for i, (mu, g) in enumerate(rows.groupby("mu")):
-        t = table[np.isclose(table.mu, mu)]
-        x = g[xcol] + (1.0 if xcol == "D" else 0.0)
-        color = _errorbars(axes[0], x, g.drag, g.drag_err, i, rf"$\mu = {mu:g}$")
-        if len(t):
-            r = t.iloc[0]
-            xs = np.geomspace(x.min(), x.max(), 50)
-            axes[0].plot(xs, r[pref] * xs ** r[expo], color=color, lw=0.8)
-            _record(axes[0], f"fit mu = {mu:g}", xs, r[pref] * xs ** r[expo], kind="curve")
-            _errorbars(axes[1], x, g.drag, g.drag_err, i, None, scale=r[pref] * x ** r[expo],
-                       series=f"mu = {mu:g}")
-    _plain_log(axes[0], "x")
-    axes[0].set(yscale="log", xlabel=xlabel, ylabel=FY_LABEL)
-    axes[0].legend(fontsize=7)
-    axes[1].axhline(1.0, color="k", lw=0.8)
-    axes[1].set_xlabel(xlabel)
-    if logx_b:
-        _plain_log(axes[1], "x")
-    sym = pref
-    base = "(D^*+1)" if xcol == "D" else "{h^*}"
-    axes[1].set_ylabel(f"$F^*_Y / [{sym}(\\mu)\\,{base}^{{\\{expo}_\\mu}}]$")
-    axes[2].errorbar(table.mu, table[pref], yerr=table[pref + "_err"].fillna(0), fmt="o", capsize=2)
-    _record(axes[2], f"{pref}(mu)", table.mu, table[pref], table[pref + "_err"])
-    axes[2].set(xlabel=MU_LABEL, ylabel=rf"${sym}(\mu)$")
-    for ax, tag in zip(axes, "abc"):
-        ax.set_title(f"({tag})", loc="left")
-    return _save(fig, outdir, name)
-
-
-def fig13_yield_vs_D(df, outdir, phi=None):
-    """Fig. 13: F_Y vs D*+1 (log-log), collapse by f(mu)(D*+1)^phi_mu, f(mu)."""
-    rows = _yield_I(df)
-    phi = fit_phi(rows) if phi is None else phi
-    kn, gn = reference_params(df)
-    phi = phi[np.isclose(phi.kn, kn) & np.isclose(phi.gamman, gn)]
-    return _scaling_panels(rows, "D", DP1_LABEL, phi, "phi", "f", "fig13_yield_vs_D", outdir, True)
-
-
-def fig17_yield_vs_h(df, outdir, alpha=None):
-    """Fig. 17: F_Y vs h (log-log), collapse by g(mu) h^alpha_mu, g(mu)."""
-    rows = _need(yield_rows(_reference(df)).query("system == 'II'"), "yield pulls of system II")
-    alpha = fit_alpha(rows) if alpha is None else alpha
-    kn, gn = reference_params(df)
-    alpha = alpha[np.isclose(alpha.kn, kn) & np.isclose(alpha.gamman, gn)]
-    return _scaling_panels(rows, "h", H_LABEL, alpha, "alpha", "g", "fig17_yield_vs_h", outdir, False)
-
-
-def _by_kn(ax, table, col, err):
-    for i, (kn, t) in enumerate(table.groupby("kn")):
-        t = t.sort_values("mu")
-        _record(ax, f"K_n = {kn:.3g}", t.mu, t[col], t[err], kind="line")
-        ax.errorbar(t.mu, t[col], yerr=t[err].fillna(0), fmt=MARKERS[i % len(MARKERS)] + "-",
-                    mfc="none", capsize=2, ms=4, label=rf"$K_n = {_sci(kn)}$")
-    ax.set_xlabel(MU_LABEL)
-    ax.legend(fontsize=7)
-
-
-def fig14_phi_vs_mu(df, outdir, phi=None):
-    """Fig. 14: phi_mu vs mu for each K_n (the paper finds it K_n-independent)."""
-    phi = fit_phi(df) if phi is None else phi
-    if phi.empty:
-        raise NoData("no phi_mu fitted (system I yield pulls at two or more D)")
-    fig, ax = _subplots(figsize=(5, 3.8))
-    _by_kn(ax, phi, "phi", "phi_err")
-    ax.axhline(paper.PHI_0, color="0.5", ls=":", lw=0.8)
-    ax.set_ylabel(r"$\phi_\mu$")
-    return _save(fig, outdir, "fig14_phi_vs_mu")
-
-
-def fig18_alpha(df, outdir, phi=None, alpha=None, alpha_drag=None, speeds=None):
-    """Fig. 18: (a) alpha_mu vs mu per K_n: the paper's, the drag's depth exponent at the
-    speeds averaged (alpha_drag), with Fig. 17's from the yield force beside it (open);
-    (b) the sum rule alpha_mu + phi_mu ~ 3 with the averaged alpha_mu (with the yield
-    force's when the study has no drag at speed over depth)."""
-    from .fits import ALPHA_SPEEDS, fit_alpha_drag, sum_rule
-    phi = fit_phi(df) if phi is None else phi
-    alpha = fit_alpha(df) if alpha is None else alpha
-    if alpha_drag is None:
-        alpha_drag = fit_alpha_drag(df, speeds=speeds or ALPHA_SPEEDS)[0]
-    if alpha.empty and alpha_drag.empty:
-        raise NoData("no alpha_mu fitted (system II pulls at two or more h)")
-    fig, axes = _subplots(1, 2, figsize=(10, 3.8))
-    ax = axes[0]
-    for i, (kn, t) in enumerate(alpha_drag.groupby("kn")):
-        t = t.sort_values("mu")
-        _record(ax, f"drag, averaged over speeds, K_n = {kn:.3g}", t.mu, t.alpha, t.alpha_err, kind="line")
-        ax.errorbar(t.mu, t.alpha, yerr=t.alpha_err.fillna(0), fmt=MARKERS[i % len(MARKERS)] + "-", ms=4,
-                    capsize=2, label=rf"$K_n = {_sci(kn)}$ (drag at speed)")
-    for i, (kn, t) in enumerate(alpha.groupby("kn")):
-        t = t.sort_values("mu")
-        _record(ax, f"yield force, K_n = {kn:.3g}", t.mu, t.alpha, t.alpha_err)
-        ax.errorbar(t.mu, t.alpha, yerr=t.alpha_err.fillna(0), fmt=MARKERS[i % len(MARKERS)], mfc="none",
-                    ms=4, capsize=2, color="0.5", label=rf"$K_n = {_sci(kn)}$ (yield force, Fig. 17)")
-    ax.set(xlabel=MU_LABEL, ylabel=r"$\alpha_\mu$")
-    ax.legend(fontsize=7)
-    use, how = (alpha_drag, "averaged over speeds") if len(alpha_drag) else (alpha, "from the yield force")
-    s = sum_rule(phi, use)
-    if len(s):
-        _by_kn(axes[1], s, "sum", "sum_err")
-    axes[1].axhline(paper.SUM_RULE, color="k", ls="--", lw=0.8)
-    axes[1].set_ylabel(rf"$\alpha_\mu + \phi_\mu$ ($\alpha_\mu$ {how})")
-    for ax, tag in zip(axes, "ab"):
-        ax.set_title(f"({tag})", loc="left")
-    return _save(fig, outdir, "fig18_alpha_and_sum_rule")
-
-
-def fig15_scaled_drag_D(df, outdir, phi=None, mus=(0.5, 0.0)):
-    """Fig. 15: drag / (D*+1)^phi_mu vs Fr per D, (a) mu = 0.5, (b) mu = 0."""
-    ref = _reference(df)
-    phi = fit_phi(ref) if phi is None else phi
-    kn, gn = reference_params(df)
-    fig, axes = _subplots(1, len(mus), figsize=(5.2 * len(mus), 4), squeeze=False)
-    drawn = 0
-    for ax, mu, tag in zip(axes[0], mus, "ab"):
-        rows = _moving(select(ref, mu=mu, system="I"), "D")
-        t = phi[np.isclose(phi.mu, mu) & np.isclose(phi.kn, kn) & np.isclose(phi.gamman, gn)]
-        ax.set_title(rf"({tag}) $\mu = {mu:g}$", loc="left")
-        ax.set_xlabel(FR_LABEL)
-        if rows.empty or t.empty:
-            ax.text(0.5, 0.5, "no data", transform=ax.transAxes, ha="center")
-            continue
-        p = t.iloc[0].phi
-        for i, (D, g) in enumerate(rows.groupby("D")):
-            _errorbars(ax, g.Fr, g.drag, g.drag_err, i, f"$D = {D:g}d$", scale=(D + 1) ** p)
-        ax.set_ylabel(rf"$F^*_{{\rm drag}}/(D^*+1)^{{\phi_\mu}}$, $\phi_\mu = {p:.2f}$")
-        ax.legend(fontsize=7)
-        drawn += 1
-    if not drawn:
-        plt.close(fig)
-        raise NoData("no system I pulls with a fitted phi_mu")
-    return _save(fig, outdir, "fig15_scaled_drag_vs_Fr_D")
-
 
 def fig16_drag_vs_Fr_depth(df, outdir, mu=0.5, fits=None):
     """Fig. 16: drag vs Fr per depth (system II), with three-regime fits (h -> Fit)."""
@@ -521,27 +243,6 @@ def fig16_drag_vs_Fr_depth(df, outdir, mu=0.5, fits=None):
                  f"system II pulls above the yield speed at mu = {mu:g}")
     return _drag_panels(rows, "h", lambda h: f"$h = {h:.3g}d$", mu, fits,
                         "fig16_drag_vs_Fr_depth", outdir, enlarge=False)
-
-
-def fig19_scaled_drag_h(df, outdir, alpha=None, mu=0.5, h_min=None):
-    """Fig. 19: drag / h^alpha_mu vs Fr per depth (the paper shows h >= 45d)."""
-    rows = _moving(select(_reference(df), mu=mu, system="II"), "h")
-    if h_min is not None:
-        rows = rows[rows.h >= h_min]
-    rows = _need(rows, f"system II at mu = {mu:g}")
-    alpha = fit_alpha(_reference(df)) if alpha is None else alpha
-    kn, gn = reference_params(df)
-    t = alpha[np.isclose(alpha.mu, mu) & np.isclose(alpha.kn, kn) & np.isclose(alpha.gamman, gn)]
-    if t.empty:
-        raise NoData(f"no alpha_mu fitted for mu = {mu:g}")
-    a = t.iloc[0].alpha
-    fig, ax = _subplots(figsize=(5, 3.8))
-    for i, (h, g) in enumerate(rows.groupby("h")):
-        _errorbars(ax, g.Fr, g.drag, g.drag_err, i, f"$h = {h:.3g}d$", scale=h ** a)
-    ax.set_xlabel(FR_LABEL)
-    ax.set_ylabel(rf"$F^*_{{\rm drag}}/h^{{*\alpha_\mu}}$, $\alpha_\mu = {a:.2f}$")
-    ax.legend(fontsize=7, title=rf"$\mu = {mu:g}$", title_fontsize=8)
-    return _save(fig, outdir, "fig19_scaled_drag_vs_Fr_h")
 
 
 def fig20_kn_gamman(df, outdir, mu=0.5):
