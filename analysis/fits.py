@@ -293,15 +293,12 @@ def fit_alpha_drag(df, speeds=ALPHA_SPEEDS, system="II", match=SPEED_MATCH):
 
 
 def sum_rule(phi, alpha):
-    """alpha_mu + phi_mu where both were fitted (errors added in quadrature). n_min: the
-    fewer points of the two power-law fits (the sum's error is as uncertain as that fit's);
-    NaN when the alpha side is an average over speeds, which has no single fit."""
-    keys = ["mu", "kn", "gamman"]
-    m = pd.merge(phi, alpha.drop(columns=[c for c in ("n",) if c in alpha.columns]).assign(
-        n_alpha=alpha["n"] if "n" in alpha.columns else np.nan), on=keys)
+    """alpha_mu + phi_mu where both were fitted (errors added in quadrature); n_min, the fewer
+    points of the two fits (NaN for the alpha averaged over speeds, which has no one fit)."""
+    m = pd.merge(phi, alpha.rename(columns={"n": "n_alpha"}), on=["mu", "kn", "gamman"])
     m["sum"] = m.alpha + m.phi
     m["sum_err"] = np.hypot(m.alpha_err, m.phi_err)
-    m["n_min"] = np.minimum(m["n"], m["n_alpha"]) if "n" in m.columns else np.nan
+    m["n_min"] = np.minimum(m["n"], m["n_alpha"]) if "n_alpha" in m.columns else np.nan
     return m[["mu", "kn", "gamman", "phi", "phi_err", "alpha", "alpha_err", "sum", "sum_err", "n_min"]]
 
 
