@@ -25,6 +25,7 @@ import numpy as np
 from scipy import stats
 
 from . import paper
+from .claims import CLAIMS, claim_of
 from .figure_list import FIGURES, NAMES, Inputs, draw
 from .figures import not_drawn_reason
 from .fits import write_text_atomic
@@ -51,6 +52,12 @@ class Row:
     verdict: str
     sentence: str
     notes: list = field(default_factory=list)   # bounds, model violations, beds, plateaus
+    base: str = ""                              # the sentence without its notes
+
+
+# One symbol per verdict, so that a reader sees them at a glance (and the HTML's colours).
+SYMBOLS = {"reproduced within error bars": "✓", "reproduced qualitatively": "≈", "not reproduced": "✗",
+           "inconclusive": "?"}
 
 
 def within_quantile(dof=None):
@@ -102,8 +109,8 @@ def _row(quantity, p, published, shown=None, fit=None, rows=None, extra="", dof=
     if rows is not None:
         notes += _basis(rows)
     tail = f" [{'; '.join(notes)}]" if notes else ""
-    return Row(quantity, str(p) if p else "n/a", shown, v,
-               f"{quantity}: {p if p else 'n/a'} against {shown} — {v} ({why}){extra}.{tail}", notes)
+    base = f"{quantity}: {p if p else 'n/a'} against {shown} — {v} ({why}){extra}."
+    return Row(quantity, str(p) if p else "n/a", shown, v, base + tail, notes, base)
 
 
 def _basis(rows):
@@ -204,6 +211,35 @@ def _table_dof(t, column):
     return None if n is None or not math.isfinite(float(n)) else float(n) - 2
 
 
+def headline(rows):
+    """One line per claim of the paper: its numbers' verdicts, counted by symbol."""
+    out = []
+    for letter, claim in CLAIMS.items():
+        mine = [x for x in rows if claim_of(x.quantity) == letter]
+        if not mine:
+            out.append(f"({letter}) {claim}: no number of this study tests it.")
+            continue
+        c = counts(mine)
+        tally = ", ".join(f"{SYMBOLS[v]} {c[v]}" for v in VERDICTS if c[v])
+        out.append(f"({letter}) {claim}: {tally} of {len(mine)} number{'s' if len(mine) > 1 else ''}.")
+    return out
+
+
+def shared_caveats(rows):
+    """(the notes several rows share, as "[k] note (n rows)", and a function that writes a row's
+    notes with those replaced by their [k]): a caveat is stated once, not on every row."""
+    seen = Counter(n for x in rows for n in dict.fromkeys(x.notes))
+    shared = [n for n, k in seen.items() if k > 1]
+    number = {n: i + 1 for i, n in enumerate(shared)}
+
+    def refs(notes):
+        own = [n for n in notes if n not in number]
+        cited = sorted({number[n] for n in notes if n in number})
+        return "; ".join(own + ([", ".join(f"[{k}]" for k in cited)] if cited else []))
+
+    return [f"[{number[n]}] {n} ({seen[n]} rows)" for n in shared], refs
+
+
 def counts(rows):
     """How many numbers got each verdict (inconclusive counted apart)."""
     c = Counter(x.verdict for x in rows)
@@ -226,9 +262,9 @@ def _saturation_row(D, fit):
     q = f"F_Y saturating in μ (D = {D:g}d)"
     shown = "saturates (Fig. 12)"
     tail = f" [{'; '.join(notes)}]" if notes else ""
-    return Row(q, f"μ_c = {mu_c}", shown, v,
-               f"{q}: rise scale μ_c = {mu_c} against sampled μ ≤ {mu_max:g} — {v} "
-               f"(saturated means 3 μ_c < μ_max).{tail}", notes)
+    base = (f"{q}: rise scale μ_c = {mu_c} against sampled μ ≤ {mu_max:g} — {v} "
+            f"(saturated means 3 μ_c < μ_max).")
+    return Row(q, f"μ_c = {mu_c}", shown, v, base + tail, notes, base)
 
 
 # --- document ------------------------------------------------------------
@@ -255,11 +291,21 @@ def _blocks(df, r, figs, n_boot, seed):
                   if r.options.h_min else " Eq. 12 and Fig. 19 use pulls at every depth (h_min = 0)."))]
     rows = comparisons(r, df)
     n = counts(rows)
+    caveats, refs = shared_caveats(rows)
+    # Lead with the paper's claims, one line each; the intro's method and rules come after.
+    b = b[:1] + [("h2", "The paper's claims at a glance"), ("ul", headline(rows)),
+                 ("p", "✓ within error bars, ≈ qualitatively, ✗ not reproduced, ? inconclusive "
+                       "(the rules below).")] + b[1:]
     b += [("h2", "Fitted numbers beside the paper's"),
-          ("p", f"{len(rows)} numbers: " + ", ".join(f"{n[v]} {v}" for v in VERDICTS) + "."),
-          ("table", ["quantity", "fitted", "paper", "verdict", "fit notes"],
-           [[x.quantity, x.fitted, x.published, x.verdict, "; ".join(x.notes)] for x in rows])]
-    b += [("h2", "In words"), ("ul", [x.sentence for x in rows] or ["No fit could be made."])]
+          ("p", f"{len(rows)} numbers: " + ", ".join(f"{SYMBOLS[v]} {n[v]} {v}" for v in VERDICTS) + "."),
+          ("table", ["quantity", "fitted", "paper", "verdict", "notes"],
+           [[x.quantity, x.fitted, x.published, f"{SYMBOLS[x.verdict]} {x.verdict}", refs(x.notes)]
+            for x in rows])]
+    if caveats:
+        b += [("p", "Notes shared by several rows, stated once:"), ("ul", caveats)]
+    b += [("h2", "In words"),
+          ("ul", [x.base + (f" [{refs(x.notes)}]" if x.notes else "") if x.base else x.sentence
+                  for x in rows] or ["No fit could be made."])]
     if len(r.sums) or len(r.phi) or len(r.alpha):
         b += [("h2", "Exponents of the yield force")]
         b += [("table", ["μ", "K_n", "φ_μ", "f(μ)", "α_μ", "g(μ)"], _exponent_rows(r))]
@@ -353,11 +399,20 @@ def _markdown(blocks):
     return "\n".join(out)
 
 
+def _td(cell):
+    """A table cell; a verdict cell (it starts with its symbol) gets its colour class."""
+    text = str(cell)
+    cls = f" class='v{text[0]}'" if text[:1] in SYMBOLS.values() else ""
+    return f"<td{cls}>{html.escape(text)}</td>"
+
+
 def _html(blocks):
     e = html.escape
     out = ["<!DOCTYPE html><html><head><meta charset='utf-8'><title>granudrag report</title>"
            "<style>body{font-family:sans-serif;max-width:60em;margin:auto}table{border-collapse:"
-           "collapse}td,th{border:1px solid #999;padding:2px 6px}img{max-width:100%}</style>"
+           "collapse}td,th{border:1px solid #999;padding:2px 6px}img{max-width:100%}"
+           ".v✓{background:#cdeccd}.v≈{background:#eeeebb}.v✗{background:#f3c6c6}.v\\?{background:#e2e2e2}"
+           "</style>"
            "</head><body>"]
     for kind, *a in blocks:
         if kind in ("h1", "h2"):
@@ -369,8 +424,8 @@ def _html(blocks):
         elif kind == "table":
             head, body = a
             out.append("<table><tr>" + "".join(f"<th>{e(str(h))}</th>" for h in head) + "</tr>"
-                       + "".join("<tr>" + "".join(f"<td>{e(str(c))}</td>" for c in r) + "</tr>"
-                                 for r in body) + "</table>")
+                       + "".join("<tr>" + "".join(_td(c) for c in r) + "</tr>" for r in body)
+                       + "</table>")
         elif kind == "img":
             out.append(f"<figure><img src='{e(a[1])}' alt='{e(a[0])}'>"
                        f"<figcaption>{e(a[0])}</figcaption></figure>")

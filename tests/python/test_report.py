@@ -135,3 +135,22 @@ def test_the_point_table_counts_its_combined_beds(table):
     points = table.assign(seed=1, n_beds=3, plateau=1)
     rows = {x.quantity: x for x in comparisons(r, points)}
     assert "3 replicate bed(s) per point" in rows["Fr_1 (μ = 0.5, D = 4)"].notes
+
+
+def test_the_report_leads_with_one_line_per_claim_and_states_a_shared_caveat_once():
+    from analysis.report import Row, _html, headline, shared_caveats
+
+    beds = "2 replicate bed(s) per point"
+    rows = [Row("Fr_1 (μ = 0.5, D = 1)", "0.9 ± 0.1", "≈ 1", "reproduced within error bars", "", [beds], "a."),
+            Row("Fr_2 (μ = 0.5, D = 1)", "2 ± 1", "≈ 5", "inconclusive", "", [beds, "c0 at its bound"], "b."),
+            Row("φ_0 (K_n = 2e+04)", "2.1 ± 0.2", "≈ 2", "reproduced within error bars", "", [], "c.")]
+    lines = headline(rows)
+    assert len(lines) == 7 and lines[0].startswith("(a) three regimes")
+    assert "✓ 1, ? 1 of 2 numbers" in lines[0] and "✓ 1 of 1 number." in lines[3]
+    assert "no number of this study tests it" in lines[1]          # (b): no θ row here
+    caveats, refs = shared_caveats(rows)
+    assert caveats == [f"[1] {beds} (2 rows)"]                      # shared: once, numbered
+    assert refs(rows[1].notes) == "c0 at its bound; [1]"             # its own note stays inline
+    assert refs(rows[2].notes) == ""
+    page = _html([("table", ["verdict"], [["✓ reproduced within error bars"], ["? inconclusive"]])])
+    assert "<td class='v✓'>" in page and "<td class='v?'>" in page and ".v\\?{" in page
