@@ -25,7 +25,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from .fits import ALPHA_SPEEDS, FitFileError
+from .alpha_drag import ALPHA_SPEEDS
+from .fits import FitFileError
 
 
 def _speeds(text):

@@ -129,7 +129,8 @@ def fig18_alpha(df, outdir, phi=None, alpha=None, alpha_drag=None, speeds=None):
     speeds averaged (alpha_drag), with Fig. 17's from the yield force beside it (open);
     (b) the sum rule alpha_mu + phi_mu ~ 3 with the averaged alpha_mu (with the yield
     force's when the study has no drag at speed over depth)."""
-    from .fits import ALPHA_SPEEDS, fit_alpha_drag, sum_rule
+    from .alpha_drag import ALPHA_SPEEDS, fit_alpha_drag
+    from .fits import sum_rule
     phi = fit_phi(df) if phi is None else phi
     alpha = fit_alpha(df) if alpha is None else alpha
     if alpha_drag is None:

@@ -14,12 +14,9 @@ import numpy as np
 import pandas as pd
 
 from . import paper
+from .alpha_drag import ALPHA_DRAG_COLUMNS, ALPHA_SPEED_COLUMNS, ALPHA_SPEEDS, fit_alpha_drag
 from .fits import (
-    ALPHA_DRAG_COLUMNS,
-    ALPHA_SPEED_COLUMNS,
-    ALPHA_SPEEDS,
     fit_alpha,
-    fit_alpha_drag,
     fit_kappa,
     fit_phi,
     fit_regimes,

@@ -44,7 +44,7 @@ def resolve_binary(config, repo=REPO):
 def fit_options(config):
     """The fits' options (analysis.fitset.Options) from a validated config's `report` keys:
     n_boot, seed, h_min (Eq. 12 and Fig. 19 depth cut) and alpha_speeds."""
-    from ..fits import ALPHA_SPEEDS
+    from ..alpha_drag import ALPHA_SPEEDS
     from ..fitset import Options
 
     rep = config.get("report") or {}

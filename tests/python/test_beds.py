@@ -169,7 +169,8 @@ def test_depth_exponents_with_shared_beds_cover_the_truth():
     averaged alpha's held it 58.5 %."""
     import synth
 
-    from analysis.fits import fit_alpha, fit_alpha_drag
+    from analysis.alpha_drag import fit_alpha_drag
+    from analysis.fits import fit_alpha
 
     rng = np.random.default_rng(5)
     truth_alpha = synth.alpha_true(0.5)
