@@ -78,3 +78,13 @@ def test_the_analysis_modules_import_each_other_without_a_cycle():
 
     cycles = [c for m in sorted(graph) if (c := cycle_from(m, m, {m}))]
     assert not cycles, f"import cycles in analysis/: {cycles}"
+
+
+def test_no_source_file_is_over_500_lines():
+    """One concept per file: a file past 500 lines holds more than one (the C++ engine, the
+    analysis package, the workflow, tools and tests alike)."""
+    files = subprocess.run(["git", "ls-files", "*.py", "*.cpp", "*.hpp", "*.smk", "*.sh", "workflow/Snakefile"],
+                           cwd=ROOT, capture_output=True, text=True, check=True).stdout.split()
+    assert len(files) > 100
+    long = {f: n for f in files if (n := len((ROOT / f).read_text().splitlines())) > 500}
+    assert not long, f"split these by concept: {long}"
