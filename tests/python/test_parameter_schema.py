@@ -17,6 +17,7 @@ import json
 import os
 import re
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -228,3 +229,13 @@ def test_schema_output_is_json_schema(cli):
         assert doc["required"] == (["output"] if command == "pour" else ["bed", "output"])
         for key, prop in doc["properties"].items():
             assert prop["description"], key
+
+
+def test_the_pour_and_pull_blocks_are_generated_from_the_engine_and_not_stale():
+    """tools/schema_blocks.py writes the schema's pour/pull blocks from the engine's key tables;
+    a key added to (or changed in) the engine without rerunning it fails here, with the diff."""
+    if not BINARY.is_file():
+        pytest.fail(f"no granudrag binary at {BINARY}: build it (cmake --build build) or set $GRANUDRAG")
+    r = subprocess.run([sys.executable, str(ROOT / "tools" / "schema_blocks.py"), "--check", "--binary", str(BINARY)],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
