@@ -6,6 +6,7 @@
 #include "app/command.hpp"
 #include "app/output_paths.hpp"
 #include "core/error.hpp"
+#include "core/spatial_order.hpp"
 #include "engine/simulation.hpp"
 #include "io/lammps_io.hpp"
 #include "io/run_files.hpp"
@@ -30,6 +31,9 @@ std::vector<ParameterSpec> import_lammps_keys() {
           .at_least(0)
           .at_most(1e9)
           .help("atom type of the intruder (0: none)"),
+      Key::flag("sort").default_value("true").help(
+          "put the grains in spatial order (layers in z, a Morton curve in x-y), as a pour leaves them, so "
+          "that the threaded force loop runs its two-colour schedule; false: keep the file's order"),
   };
   for (const auto& k : contact_keys()) keys.push_back(k);
   keys.push_back(skin_key());
@@ -56,6 +60,8 @@ int import_lammps_command(const std::vector<std::string>& args) {
                                            static_cast<int>(par->integer("intruder_type")));
   Bed bed;
   bed.box = data.box;
+  Particles particles =
+      par->flag("sort") ? reordered(data.particles, spatial_order(data.particles, data.box)) : data.particles;
   bed.contact = contact_from(*par);
   const double rmin =
       std::min(data.particles.min_radius(Species::Mobile), data.particles.min_radius(Species::Frozen));
@@ -69,7 +75,7 @@ int import_lammps_command(const std::vector<std::string>& args) {
   Settings settings;
   settings.dt = bed.dt;
   settings.skin = par->number("skin");
-  Simulation sim(data.particles, bed.box, bed.contact, settings);
+  Simulation sim(particles, bed.box, bed.contact, settings);
   sim.setup();
   bed.state = sim.state();
   bed.profile = measure_bed(bed.state.particles, bed.box);
