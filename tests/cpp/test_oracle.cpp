@@ -108,11 +108,14 @@ TEST(Oracle, FastForcesEqualBruteForceOnIntruderScene) {
 }
 
 TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
-  // The active region: grains outside 3.5 d of the intruder fall asleep after 200 steps of
+  // The active region: grains outside 3.5 d of the intruder fall asleep after 150 steps of
   // collisions (checks every step here; a sleep distance and a wake force so large that only
   // the intruder's approach wakes them), and the intruder moving on wakes those it nears. Both
   // paths skip the pairs of two held bodies and compute every other.
-  for (const auto& [threads, shuffled] : {std::pair{1, false}, {2, false}, {2, true}}) {
+  // One thread in spatial order, two on the shuffled scene (private force arrays); the
+  // two-colour schedule with held grains is checked bitwise in AnActiveRegionWider... and by the
+  // pulls of test_active_region.cpp.
+  for (const auto& [threads, shuffled] : {std::pair{1, false}, {2, true}}) {
     ThreadCount tc(threads);
     const Scene scene = intruder_scene(shuffled);
     Settings fast_s;
@@ -121,7 +124,7 @@ TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
     fast_s.active.sleep_distance = 10;
     const ContactParams c = support::soft_params(0.5);
     const double dt = Simulation(scene.particles, scene.box, c, Settings{}).dt();
-    fast_s.active.sleep_time = 200 * dt;
+    fast_s.active.sleep_time = 150 * dt;
     fast_s.active.wake_force = 1e9;
     fast_s.active.check_interval = dt;  // every step
     Settings brute_s = fast_s;
@@ -129,10 +132,10 @@ TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
     Simulation fast(scene.particles, scene.box, c, fast_s);
     Simulation brute(scene.particles, scene.box, c, brute_s);
     const std::size_t n = scene.particles.size();
-    std::vector<std::uint8_t> always_held(n, 1);  // held at every step since step 300
+    std::vector<std::uint8_t> always_held(n, 1);  // held at every step since step 250
     std::vector<PairHistory> springs_then;
     Particles then;
-    for (int step = 0; step < 600; ++step) {
+    for (int step = 0; step < 450; ++step) {
       fast.step();
       brute.step();
       const Particles& a = fast.particles();
@@ -145,11 +148,11 @@ TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
         ASSERT_LT(support::rel_diff(a.torque[i], b.torque[i], scale), 1e-9)
             << "torque on " << i << " at step " << step << ", threads " << threads;
       }
-      if (step == 300) {
+      if (step == 250) {
         springs_then = fast.state().pair_history;
         then = a;
       }
-      if (step >= 300)
+      if (step >= 250)
         for (std::size_t i = 0; i < n; ++i) always_held[i] &= fast.active_region()->held()[i];
     }
     const ActiveRegion& region = *fast.active_region();
@@ -172,7 +175,7 @@ TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
       ASSERT_EQ(it->shear, h.shear);
       unchanged += h.shear.norm() > 0;
     }
-    EXPECT_GT(unchanged, 50) << "springs with history between sleeping grains were kept";
+    EXPECT_GT(unchanged, 20) << "springs with history between sleeping grains were kept";
   }
 }
 
