@@ -12,11 +12,17 @@ Modules:
     result   Param (value, err) and Fit, the fit-result types
     regimes  three-regime drag(Fr) fit with fitted crossovers
     fits     the other fits, the Eq. 12 scaling law, fit-file save/load
-    figures  one function per paper figure (PNG + PDF)
+    alpha_drag  alpha_mu from the drag at several speeds, averaged (Fig. 18)
+    fitset   every fit of a table into fits.json, and back
+    figures, figures_yield, figures_drawing
+             one function per paper figure (PNG + PDF), and what they share
+    claims   the paper's headline claims by letter
     report   Markdown/HTML report with fitted-vs-published table
     predict  command-line drag prediction from a saved fit file
+    ladder, ladder_*  the reproduction ladder (collect, claims, diagnostics, report)
+    study    the workflow's library (config, plan, paths, cost)
 
-Importing the package does not import matplotlib; only `figures` does.
+Importing the package does not import matplotlib; only the figure modules do.
 """
 
 from pathlib import Path as _Path
