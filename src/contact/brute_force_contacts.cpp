@@ -4,6 +4,27 @@
 
 namespace granudrag {
 
+namespace {
+
+// The pair's geometry if it touches, written out here rather than shared with the fast path
+// (contact/pair_geometry.hpp), so that the oracle stays an independent computation.
+bool touching(const Particles& p, const Box& box, int i, int j, ContactGeometry& g) {
+  const Vec3 del = box.min_image(p.x[i] - p.x[j]);
+  const double radsum = p.radius[i] + p.radius[j];
+  const double r = del.norm();
+  if (r >= radsum) return false;
+  g.del = del;
+  g.r = r;
+  g.contact_distance = radsum;
+  g.reff = p.radius[i] * p.radius[j] / radsum;
+  g.meff = effective_mass(p.mass[i], p.species[i], p.mass[j], p.species[j]);
+  g.rel_velocity = p.v[i] - p.v[j];
+  g.spin_sum = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
+  return true;
+}
+
+}  // namespace
+
 bool BruteForceContacts::update_lists(Particles&, const Box&, Timers*, double) { return false; }
 
 void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
@@ -14,21 +35,11 @@ void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactP
     for (int j = i + 1; j < n; ++j) {
       if (p.species[i] == Species::Frozen && p.species[j] == Species::Frozen) continue;
       if (both_held(i, j)) continue;  // its spring, if it touches, stays as it was
-      const Vec3 del = box.min_image(p.x[i] - p.x[j]);
-      const double radsum = p.radius[i] + p.radius[j];
-      const double r = del.norm();
-      if (r >= radsum) {
+      ContactGeometry g;
+      if (!touching(p, box, i, j, g)) {
         history_.erase({i, j});
         continue;
       }
-      ContactGeometry g;
-      g.del = del;
-      g.r = r;
-      g.contact_distance = radsum;
-      g.reff = p.radius[i] * p.radius[j] / radsum;
-      g.meff = effective_mass(p.mass[i], p.species[i], p.mass[j], p.species[j]);
-      g.rel_velocity = p.v[i] - p.v[j];
-      g.spin_sum = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
       const auto [slot, formed] = history_.try_emplace({i, j}, Vec3::Zero());
       if (formed) formed_.push_back({i, j});
       Vec3& shear = slot->second;
@@ -91,17 +102,8 @@ void BruteForceContacts::held_pair_forces(const Particles& p, const Box& box, co
   for (const auto& [key, stored] : history_) {
     const auto [i, j] = key;
     if (!both_held(i, j)) continue;
-    const Vec3 del = box.min_image(p.x[i] - p.x[j]);
-    const double radsum = p.radius[i] + p.radius[j];
     ContactGeometry g;
-    g.del = del;
-    g.r = del.norm();
-    if (g.r >= radsum) continue;
-    g.contact_distance = radsum;
-    g.reff = p.radius[i] * p.radius[j] / radsum;
-    g.meff = effective_mass(p.mass[i], p.species[i], p.mass[j], p.species[j]);
-    g.rel_velocity = p.v[i] - p.v[j];
-    g.spin_sum = p.radius[i] * p.omega[i] + p.radius[j] * p.omega[j];
+    if (!touching(p, box, i, j, g)) continue;
     Vec3 shear = stored;
     const PairForce pf = hertz_history(c, g, 0.0, shear, false);
     force[i] += pf.force;

@@ -50,6 +50,7 @@ class VerletContacts : public ContactLoop {
   ContactHistory grain_history_, intruder_history_;
   void balance_rows(int threads);
   void after_build();
+  double largest_overlap(const Particles& p, const Box& box, bool touching_only) const;
   // With bodies held (the active region): per row, what the scan computes (RowMode).
   void classify_rows();
   enum RowMode : std::uint8_t { kSkip = 0, kAll = 1, kAwakePartners = 2 };

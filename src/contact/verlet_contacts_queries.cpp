@@ -111,7 +111,8 @@ void VerletContacts::held_pair_forces(const Particles& p, const Box& box, const 
   }
 }
 
-double VerletContacts::max_overlap(const Particles& p, const Box& box) const {
+// The largest overlap over the lists' pairs: those touching at the last evaluation, or all.
+double VerletContacts::largest_overlap(const Particles& p, const Box& box, bool touching_only) const {
   auto overlap = [&](int i, int j) {
     return p.radius[i] + p.radius[j] - box.min_image(p.x[i] - p.x[j]).norm();
   };
@@ -121,31 +122,22 @@ double VerletContacts::max_overlap(const Particles& p, const Box& box) const {
 #pragma omp parallel for schedule(static) reduction(max : worst)
   for (long i = 0; i < rows; ++i)
     for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-      if (grain_history_.touching[e]) worst = std::max(worst, overlap(static_cast<int>(i), pairs.partner[e]));
+      if (!touching_only || grain_history_.touching[e])
+        worst = std::max(worst, overlap(static_cast<int>(i), pairs.partner[e]));
   const PairList& intruders = list_.intruder_pairs();
   for (std::size_t b = 0; b < intruders.rows(); ++b)
     for (int e = intruders.begin(b); e < intruders.end(b); ++e)
-      if (intruder_history_.touching[e])
+      if (!touching_only || intruder_history_.touching[e])
         worst = std::max(worst, overlap(list_.intruder_bodies()[b], intruders.partner[e]));
   return worst;
 }
 
+double VerletContacts::max_overlap(const Particles& p, const Box& box) const {
+  return largest_overlap(p, box, true);
+}
+
 double VerletContacts::deepest_overlap(const Particles& p, const Box& box) const {
-  auto overlap = [&](int i, int j) {
-    return p.radius[i] + p.radius[j] - box.min_image(p.x[i] - p.x[j]).norm();
-  };
-  const PairList& pairs = list_.grain_pairs();
-  const long rows = static_cast<long>(pairs.rows());
-  double worst = 0;
-#pragma omp parallel for schedule(static) reduction(max : worst)
-  for (long i = 0; i < rows; ++i)
-    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-      worst = std::max(worst, overlap(static_cast<int>(i), pairs.partner[e]));
-  const PairList& intruders = list_.intruder_pairs();
-  for (std::size_t b = 0; b < intruders.rows(); ++b)
-    for (int e = intruders.begin(b); e < intruders.end(b); ++e)
-      worst = std::max(worst, overlap(list_.intruder_bodies()[b], intruders.partner[e]));
-  return worst;
+  return largest_overlap(p, box, false);
 }
 
 long VerletContacts::contact_count() const {
