@@ -1,16 +1,19 @@
 #pragma once
-// What the io tests share: a temporary directory removed afterwards, reading a text file, and
-// checking that an error names what it should.
+// What the io tests share: a temporary directory removed afterwards, reading a text file or
+// bytes, checking that an error names what it should, and one small pulled bed to write files of.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <memory>
 #include <random>
 #include <sstream>
 #include <string>
 
 #include "core/error.hpp"
+#include "protocol/pull.hpp"
 
 namespace granudrag::support {
 
@@ -41,6 +44,47 @@ inline std::string read_text(const std::string& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+inline std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+inline void write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+// One small bed (60 soft grains, settled briefly) and a short pull on it, whose bed, run and
+// checkpoint files the readers' tests write and damage.
+struct PulledBed {
+  Bed bed;
+  std::unique_ptr<Pull> pull;
+};
+inline const PulledBed& pulled_bed() {
+  static const PulledBed fx = [] {
+    PulledBed f;
+    PourSpec s;
+    s.lx = 4;
+    s.ly = 4;
+    s.grains = 60;
+    s.intruder_diameter = 1.2;
+    s.intruder_x = 2;
+    s.intruder_y = 2;
+    s.depth = 1;
+    s.contact = ContactParams{}.with_stiffness(2e4);
+    s.ke_threshold = 1e-2;
+    s.max_settle_time = 0.3;
+    s.check_interval = 0.15;
+    f.bed = pour(s, false);
+    PullSpec p;
+    p.distance = 0.05;
+    p.snapshots = 1;
+    f.pull = std::make_unique<Pull>(f.bed, p);
+    f.pull->run(false);
+    return f;
+  }();
+  return fx;
 }
 
 // Runs `body` and returns the granudrag::Error message it throws; fails the test otherwise.

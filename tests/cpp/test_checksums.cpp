@@ -7,10 +7,7 @@
 #include <hdf5.h>
 
 #include <cstdio>
-#include <fstream>
 #include <functional>
-#include <iterator>
-#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -26,15 +23,6 @@ using namespace granudrag;
 using namespace granudrag::support;
 
 namespace {
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void write_bytes(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
-}
 
 // Where a dataset's chunks lie in the file: (offset, stored size) per chunk.
 struct Stored {
@@ -142,46 +130,25 @@ Parameters parameters(const std::string& command,
   return p;
 }
 
-struct Files {
-  Bed bed;
-  std::unique_ptr<Pull> pull;
+// The bed, run and checkpoint files of pulled_bed(), written into dir: {bed, run, checkpoint}.
+struct Written {
+  std::string bed, run, checkpoint;
 };
-
-const Files& files() {
-  static const Files fx = [] {
-    Files f;
-    PourSpec s;
-    s.lx = s.ly = 4;
-    s.grains = 60;
-    s.intruder_diameter = 1.2;
-    s.intruder_x = s.intruder_y = 2;
-    s.depth = 1;
-    s.contact = ContactParams{}.with_stiffness(2e4);
-    s.ke_threshold = 1e-2;
-    s.max_settle_time = 0.3;
-    s.check_interval = 0.15;
-    f.bed = pour(s, false);
-    PullSpec p;
-    p.distance = 0.05;
-    p.snapshots = 1;
-    f.pull = std::make_unique<Pull>(f.bed, p);
-    f.pull->run(false);
-    return f;
-  }();
-  return fx;
+Written write_files(const TempDir& dir, const Parameters& pour_p, const Parameters& pull_p) {
+  const PulledBed& fx = pulled_bed();
+  const Written w{dir.file("bed.h5"), dir.file("run.h5"), dir.file("ckpt.h5")};
+  save_bed(w.bed, fx.bed, pour_p);
+  save_run(w.run, *fx.pull, pull_p, ParameterRecord::of(pour_p), "sanity\n");
+  save_checkpoint(w.checkpoint, *fx.pull, pull_p, ParameterRecord::of(pour_p));
+  return w;
 }
 
 }  // namespace
 
 TEST(Checksums, EveryDatasetWithDataOfABedRunAndCheckpointCarriesOne) {
   TempDir dir;
-  const Files& fx = files();
-  const Parameters pour_p = parameters("pour", {{"lx", "4"}}), pull_p = parameters("pull", {{"speed", "1"}});
-  const std::string bed = dir.file("bed.h5"), run = dir.file("run.h5"), ckpt = dir.file("ckpt.h5");
-  save_bed(bed, fx.bed, pour_p);
-  save_run(run, *fx.pull, pull_p, ParameterRecord::of(pour_p), "sanity\n");
-  save_checkpoint(ckpt, *fx.pull, pull_p, ParameterRecord::of(pour_p));
-  for (const std::string& file : {bed, run, ckpt}) {
+  const Written w = write_files(dir, parameters("pour", {{"lx", "4"}}), parameters("pull", {{"speed", "1"}}));
+  for (const std::string& file : {w.bed, w.run, w.checkpoint}) {
     EXPECT_EQ(h5::File::open(file).get_attr_int64("/granudrag", "version"), kFileVersion);
     long with_data = 0;
     for (const Stored& s : stored_datasets(file)) {
@@ -195,16 +162,12 @@ TEST(Checksums, EveryDatasetWithDataOfABedRunAndCheckpointCarriesOne) {
 
 TEST(Checksums, ABitFlippedInsideAnyDatasetsDataIsNamedOnReadAndTheReadersNeverPassItOn) {
   TempDir dir;
-  const Files& fx = files();
-  const Parameters pour_p = parameters("pour", {{"lx", "4"}}), pull_p = parameters("pull", {{"speed", "1"}});
-  const std::string bed = dir.file("bed.h5"), run = dir.file("run.h5"), ckpt = dir.file("ckpt.h5");
-  save_bed(bed, fx.bed, pour_p);
-  save_run(run, *fx.pull, pull_p, ParameterRecord::of(pour_p), "sanity\n");
-  save_checkpoint(ckpt, *fx.pull, pull_p, ParameterRecord::of(pour_p));
+  const Parameters pull_p = parameters("pull", {{"speed", "1"}});
+  const Written w = write_files(dir, parameters("pour", {{"lx", "4"}}), pull_p);
   const std::vector<std::pair<std::string, std::function<void(const std::string&)>>> readers = {
-      {bed, [](const std::string& p) { load_bed(p); }},
-      {run, [](const std::string& p) { h5::File::open(p).read_series("/observables/intruder_force"); }},
-      {ckpt, [&](const std::string& p) { load_checkpoint(p, fx.bed, pull_p, {}); }},
+      {w.bed, [](const std::string& p) { load_bed(p); }},
+      {w.run, [](const std::string& p) { h5::File::open(p).read_series("/observables/intruder_force"); }},
+      {w.checkpoint, [&](const std::string& p) { load_checkpoint(p, pulled_bed().bed, pull_p, {}); }},
   };
   const std::string copy = dir.file("damaged.h5");
   std::mt19937_64 rng(2026);
@@ -252,7 +215,7 @@ TEST(Checksums, ABitFlippedInsideAnyDatasetsDataIsNamedOnReadAndTheReadersNeverP
 TEST(Checksums, ABedOfAnOlderVersionStillLoadsWithANoteThatItCarriesNone) {
   TempDir dir;
   const std::string bed = dir.file("bed.h5");
-  save_bed(bed, files().bed, parameters("pour", {{"lx", "4"}}));
+  save_bed(bed, pulled_bed().bed, parameters("pour", {{"lx", "4"}}));
   {
     const hid_t f = H5Fopen(bed.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
     const hid_t g = H5Gopen2(f, "/granudrag", H5P_DEFAULT);
@@ -266,6 +229,6 @@ TEST(Checksums, ABedOfAnOlderVersionStillLoadsWithANoteThatItCarriesNone) {
   testing::internal::CaptureStderr();
   const Bed b = load_bed(bed);
   const std::string note = testing::internal::GetCapturedStderr();
-  EXPECT_EQ(b.state.particles.size(), files().bed.state.particles.size());
+  EXPECT_EQ(b.state.particles.size(), pulled_bed().bed.state.particles.size());
   EXPECT_NE(note.find("carries no checksums"), std::string::npos) << note;
 }

@@ -14,9 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <functional>
-#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -57,45 +55,6 @@ Parameters pour_parameters() {
   Parameters p("pour", {spec("lx", Type::Number, "5"), spec("grains", Type::Integer, "150")});
   p.apply_cli({});
   return p;
-}
-
-// One small bed (60 soft grains, settled briefly) and a short pull on it.
-struct Fixture {
-  Bed bed;
-  std::unique_ptr<Pull> pull;
-};
-const Fixture& fixture() {
-  static const Fixture fx = [] {
-    Fixture f;
-    PourSpec s;
-    s.lx = 4;
-    s.ly = 4;
-    s.grains = 60;
-    s.intruder_diameter = 1.2;
-    s.intruder_x = 2;
-    s.intruder_y = 2;
-    s.depth = 1;
-    s.contact = ContactParams{}.with_stiffness(2e4);
-    s.ke_threshold = 1e-2;
-    s.max_settle_time = 0.3;
-    s.check_interval = 0.15;
-    f.bed = pour(s, false);
-    PullSpec p;
-    p.distance = 0.05;
-    p.snapshots = 1;
-    f.pull = std::make_unique<Pull>(f.bed, p);
-    f.pull->run(false);
-    return f;
-  }();
-  return fx;
-}
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-void write_bytes(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
 }
 
 // What a case ended in.
@@ -308,7 +267,7 @@ struct IgnoreHdf5Leaks {
 TEST(FuzzReaders, DamagedBedRunAndCheckpointFilesEndInANamedErrorOrAValidRead) {
   const IgnoreHdf5Leaks ignore_hdf5_leaks;
   TempDir dir;
-  const Fixture& fx = fixture();
+  const PulledBed& fx = pulled_bed();
   const std::string bed = dir.file("bed.h5"), run = dir.file("run.h5"), ckpt = dir.file("ckpt.h5");
   save_bed(bed, fx.bed, pour_parameters());
   save_run(run, *fx.pull, pull_parameters(), ParameterRecord::of(pour_parameters()), "sanity\n");
@@ -396,7 +355,7 @@ TEST(FuzzReaders, DamagedParameterFilesEndInANamedError) {
 
 TEST(FuzzReaders, DamagedLammpsDataFilesEndInANamedErrorOrAValidRead) {
   TempDir dir;
-  const Fixture& fx = fixture();
+  const PulledBed& fx = pulled_bed();
   const std::string valid_path = dir.file("valid.data");
   write_lammps_data(valid_path, fx.bed.state.particles, fx.bed.box, 20);
   const std::string valid = read_bytes(valid_path);
@@ -438,7 +397,7 @@ TEST(FuzzReaders, DamagedLammpsDataFilesEndInANamedErrorOrAValidRead) {
 
 TEST(CheckpointRecovery, AnUnreadableCheckpointIsMovedAsideAndAMismatchedOneIsKept) {
   TempDir dir;
-  const Fixture& fx = fixture();
+  const PulledBed& fx = pulled_bed();
   const std::string ckpt = dir.file("run.h5.checkpoint.h5");
   const Parameters now = pull_parameters();
   const std::vector<std::string> controls = {"threads", "quiet"};
