@@ -58,21 +58,27 @@ ParameterSpec quiet_key() {
   return Key::flag("quiet").default_value("false").help("no progress lines on stderr");
 }
 
+// The help states the defaults as ContactParams and TimeStepPolicy hold them: K_n has no row
+// default, since K_n given or not decides how the other three follow (contact_from).
 std::vector<ParameterSpec> contact_keys() {
+  const ContactParams paper;
+  const std::string kn = number_text(paper.kn);
   return {
       Key::number("kn").unit("rho d g").above(0).help(
-          "normal stiffness K_n (default 2e8, the paper's); K_t, gamma_n, gamma_t default to the paper's "
-          "ratios (K_t/K_n, gamma_t/gamma_n and gamma_n/K_n^0.6 fixed)"),
-      Key::number("kt").unit("rho d g").above(0).help("tangential stiffness K_t (default 1.225 K_n)"),
+          "normal stiffness K_n (default " + kn +
+          ", the paper's); K_t, gamma_n, gamma_t default to the paper's ratios (K_t/K_n, gamma_t/gamma_n "
+          "and gamma_n/K_n^0.6 fixed)"),
+      Key::number("kt").unit("rho d g").above(0).help("tangential stiffness K_t (default " +
+                                                      number_text(paper.kt / paper.kn) + " K_n)"),
       Key::number("gamman")
           .unit("sqrt(g/d^3)")
           .at_least(0)
-          .help("normal damping gamma_n (default 5e4 (K_n/2e8)^0.6)"),
+          .help("normal damping gamma_n (default " + number_text(paper.gamman) + " (K_n/" + kn + ")^0.6)"),
       Key::number("gammat")
           .unit("sqrt(g/d^3)")
           .at_least(0)
           .help("tangential damping gamma_t (default gamma_n)"),
-      Key::number("mu").default_value("0.5").at_least(0).help("friction coefficient"),
+      Key::number("mu").default_value(number_text(paper.mu)).at_least(0).help("friction coefficient"),
       Key::number("youngs_modulus")
           .unit("rho d g")
           .above(0)
@@ -85,7 +91,9 @@ std::vector<ParameterSpec> contact_keys() {
       Key::number("dt")
           .unit("sqrt(d/g)")
           .above(0)
-          .help("time step (default: Hertz collision time of two 0.9 d grains at 10 sqrt(gd), over 64)"),
+          .help("time step (default: Hertz collision time of two 0.9 d grains at " +
+                number_text(TimeStepPolicy::reference_speed) + " sqrt(gd), over " +
+                number_text(TimeStepPolicy::steps_per_collision_default) + ")"),
   };
 }
 
@@ -95,8 +103,7 @@ ContactParams contact_from(const Parameters& p) {
     if (p.is_set("kt") || p.is_set("kn"))
       throw Error("give either 'youngs_modulus' (with 'poisson_ratio') or 'kn'/'kt', not both");
     c = ContactParams::from_young(p.number("youngs_modulus"), p.number("poisson_ratio"), 0, 0, 0);
-    const ContactParams paper;
-    c.gamman = paper.gamman * std::pow(c.kn / paper.kn, 0.6);
+    c.gamman = ContactParams{}.with_stiffness(c.kn).gamman;
   } else {
     c = ContactParams{}.with_stiffness(p.is_set("kn") ? p.number("kn") : ContactParams{}.kn);
     if (p.is_set("kt")) c.kt = p.number("kt");
@@ -123,7 +130,7 @@ void check_output_dir(const std::string& path, const std::string& key) {
 double pull_speed(const Parameters& p, double intruder_diameter) {
   if (p.is_set("speed") && p.is_set("froude")) throw Error("give either 'speed' or 'froude', not both");
   if (p.is_set("froude")) return p.number("froude") / froude_number(1.0, intruder_diameter);
-  return p.is_set("speed") ? p.number("speed") : 1.0;
+  return p.is_set("speed") ? p.number("speed") : PullSpec{}.speed;
 }
 
 }  // namespace granudrag

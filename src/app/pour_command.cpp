@@ -20,57 +20,48 @@ namespace granudrag {
 
 namespace {
 
-// The command's keys, in the order a bed file records them.
+// The command's keys, in the order a bed file records them: PourSpec's (pour_keys()), the contact
+// law's (read by contact_from) and the command's own, which control the run.
 std::vector<ParameterSpec> pour_command_keys() {
-  std::vector<ParameterSpec> keys = {output_key("bed file to write (HDF5)")};
-  for (const auto& k : pour_keys()) keys.push_back(k);
-  keys.push_back(quiet_key());
-  for (const auto& k : contact_keys()) keys.push_back(k);
-  keys.push_back(skin_key());
-  keys.push_back(max_overlap_key());
-  keys.push_back(Key::number("checkpoint_interval")
-                     .unit("sqrt(d/g)")
-                     .default_value("0")
-                     .at_least(0)
-                     .help("simulated time between checkpoints (<output>.checkpoint.h5), rounded up to whole "
-                           "check_intervals; 0: none"));
-  keys.push_back(Key::flag("resume").default_value("false").help(
-      "continue from <output>.checkpoint.h5 if it exists (bitwise as if never stopped, same threads)"));
-  keys.push_back(Key::number("dump_interval")
-                     .unit("sqrt(d/g)")
-                     .default_value("0")
-                     .at_least(0)
-                     .help("simulated time between frames (positions, velocities of every body, from step 0; "
-                           "rounded up to whole check_interval) written to the bed file's /particles/frames, "
-                           "with a temporal <output>.frames.xdmf for ParaView; 48 bytes per body per frame "
-                           "before compression; 0: none"));
-  keys.push_back(threads_key());
-  return keys;
+  KeyTable<PourSpec> keys = pour_keys();
+  keys.add_front({output_key("bed file to write (HDF5)")});
+  std::vector<ParameterSpec> contact = contact_keys();
+  contact.insert(contact.begin(), quiet_key());
+  keys.add_before("skin", contact);
+  keys.add({
+      Key::number("checkpoint_interval")
+          .unit("sqrt(d/g)")
+          .default_value("0")
+          .at_least(0)
+          .help("simulated time between checkpoints (<output>.checkpoint.h5), rounded up to whole "
+                "check_intervals; 0: none"),
+      Key::flag("resume").default_value("false").help(
+          "continue from <output>.checkpoint.h5 if it exists (bitwise as if never stopped, same threads)"),
+      Key::number("dump_interval")
+          .unit("sqrt(d/g)")
+          .default_value("0")
+          .at_least(0)
+          .help("simulated time between frames (positions, velocities of every body, from step 0; "
+                "rounded up to whole check_interval) written to the bed file's /particles/frames, "
+                "with a temporal <output>.frames.xdmf for ParaView; 48 bytes per body per frame "
+                "before compression; 0: none"),
+      threads_key(),
+  });
+  return keys.specs();
 }
 
+// The keys that are PourSpec fields come from pour_keys(); the rest need the command: the
+// intruder's default position is the centre of the box as given, the contact law follows from
+// several keys at once, and dt (a contact key, shared with `granudrag info`) is 0 when unset.
 PourSpec pour_spec(const Parameters& par) {
   PourSpec s;
-  s.lx = par.number("lx");
-  s.ly = par.number("ly");
-  s.grains = par.integer("grains");
-  s.intruder_diameter = par.number("intruder_diameter");
+  pour_keys().read(par, s);
   s.intruder_x = par.is_set("intruder_x") ? par.number("intruder_x") : 0.5 * s.lx;
   s.intruder_y = par.is_set("intruder_y") ? par.number("intruder_y") : 0.5 * s.ly;
-  if (par.is_set("depth")) s.depth = par.number("depth");
-  if (par.is_set("intruder_z")) s.intruder_z = par.number("intruder_z");
   if (s.intruder_diameter > 0 && std::isnan(s.depth) && std::isnan(s.intruder_z))
     throw Error("give 'depth' (below the free surface) or 'intruder_z' for the intruder");
-  if (par.is_set("packing_estimate")) s.packing_estimate = par.number("packing_estimate");
-  s.fill_fraction = par.number("fill_fraction");
   s.contact = contact_from(par);
   if (par.is_set("dt")) s.dt = par.number("dt");
-  s.skin = par.number("skin");
-  s.ke_threshold = par.number("ke_threshold");
-  s.max_settle_time = par.number("max_settle_time");
-  s.check_interval = par.number("check_interval");
-  s.base_height = par.number("base_height");
-  s.seed = static_cast<std::uint64_t>(par.integer("seed"));
-  s.max_overlap = par.number("max_overlap");
   return s;
 }
 

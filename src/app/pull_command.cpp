@@ -19,43 +19,36 @@ namespace granudrag {
 
 namespace {
 
-// The command's keys, in the order a run file records them.
+// The command's keys, in the order a run file records them: PullSpec's (pull_keys()) and the
+// command's own, which control the run rather than what it computes.
 std::vector<ParameterSpec> pull_command_keys() {
-  std::vector<ParameterSpec> keys = {
+  KeyTable<PullSpec> keys = pull_keys();
+  keys.add_front({
       Key::text("bed").required().help("bed file from granudrag pour"),
       output_key("run file to write (HDF5)"),
-  };
-  for (const auto& k : pull_keys()) keys.push_back(k);
-  const std::vector<ParameterSpec> run_control = {
-      Key::number("checkpoint_interval")
-          .unit("sqrt(d/g)")
-          .default_value("0")
-          .at_least(0)
-          .help("simulated time between checkpoints (<output>.checkpoint.h5); 0: every tenth of the pull"),
-      Key::flag("resume").default_value("false").help("continue from <output>.checkpoint.h5 if it exists"),
-      Key::number("dump_interval")
-          .unit("sqrt(d/g)")
-          .default_value("0")
-          .at_least(0)
-          .help("simulated time between frames (positions, velocities of every body, from step 0) written to "
-                "the run file's /particles/frames, with a temporal <output>.xdmf for ParaView; 48 bytes per "
-                "body per frame before compression; 0: none"),
-      skin_key(),
-      max_overlap_key(),
-      Key::flag("keep_going")
-          .default_value("false")
-          .help(
-              "on a sanity failure (grains lost, overlap, energy; not NaN) finish the pull and record it as "
-              "the run file's /sanity verdict, which the analysis leaves out, instead of stopping"),
-      Key::flag("fresh_start")
-          .default_value("false")
-          .help(
-              "drop the bed's contact histories and recompute forces first, as LAMMPS does after read_data"),
-      threads_key(),
-      quiet_key(),
-  };
-  keys.insert(keys.end(), run_control.begin(), run_control.end());
-  return keys;
+  });
+  keys.add_before(
+      "skin",
+      {
+          Key::number("checkpoint_interval")
+              .unit("sqrt(d/g)")
+              .default_value("0")
+              .at_least(0)
+              .help(
+                  "simulated time between checkpoints (<output>.checkpoint.h5); 0: every tenth of the pull"),
+          Key::flag("resume").default_value("false").help(
+              "continue from <output>.checkpoint.h5 if it exists"),
+          Key::number("dump_interval")
+              .unit("sqrt(d/g)")
+              .default_value("0")
+              .at_least(0)
+              .help(
+                  "simulated time between frames (positions, velocities of every body, from step 0) written "
+                  "to the run file's /particles/frames, with a temporal <output>.xdmf for ParaView; 48 bytes "
+                  "per body per frame before compression; 0: none"),
+      });
+  keys.add({threads_key(), quiet_key()});
+  return keys.specs();
 }
 
 }  // namespace
@@ -88,24 +81,9 @@ int pull_command(const std::vector<std::string>& args) {
   const Bed bed = load_bed(bed_path, &bed_parameters);
   if (bed.intruder < 0) throw Error("bed '" + bed_path + "' has no intruder to pull");
   PullSpec spec;
+  pull_keys().read(par, spec);
   const double D = 2 * bed.state.particles.radius[bed.intruder];
   spec.speed = pull_speed(par, D);
-  spec.distance = par.number("distance");
-  spec.target_error = par.number("target_error");
-  spec.min_distance = par.number("min_distance");
-  spec.sample_interval = par.number("sample_interval");
-  spec.transient = par.number("transient");
-  spec.shell = par.number("shell");
-  spec.snapshots = static_cast<int>(par.integer("snapshots"));
-  spec.slab_half_width = par.number("slab_half_width");
-  spec.skin = par.number("skin");
-  spec.fresh_start = par.flag("fresh_start");
-  spec.max_overlap = par.number("max_overlap");
-  spec.keep_going = par.flag("keep_going");
-  spec.active.radius = par.number("active_radius");
-  spec.active.sleep_distance = par.number("sleep_distance");
-  spec.active.sleep_time = par.number("sleep_time");
-  spec.active.wake_force = par.number("wake_force");
   {
     const double distance = spec.distance > 0 ? spec.distance : bed.box.lx;
     const double total_time = distance / spec.speed;

@@ -1,6 +1,8 @@
 #include "core/parameter_spec.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 
@@ -15,6 +17,32 @@ const ParameterSpec& find_spec(const std::vector<ParameterSpec>& specs, const st
   for (const auto& s : specs)
     if (s.key == key) return s;
   throw std::logic_error("no parameter '" + key + "' is declared in this spec list");
+}
+
+namespace {
+
+// "1e-07" -> "1e-7", "2e+08" -> "2e8".
+std::string compact_exponent(const std::string& s) {
+  const auto e = s.find('e');
+  if (e == std::string::npos) return s;
+  std::size_t digits = e + 1;
+  const bool negative = digits < s.size() && s[digits] == '-';
+  if (digits < s.size() && (s[digits] == '+' || s[digits] == '-')) ++digits;
+  const std::size_t first = s.find_first_not_of('0', digits);
+  return s.substr(0, e + 1) + (negative ? "-" : "") + (first == std::string::npos ? "0" : s.substr(first));
+}
+
+}  // namespace
+
+std::string number_text(double v) {
+  const std::string plain = compact_exponent(shortest(v));
+  char buf[40];
+  for (int digits = 0; digits <= 16; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*e", digits, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
+  const std::string scientific = compact_exponent(buf);
+  return scientific.size() < plain.size() ? scientific : plain;
 }
 
 std::string range_text(const ParameterSpec& s) {

@@ -6,12 +6,18 @@
 //
 //   Key::number("lx").unit("d").default_value("20").at_least(4).help("box length along x")
 //   Key::text("output").required().help("bed file to write (HDF5)")
+//
+// A row that is a field of a struct says so with .field(&PourSpec::lx) instead of stating a
+// default: parameter_table.hpp.
 #include <limits>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace granudrag {
+
+template <class Spec>
+struct BoundKey;
 
 struct ParameterSpec {
   enum class Type { Number, Integer, Text, Flag, NumberList };
@@ -53,6 +59,13 @@ class Key {
   Key at_most(double max) && { return std::move(*this).upper(max, false); }   // <= max
   Key below(double max) && { return std::move(*this).upper(max, true); }      // < max
 
+  // Binds the row to a field of Spec, or to a field of one of its members (&PullSpec::active,
+  // &ActiveRegionSettings::radius); defined in parameter_table.hpp.
+  template <class Spec, class T>
+  BoundKey<Spec> field(T Spec::*member) &&;
+  template <class Spec, class Group, class T>
+  BoundKey<Spec> field(Group Spec::*group, T Group::*member) &&;
+
   operator ParameterSpec() && { return std::move(spec_); }  // NOLINT: implicit by design
   operator ParameterSpec() const& { return spec_; }         // NOLINT
   const ParameterSpec& spec() const { return spec_; }
@@ -82,6 +95,11 @@ class Key {
 
 // The row of `key` in `specs`; std::logic_error when there is none (a code bug).
 const ParameterSpec& find_spec(const std::vector<ParameterSpec>& specs, const std::string& key);
+
+// A number as a person writes it on the command line: the fewest digits that read back as `v`,
+// in the shorter of plain and scientific notation, the exponent unpadded ("0.02", "20", "1e-7",
+// "5e4", "2e8").
+std::string number_text(double v);
 
 // "[0, 1)", ">= 0", "< 0.5" or "any".
 std::string range_text(const ParameterSpec& spec);

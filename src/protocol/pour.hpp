@@ -11,12 +11,17 @@
 
 #include "contact/contact_loop.hpp"
 #include "contact/contact_params.hpp"
-#include "core/parameter_spec.hpp"
+#include "core/parameter_table.hpp"
+#include "engine/run_guard.hpp"
 #include "engine/simulation.hpp"
 #include "protocol/bed_profile.hpp"
 
 namespace granudrag {
 
+// The Verlet skin of pours and pulls when none is given, d.
+inline constexpr double kDefaultSkin = 0.2;
+
+// Each field that is a key starts at its default (pour_keys() reads it from here).
 struct PourSpec {
   double lx = 20, ly = 20;
   long grains = 4000;
@@ -30,13 +35,13 @@ struct PourSpec {
   double fill_fraction = 0.30;  // of the loose column the grains start in
   ContactParams contact;
   double dt = 0;  // 0: from the Hertz collision time
-  double skin = 0.2;
+  double skin = kDefaultSkin;
   double ke_threshold = 1e-7;    // mean kinetic energy per grain, rho g d^4
   double max_settle_time = 100;  // sqrt(d/g)
   double check_interval = 0.5;   // sqrt(d/g) between kinetic-energy checks
   double base_height = 0.6;      // grains below are frozen into the rough base
   std::uint64_t seed = 1;
-  double max_overlap = 0.1;  // d: the pour stops when an overlap exceeds it (engine/run_guard.hpp)
+  double max_overlap = GuardLimits{}.max_overlap;  // d: the pour stops when an overlap exceeds it
 
   // Every field within its key's range (pour_keys()), and what no single range says: the intruder
   // inside the box, exactly one of depth and intruder_z, not too many grains for the box, the
@@ -44,10 +49,10 @@ struct PourSpec {
   void validate() const;
 };
 
-// The keys of a pour, one row per PourSpec field (name, unit, default, range, meaning), declared
-// once: `granudrag pour` builds its command line, --help and --schema from them, and
-// PourSpec::validate() checks against them. The defaults are PourSpec's (a test keeps them so).
-const std::vector<ParameterSpec>& pour_keys();
+// The keys of a pour, one row per PourSpec field (name, unit, range, meaning) bound to it, declared
+// once: `granudrag pour` builds its command line, --help and --schema from them and reads them
+// into a PourSpec, and PourSpec::validate() checks against them. The defaults are PourSpec's.
+const KeyTable<PourSpec>& pour_keys();
 // The Verlet skin of pours and pulls.
 ParameterSpec skin_key();
 

@@ -15,6 +15,7 @@
 
 namespace granudrag {
 
+// Each field that is a key starts at its default (pull_keys() reads it from here).
 struct PullSpec {
   double speed = 1.0;   // V, sqrt(g d)
   double distance = 0;  // travel, d; 0: one box length (as in the paper); with
@@ -30,24 +31,25 @@ struct PullSpec {
   double slab_half_width = 0.5;   // |y - Y| < this for the snapshots, d
   long checkpoint_every = 0;      // steps between checkpoints (rounded to whole samples); 0: none
   long dump_every = 0;            // steps between frames (the first at step 0); 0: none
-  double skin = 0.2;
+  double skin = kDefaultSkin;
   // Drop the bed's contact histories and recompute the forces before the first step, as a
   // LAMMPS run starting from a data file does: for like-for-like comparisons.
   bool fresh_start = false;
-  double max_overlap = 0.1;  // d: refused above (one impact at V), stopped above (any overlap)
+  double max_overlap = GuardLimits{}.max_overlap;  // d: refused above (one impact at V), stopped above
   // On a sanity failure other than a non-finite number: finish the pull and record the failure
   // as the run's verdict instead of stopping.
   bool keep_going = false;
   ActiveRegionSettings active;  // the active region (engine/active_region.hpp); off by default
 
-  // Every field within its key's range (pull_keys(), skin_key()); throws Error naming the key.
+  // Every field within its key's range (pull_keys()); throws Error naming the key.
   void validate() const;
 };
 
-// The keys of a pull (speed or Froude number, travel, sampling), declared once: `granudrag pull`
-// builds its command line, --help and --schema from them, and PullSpec::validate() checks against
-// them. The defaults are PullSpec's (a test keeps them so).
-const std::vector<ParameterSpec>& pull_keys();
+// The keys of a pull (speed or Froude number, travel, sampling, the active region, the run's
+// limits), each bound to its PullSpec field and declared once: `granudrag pull` builds its
+// command line, --help and --schema from them and reads them into a PullSpec, and
+// PullSpec::validate() checks against them. The defaults are PullSpec's.
+const KeyTable<PullSpec>& pull_keys();
 
 struct Snapshot {
   double time = 0;

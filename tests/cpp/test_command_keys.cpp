@@ -1,5 +1,6 @@
 // The key tables of the commands: PourSpec's and PullSpec's defaults are their keys' defaults,
 // their validate() uses the keys' ranges, and `granudrag info` prints the library's numbers.
+// The tables' binding to the structs: test_key_tables.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,12 +16,6 @@
 using namespace granudrag;
 
 namespace {
-
-Parameters with_keys(const std::vector<ParameterSpec>& rows) {
-  std::vector<ParameterSpec> keys = rows;
-  keys.push_back(skin_key());
-  return Parameters("test", keys);
-}
 
 // The number after "key": in a one-line JSON object.
 double json_number(const std::string& json, const std::string& key) {
@@ -39,7 +34,7 @@ std::string info(const std::vector<std::string>& args) {
 }  // namespace
 
 TEST(CommandKeys, PourSpecDefaultsAreTheKeysDefaults) {
-  const Parameters p = with_keys(pour_keys());
+  const Parameters p("pour", pour_keys());
   const PourSpec s;
   EXPECT_EQ(p.number("lx"), s.lx);
   EXPECT_EQ(p.number("ly"), s.ly);
@@ -58,7 +53,7 @@ TEST(CommandKeys, PourSpecDefaultsAreTheKeysDefaults) {
 }
 
 TEST(CommandKeys, PullSpecDefaultsAreTheKeysDefaults) {
-  const Parameters p = with_keys(pull_keys());
+  const Parameters p("pull", pull_keys());
   const PullSpec s;
   EXPECT_FALSE(p.is_set("speed"));  // the command's default is PullSpec's 1 unless froude is given
   EXPECT_EQ(s.speed, 1.0);
