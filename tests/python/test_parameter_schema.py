@@ -11,6 +11,9 @@ fills defaults into every `pour:`/`pull:` block it sees, so a sweep's `pull:` bl
 its system's settings to granudrag's defaults); it states them in the description instead, as
 "(default: X)", and that X must be granudrag's.
 
+The config reference's tables of the pour and pull keys (config/README.md) are generated from the
+same --schema output by tools/schema_blocks.py; a stale copy fails here too.
+
 The engine: $GRANUDRAG if set, else build/granudrag. A missing binary is a failure, not a skip.
 """
 import json
@@ -239,3 +242,53 @@ def test_the_pour_and_pull_blocks_are_generated_from_the_engine_and_not_stale():
     r = subprocess.run([sys.executable, str(ROOT / "tools" / "schema_blocks.py"), "--check", "--binary", str(BINARY)],
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stdout + r.stderr
+
+
+def _schema_blocks():
+    """tools/schema_blocks.py as a module."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("schema_blocks", ROOT / "tools" / "schema_blocks.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_config_reference_tables_are_generated_from_the_engine_and_not_stale(cli):
+    """config/README.md's tables of the pour and pull keys are schema_blocks.py's output: every config
+    key of the schema's pour/pull blocks has a row with granudrag's default and range, and a table
+    edited by hand (or an engine key changed without rerunning the tool) fails here."""
+    tool = _schema_blocks()
+    text = tool.REFERENCE.read_text()
+    assert tool.render_reference(text, BINARY) == text, \
+        "config/README.md's key tables are stale: run .venv/bin/python tools/schema_blocks.py"
+    with open(SCHEMA) as fh:
+        defs = yaml.safe_load(fh)["definitions"]
+    for command in ("pour", "pull"):
+        begin, end = tool.markers(command, "<!--")
+        rows = text.split(begin, 1)[1].split(end, 1)[0].strip().splitlines()[2:]
+        keys = [row.split("|")[1].strip().strip("`") for row in rows]
+        assert keys == list(defs[command]["properties"]), command
+        for row, key in zip(rows, keys):
+            cells = [c.strip() for c in row.split("|")[1:-1]]
+            want = cli[command][key]
+            if "default" in want:
+                assert float(cells[2]) == float(want["default"]), (command, key, cells[2])
+            else:
+                assert cells[2] == "–", (command, key)
+
+    # The comparison is not vacuous: a hand-edited default is reported as stale.
+    edited = text.replace("| `sample_interval` | sqrt(d/g) | 0.02 |", "| `sample_interval` | sqrt(d/g) | 0.03 |")
+    assert edited != text
+    assert tool.render_reference(edited, BINARY) == text
+
+
+def test_the_reference_range_notation_is_the_engines():
+    tool = _schema_blocks()
+    assert tool._range({"minimum": 0, "maximum": 1}) == "[0, 1]"
+    assert tool._range({"exclusiveMinimum": 0, "maximum": 0.35}) == "(0, 0.35]"
+    assert tool._range({"exclusiveMinimum": 0.3, "exclusiveMaximum": 0.75}) == "(0.3, 0.75)"
+    assert tool._range({"minimum": 0}) == ">= 0"
+    assert tool._range({"exclusiveMaximum": 0.5}) == "< 0.5"
+    assert tool._range({}) == "any"
+    assert [tool._plain(v) for v in (1e-07, 2e8, 0.02, 20, -1, True, 9e18)] == \
+        ["1e-7", "2e8", "0.02", "20", "-1", "true", "9e18"]
