@@ -14,70 +14,30 @@ import re
 import shutil
 import subprocess
 import zipfile
-from pathlib import Path
 
 import pandas as pd
 import pytest
 import yaml
+from workflow_support import (
+    BINARY,
+    NEEDS_SNAKEMAKE_AND_ENGINE,
+    ROOT,
+    SNAKEMAKE,
+    job_counts,
+    snakemake,
+    snakemake_major,
+    write_config,
+)
 
 from analysis import study
 
-ROOT = Path(__file__).resolve().parents[2]
-SNAKEMAKE = os.environ.get("GRANUDRAG_SNAKEMAKE", "/usr/bin/snakemake")
-BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag")).resolve()
-
-pytestmark = [
-    pytest.mark.skipif(not Path(SNAKEMAKE).exists(), reason=f"no Snakemake at {SNAKEMAKE}"),
-    pytest.mark.skipif(not BINARY.exists(), reason=f"no granudrag binary at {BINARY} (build it first)"),
-]
+pytestmark = NEEDS_SNAKEMAKE_AND_ENGINE
 
 FIGURES = ["fig02_restitution", "fig04_force_trace", "fig05_drag_vs_Fr_mu0.5", "fig06_theta_vs_Fr",
            "fig07_coordination_distribution", "fig08_kappa_vs_Fr", "fig09_flow_field",
            "fig12_yield_vs_mu", "fig16_drag_vs_Fr_depth", "fig17_yield_vs_h", "fig20_kn_gamman"]
 
-
-def snakemake_major():
-    """The major version of SNAKEMAKE (7 for Debian's 7.21, 9 for the project environment's)."""
-    r = subprocess.run([SNAKEMAKE, "--version"], capture_output=True, text=True, timeout=120)
-    return int(r.stdout.strip().split(".")[0])
-
-
-def snakemake(workdir, configfile, *args, check=True):
-    cmd = [SNAKEMAKE, "--snakefile", str(ROOT / "workflow" / "Snakefile"), "--directory",
-           str(workdir), "--configfile", str(configfile), *args]
-    r = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
-    if check and r.returncode != 0:
-        pytest.fail(f"{' '.join(cmd)} failed ({r.returncode}):\n{r.stderr[-4000:]}")
-    return r
-
-
-def write_config(path, config):
-    path.write_text(yaml.safe_dump(config, sort_keys=False))
-    return path
-
-
-def job_counts(output):
-    """{rule: count} from the 'Job stats' table of a (dry) run."""
-    counts, in_table = {}, False
-    for line in output.splitlines():
-        if line.startswith("job ") and "count" in line:
-            in_table = True
-            continue
-        m = re.match(r"^(\w+)\s+(\d+)(\s+\d+\s+\d+)?\s*$", line)
-        if in_table and m and m.group(1) != "total":
-            counts[m.group(1)] = int(m.group(2))
-    return counts
-
-
-@pytest.fixture(scope="module")
-def smoke(tmp_path_factory):
-    workdir = tmp_path_factory.mktemp("smoke")
-    with open(ROOT / "config" / "smoke.yaml") as fh:
-        config = yaml.safe_load(fh)
-    config["granudrag"] = str(BINARY)
-    configfile = write_config(workdir / "smoke.yaml", config)
-    snakemake(workdir, configfile, "--cores", "2")
-    return workdir, configfile, config
+# The fixture `smoke` (the study run once, conftest.py) is shared with test_faults.py.
 
 
 def test_report_and_figures(smoke):

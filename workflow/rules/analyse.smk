@@ -1,5 +1,8 @@
 # From run files to the data of the figures: tidy table and P(Z), the Fig. 2, 4 and 9 data,
 # and every fit (fits.json, bootstraps included: the figures and the report only read it).
+# With table.allow_failed, a pull the engine stopped leaves a placeholder that the table lists
+# (table_problems.txt, failed_pulls.txt) and leaves out; the end of the run removes the
+# placeholders and failed_pulls.txt, so that the next run makes the table again and retries them.
 
 
 rule table:
@@ -9,6 +12,7 @@ rule table:
         table=f"{RESULTS}/table.csv",
         runs=f"{RESULTS}/runs.csv",
         problems=f"{RESULTS}/table_problems.txt",
+        failed=f"{RESULTS}/failed_pulls.txt",
         coordination=f"{RESULTS}/coordination.csv",
     log:
         f"{LOGS}/table.log",

@@ -1,12 +1,14 @@
 # Config validation, the study's plan (beds and pulls) and helpers of the rules. The
 # library behind them is analysis.study (plain Python, tested on its own).
 
+import os
 from pathlib import Path
 
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
 from analysis import figure_list, study
+from analysis.study import failures
 
 REPO = Path(workflow.basedir).parent
 
@@ -30,6 +32,10 @@ GRANUDRAG = str(study.resolve_binary(config, REPO))
 THREADS = config["threads"]
 PULL_RETRIES = study.pull_retries(PLAN)  # None: the profile's restart-times
 BED_RETRIES = study.bed_retries(PLAN)
+# table.allow_failed: a pull that the engine stops (exit status 1) leaves a placeholder for the
+# table and the report to list instead of failing its job (scripts/resumable.sh reads this; an
+# environment variable, not a param, so that the pull rule and its jobs' records are unchanged).
+os.environ.update(GRANUDRAG_ALLOW_FAILED="1" if config["table"]["allow_failed"] else "0")
 
 
 wildcard_constraints:
@@ -117,11 +123,34 @@ def pull_runtime(wildcards, attempt):
     return study.job_resources(cost, _grains(wildcards), config, attempt)[1]
 
 
+def end_of_run(succeeded):
+    """Say which pulls failed; remove their placeholders (table.allow_failed) and the table's
+    failed_pulls.txt, so that the next run makes the table again and retries them
+    (analysis/study/failures.py)."""
+    failed = [run for run in ALL_RUNS if failures.read_failure(run) is not None]
+    if failures.remove_placeholders(ALL_RUNS):
+        Path(f"{RESULTS}/failed_pulls.txt").unlink(missing_ok=True)
+    if succeeded:
+        results = Path(RESULTS).resolve()
+        print(
+            f"granudrag: report at {results}/report/report.html (and report.md), table at {results}/table.csv"
+        )
+    if failed:
+        print(
+            f"granudrag: {len(failed)} of {len(ALL_RUNS)} pulls failed, each with its reason in"
+            " run.h5.failed beside where its run file belongs (and listed in"
+            f" {RESULTS}/table_problems.txt when the table was made); run the same command again"
+            " to retry them:\n  "
+            + "\n  ".join(failures.describe(r, RESULTS) for r in failed)
+        )
+
+
 onsuccess:
-    results = Path(RESULTS).resolve()
-    print(
-        f"granudrag: report at {results}/report/report.html (and report.md), table at {results}/table.csv"
-    )
+    end_of_run(True)
+
+
+onerror:
+    end_of_run(False)
 
 
 def figure_files(subcategory, *names):

@@ -5,6 +5,7 @@
 rule report:
     input:
         table=f"{RESULTS}/table.csv",
+        problems=f"{RESULTS}/table_problems.txt",
         fits=f"{REPORT}/fits.json",
         figures=[f"{REPORT}/{name}.png" for name in figure_list.NAMES],
         fig1=f"{REPORT}/fig01_beds.png",

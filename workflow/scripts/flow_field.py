@@ -1,17 +1,22 @@
 """Rule flow_field: the velocity-field snapshot of each Fig. 9 pull as one CSV (a row per grain).
 
 The middle snapshot of each pull (snapshots are spread evenly over the pull after its
-transient); a pull without snapshots is logged and left out, and Fig. 9 says so."""
+transient); a pull without snapshots, or that failed (table.allow_failed leaves a placeholder),
+is logged and left out, and Fig. 9 says so."""
 
 import pandas as pd
 
 from analysis.runs import read_run, read_snapshots
+from analysis.study.failures import describe, is_placeholder
 from analysis.study.script import start
 from analysis.table import write_csv
 
 log = start(snakemake)
 parts = []
 for panel, path in enumerate(snakemake.input):
+    if is_placeholder(path):
+        log.warning(f"{describe(path)}; left out of Fig. 9")
+        continue
     snaps = read_snapshots(path)
     if not snaps:
         log.warning(f"{path}: no snapshots (pull.snapshots is 0); left out of Fig. 9")

@@ -1,6 +1,9 @@
 """Rule table: every run file of the study -> results/runs.csv (one row per pull, analysis.runs),
 results/table.csv (one row per point: replicate beds combined, analysis.table.combine_beds),
-and the P(Z) of every pull (Fig. 7)."""
+and the P(Z) of every pull (Fig. 7). Unusable run files and the placeholders of failed pulls
+(table.allow_failed, analysis.study.failures) are listed in results/table_problems.txt, one
+line each with the reason, and, with table.allow_failed, left out; the failed pulls also in
+results/failed_pulls.txt, which the end of the run removes so that the next run retries them."""
 
 import sys
 from pathlib import Path
@@ -8,13 +11,17 @@ from pathlib import Path
 import pandas as pd
 
 from analysis.runs import load_runs, read_coordination_distribution
+from analysis.study.failures import describe, is_placeholder
 from analysis.study.script import start
 from analysis.table import combine_beds, mark_yield, save_csv, write_csv
 
 sm = snakemake
 log = start(sm)
-df, problems = load_runs(list(sm.input), root=sm.params.root, errors="collect")
+failed = [p for p in sm.input if is_placeholder(p)]
+df, problems = load_runs([p for p in sm.input if p not in failed], root=sm.params.root, errors="collect")
+problems = [describe(p, sm.params.root) for p in failed] + problems
 Path(sm.output.problems).write_text("".join(p + "\n" for p in problems))
+Path(sm.output.failed).write_text("".join(p + "\n" for p in problems[: len(failed)]))
 for p in problems:
     log.error(p)
 if problems and not sm.params.allow_failed:
