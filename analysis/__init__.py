@@ -12,12 +12,14 @@ Modules:
     result   Param (value, err) and Fit, the fit-result types
     regimes  three-regime drag(Fr) fit with fitted crossovers
     fits     the other fits, the Eq. 12 scaling law, fit-file save/load
+    goodness every fit's chi^2/dof and runs test of its residuals (rejects a model that trends)
     alpha_drag  alpha_mu from the drag at several speeds, averaged (Fig. 18)
     fitset   every fit of a table into fits.json, and back
     figures, figures_yield, figures_drawing
              one function per paper figure (PNG + PDF), and what they share
     claims   the paper's headline claims by letter
     report   Markdown/HTML report with fitted-vs-published table
+    report_render  the report's blocks as Markdown and HTML
     predict  command-line drag prediction from a saved fit file
     ladder, ladder_*  the reproduction ladder (collect, claims, diagnostics, report)
     study    the workflow's library (config, plan, paths, cost)

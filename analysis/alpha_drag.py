@@ -4,7 +4,7 @@ drag at each of several speeds, fitted per (mu, kn, gamman), and its average ove
 import numpy as np
 import pandas as pd
 
-from .fits import fit_power_law
+from .fits import GOODNESS_COLUMNS, fit_power_law, goodness_columns
 from .table import is_yield, pooled_drag_err
 
 __all__ = ["ALPHA_SPEEDS", "SPEED_MATCH", "ALPHA_DRAG_COLUMNS", "ALPHA_SPEED_COLUMNS",
@@ -15,7 +15,8 @@ SPEED_MATCH = 0.25                          # a table speed within 25 % of one o
 
 ALPHA_DRAG_COLUMNS = ["mu", "kn", "gamman", "alpha", "alpha_err", "spread", "n_speeds", "speeds",
                       "h_min", "h_max"]
-ALPHA_SPEED_COLUMNS = ["mu", "kn", "gamman", "V_target", "V", "alpha", "alpha_err", "n", "h_min", "h_max"]
+ALPHA_SPEED_COLUMNS = (["mu", "kn", "gamman", "V_target", "V", "alpha", "alpha_err", "n", "h_min", "h_max"]
+                       + GOODNESS_COLUMNS)   # each speed's fit: its chi^2/dof, trend, rejection
 
 
 def fit_alpha_speeds(df, speeds=ALPHA_SPEEDS, system="II", match=SPEED_MATCH):
@@ -45,7 +46,7 @@ def fit_alpha_speeds(df, speeds=ALPHA_SPEEDS, system="II", match=SPEED_MATCH):
             f = fit_power_law(at.h, at.drag, err[at.index])
             out.append({"mu": mu, "kn": kn, "gamman": gn, "V_target": float(target), "V": float(V),
                         "alpha": f["p"].value, "alpha_err": f["p"].err, "n": f.n_points,
-                        "h_min": float(at.h.min()), "h_max": float(at.h.max())})
+                        "h_min": float(at.h.min()), "h_max": float(at.h.max()), **goodness_columns(f)})
     table = pd.DataFrame(out, columns=ALPHA_SPEED_COLUMNS)
     return table.astype(float) if table.empty else table
 

@@ -39,6 +39,8 @@ from .figures_drawing import (
     _curve,
     _drag_panels,
     _errorbars,
+    _fit_errors,
+    _fit_note,
     _moving,
     _need,
     _record,
@@ -46,6 +48,7 @@ from .figures_drawing import (
     _regime_fits,
     _save,
     _sci,
+    _signed,
     _subplots,
     draw_not_drawn,
     not_drawn_reason,
@@ -59,7 +62,7 @@ from .figures_yield import (
     fig18_alpha,
     fig19_scaled_drag_h,
 )
-from .fits import fit_alpha, fit_kappa, fit_theta
+from .fits import fit_alpha, fit_kappa, fit_theta, series_labels
 from .physics import gamman_ratio
 from .result import format_pm
 from .table import reference_params, select, yield_rows
@@ -125,18 +128,28 @@ def fig06_theta(df, outdir, mu=0.5, fit=None):
     """Fig. 6: contact angle vs Fr per D with theta = U1 Fr^U2 + pi/U3."""
     rows = select(_reference(df), mu=mu, system="I").dropna(subset=["theta"])
     rows = _need(rows, f"contact angles at mu = {mu:g}")
-    fit = fit or fit_theta(rows.Fr, rows.theta)
+    err = rows["theta_err"] if "theta_err" in rows else None
+    fit = fit or fit_theta(rows.Fr, rows.theta, err, series_labels(rows))
     fig, ax = _subplots(figsize=(5, 3.8))
-    for i, (D, g) in enumerate(rows.groupby("D")):
-        ax.plot(g.Fr, g.theta, MARKERS[i % len(MARKERS)], mfc="none", ms=4, label=f"$D = {D:g}d$")
-        _record(ax, f"D = {D:g}d", g.Fr, g.theta, g["theta_err"] if "theta_err" in g else None)
+    for i, (label, g) in enumerate(_series(rows)):     # with the errors the fit was weighted by
+        _errorbars(ax, g.Fr, g.theta, err[g.index] if err is not None else np.nan, i, label)
     p = fit.values()
-    _curve(ax, fit, rows.Fr.min(), rows.Fr.max(),
-           label=rf"${p['U1']:.2f}\,{{\rm Fr}}^{{{p['U2']:.2f}}} + \pi/{p['U3']:.2f}$")
+    note = _fit_note(fit)
+    label = rf"${p['U1']:.2f}\,{{\rm Fr}}^{{{p['U2']:.2f}}} + \pi/{p['U3']:.2f}$"
+    _curve(ax, fit, rows.Fr.min(), rows.Fr.max(), label=label + (f"\n({note})" if note else ""),
+           series=f"theta = {p['U1']:.2f} Fr^{p['U2']:.2f} + pi/{p['U3']:.2f}")
     ax.set_xlabel(FR_LABEL)
     ax.set_ylabel(r"mean contact angle $\theta$ (rad)")
     ax.legend(fontsize=7)
     return _save(fig, outdir, "fig06_theta_vs_Fr")
+
+
+def _series(rows):
+    """(legend label, rows) of each series of a fit over several D (fits.series_labels: D, and
+    the depth where one D was pulled at several, so two beds' points never share a series)."""
+    labels = pd.Series(series_labels(rows), index=rows.index)
+    for text, g in rows.groupby(labels, sort=False):
+        yield "$" + text.replace(", h = ", "d$, $h = ") + "d$", g
 
 
 def _spread(values, k):
@@ -205,13 +218,16 @@ def fig08_kappa(df, outdir, mu=0.5, fit=None):
     rows = select(_reference(df), mu=mu, system="I").dropna(subset=["kappa"])
     rows = _need(rows, f"kappa at mu = {mu:g}")
     fit = fit or fit_kappa(rows)
+    err = rows["kappa_err"] if "kappa_err" in rows else None
     fig, ax = _subplots(figsize=(5, 3.8))
-    for i, (D, g) in enumerate(rows.groupby("D")):
-        ax.plot(g.Fr, g.kappa, MARKERS[i % len(MARKERS)], mfc="none", ms=4, label=f"$D = {D:g}d$")
-        _record(ax, f"D = {D:g}d", g.Fr, g.kappa, g["kappa_err"] if "kappa_err" in g else None)
+    for i, (label, g) in enumerate(_series(rows)):     # with the errors the fit was weighted by
+        _errorbars(ax, g.Fr, g.kappa, err[g.index] if err is not None else np.nan, i, label)
     p = fit.values()
+    formula = f"{p['k0']:.3f}{_signed(p['k1'])}"
+    note = _fit_note(fit)
     _curve(ax, fit, rows.Fr.min(), rows.Fr.max(),
-           label=rf"$\kappa = {p['k0']:.3f} + {p['k1']:.3f}\,{{\rm Fr}}$")
+           label=rf"$\kappa = {formula}\,{{\rm Fr}}$" + (f"\n({note})" if note else ""),
+           series=f"kappa = {formula} Fr")
     ax.set_xlabel(FR_LABEL)
     ax.set_ylabel(r"$\kappa = (Z/n)(D+d)^2/(2\sqrt{3}d^2)$")
     ax.legend(fontsize=7)
@@ -221,11 +237,13 @@ def fig08_kappa(df, outdir, mu=0.5, fit=None):
 def fig11_quasistatic_mu(df, outdir, D=2.0, mu_max=0.3, fit_mu0=None):
     """Fig. 11: drag for Fr <= 1 at D = 2d for small mu, with the mu = 0 fit."""
     rows = select(_reference(df), D=D, system="I")
+    # Each friction's errors as its regime fit weights them (the μ = 0 fit is drawn).
+    err = pd.concat([_fit_errors(g) for _, g in rows.groupby("mu")]) if len(rows) else None
     rows = _need(rows[(rows.Fr <= 1.0 + 1e-9) & (rows.mu <= mu_max + 1e-9)],
                  f"Fr <= 1 at D = {D:g}")
     fig, ax = _subplots(figsize=(5, 3.8))
     for i, (mu, g) in enumerate(rows.groupby("mu")):
-        _errorbars(ax, g.Fr, g.drag, g.drag_err, i, rf"$\mu = {mu:g}$")
+        _errorbars(ax, g.Fr, g.drag, err[g.index], i, rf"$\mu = {mu:g}$")
     if fit_mu0 is None:
         fit_mu0 = _regime_fits(select(_reference(df), D=D, system="I", mu=0.0), "D", 0.0, None).get(D)
     if fit_mu0 is not None:

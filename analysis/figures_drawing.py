@@ -9,7 +9,7 @@ import pandas as pd
 from matplotlib.ticker import FormatStrFormatter
 
 from .fits import evaluate, fit_regimes
-from .table import is_yield, reference_params, select, write_csv
+from .table import is_yield, pooled_drag_err, reference_params, select, write_csv
 
 plt.switch_backend("Agg")  # files only, no display
 
@@ -107,6 +107,34 @@ def _errorbars(ax, x, y, err, i, label, scale=1.0, series=None):
     return c[0].get_color()
 
 
+def _fit_errors(series):
+    """The drag errors a regime fit of this series (one D or h) was weighted by, per row: the
+    pulls at speed pooled as fitset.run_fits pools them (table.pooled_drag_err), the yield pull
+    (not in the fit) its own drag_err. Taken over the whole series, then subset by index."""
+    err = pd.Series(series.drag_err.to_numpy(float), index=series.index)
+    moving = series[~is_yield(series)]
+    if len(moving):
+        err.loc[moving.index] = np.asarray(pooled_drag_err(moving), float)
+    return err
+
+
+def _signed(value, fmt=".3f"):
+    """' + 0.185' or ' − 0.021': a term of a legend's formula with its sign written once."""
+    return f" {'−' if value < 0 else '+'} {abs(value):{fmt}}"
+
+
+def _fit_note(fit):
+    """The goodness of a fit for its legend entry: 'χ²/dof = 0.62' and, when the data reject the
+    model, 'model rejected: residuals trend' (goodness.py)."""
+    g = fit.meta.get("goodness") if fit is not None else None
+    if not g:
+        return ""
+    text = f"χ²/dof = {g['chi2_dof']:.2f}" if g.get("chi2_dof") is not None else ""
+    if g.get("rejected"):
+        text += ("; " if text else "") + "model rejected: residuals trend"
+    return text
+
+
 def _curve(ax, fit, lo, hi, log=False, series=None, **kw):
     x = np.geomspace(max(lo, 1e-4), hi, 200) if log else np.linspace(lo, hi, 200)
     _record(ax, series or kw.get("label", "fit"), x, evaluate(fit, x), kind="curve")
@@ -148,9 +176,9 @@ def _regime_fits(rows, by, mu, fits):
     fits = dict(fits or {})
     for key, g in rows.groupby(by):
         if key not in fits:
-            g = g[~is_yield(g)]      # fitted to the pulls at speed, as the report
+            g = g[~is_yield(g)]      # fitted to the pulls at speed, weighted as the report's
             try:
-                fits[key] = fit_regimes(g.Fr, g.drag, g.drag_err, n_boot=0,
+                fits[key] = fit_regimes(g.Fr, g.drag, pooled_drag_err(g), n_boot=0,
                                         regime1="power" if mu == 0 else "constant")
             except ValueError:
                 fits[key] = None
@@ -163,8 +191,9 @@ def _drag_panels(rows, by, label, mu, fits, name, outdir, enlarge=True):
     fig, axes = _subplots(1, ncol, figsize=(5.2 * ncol, 4.0), squeeze=False)
     for ax, lim in zip(axes[0], [None, 1.2][:ncol]):
         for i, (key, g) in enumerate(rows.groupby(by)):
+            err = _fit_errors(g)          # the errors the series' fit was weighted by
             g = g if lim is None else g[g.Fr <= lim]
-            color = _errorbars(ax, g.Fr, g.drag, g.drag_err, i, label(key))
+            color = _errorbars(ax, g.Fr, g.drag, err[g.index], i, label(key))
             fit = fits.get(key)
             if fit is not None and len(g):
                 _curve(ax, fit, 0.0, g.Fr.max(), color=color, lw=0.8, series=f"fit, {label(key)}")

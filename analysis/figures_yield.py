@@ -25,7 +25,7 @@ from .figures_drawing import (
     _subplots,
 )
 from .fits import fit_alpha, fit_phi, fit_saturation
-from .table import reference_params, select, yield_rows
+from .table import pooled_drag_err, reference_params, select, yield_rows
 
 
 def _yield_I(df):
@@ -41,7 +41,7 @@ def fig12_yield_vs_mu(df, outdir, saturation=None):
         fit = (saturation or {}).get(D)
         if fit is None and g.mu.nunique() >= 4:
             try:
-                fit = fit_saturation(g.mu, g.drag)
+                fit = fit_saturation(g.mu, g.drag, g.drag_err)   # weighted as fitset.run_fits
             except (ValueError, RuntimeError):
                 fit = None
         if fit is not None:
@@ -53,18 +53,21 @@ def fig12_yield_vs_mu(df, outdir, saturation=None):
 
 
 def _scaling_panels(rows, xcol, xlabel, table, expo, pref, name, outdir, logx_b):
-    """Figs. 13 and 17: (a) log-log F_Y vs x per mu, (b) collapse, (c) prefactor vs mu."""
+    """Figs. 13 and 17: (a) log-log F_Y vs x per mu, (b) collapse, (c) prefactor vs mu. The
+    yield forces carry the errors their power-law fit was weighted by (pooled_drag_err, as
+    fits._exponent_table)."""
     fig, axes = _subplots(1, 3, figsize=(14, 4))
     for i, (mu, g) in enumerate(rows.groupby("mu")):
         t = table[np.isclose(table.mu, mu)]
         x = g[xcol] + (1.0 if xcol == "D" else 0.0)
-        color = _errorbars(axes[0], x, g.drag, g.drag_err, i, rf"$\mu = {mu:g}$")
+        err = np.asarray(pooled_drag_err(g), float)
+        color = _errorbars(axes[0], x, g.drag, err, i, rf"$\mu = {mu:g}$")
         if len(t):
             r = t.iloc[0]
             xs = np.geomspace(x.min(), x.max(), 50)
             axes[0].plot(xs, r[pref] * xs ** r[expo], color=color, lw=0.8)
             _record(axes[0], f"fit mu = {mu:g}", xs, r[pref] * xs ** r[expo], kind="curve")
-            _errorbars(axes[1], x, g.drag, g.drag_err, i, None, scale=r[pref] * x ** r[expo],
+            _errorbars(axes[1], x, g.drag, err, i, None, scale=r[pref] * x ** r[expo],
                        series=f"mu = {mu:g}")
     _plain_log(axes[0], "x")
     axes[0].set(yscale="log", xlabel=xlabel, ylabel=FY_LABEL)

@@ -22,6 +22,7 @@ import pandas as pd
 from scipy.optimize import curve_fit
 
 from . import __version__
+from .goodness import goodness
 from .regimes import RegimeFitter, fit_regimes, regime_curve
 from .result import Fit, Param
 from .table import froude, is_yield, pooled_drag_err, reference_params, select, yield_rows
@@ -79,11 +80,13 @@ def _weights(sigma, n):
     return s if (len(s) == n and np.all(np.isfinite(s) & (s > 0))) else None
 
 
-def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf)):
+def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf), groups=None):
+    """groups: the series of each point, for the goodness's runs test (goodness.py)."""
     x, y = np.asarray(x, float), np.asarray(y, float)
     ok = np.isfinite(x) & np.isfinite(y)
     s = _weights(None if sigma is None else np.asarray(sigma, float)[ok], ok.sum())
     x, y = x[ok], y[ok]
+    groups = None if groups is None else np.asarray(groups)[ok]
     if len(x) < len(names):
         raise ValueError(f"{name} fit needs at least {len(names)} points, got {len(x)}")
     # With errors: the covariance they give (absolute), scaled below; an exact fit (chi^2 = 0,
@@ -104,7 +107,8 @@ def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf
     return Fit(model=name, params={k: Param(float(v), float(e)) for k, v, e in zip(names, popt, err)},
                method=method + ("" if s is not None else " (unweighted: no per-point errors)"),
                n_points=len(x), x_range=(float(x.min()), float(x.max())),
-               meta={"at_bounds": _at_bounds(names, popt, bounds), "weighted": s is not None})
+               meta={"at_bounds": _at_bounds(names, popt, bounds), "weighted": s is not None,
+                     "goodness": goodness(x, y, model(x, *popt), len(names), s, groups)})
 
 
 def _at_bounds(names, values, bounds):
@@ -139,11 +143,12 @@ def theta_start(Fr, theta, sigma=None):
     return best[1]
 
 
-def fit_theta(Fr, theta, sigma=None):
+def fit_theta(Fr, theta, sigma=None, groups=None):
     """theta(Fr) = U1 Fr^U2 + pi/U3 (paper Eq. 7; paper: -0.15, 0.38, 2.45), weighted by
     the per-point errors sigma when given. Started from theta_start (the data's own
     best grid point), not from the paper's numbers; bounds U2 in [1e-3, 5] and
-    U3 in [0.1, 100] are reported in meta["at_bounds"] when reached."""
+    U3 in [0.1, 100] are reported in meta["at_bounds"] when reached. groups: each point's series
+    (its D), for the goodness's runs test."""
     Fr, theta = np.asarray(Fr, float), np.asarray(theta, float)
     ok = np.isfinite(Fr) & np.isfinite(theta) & (Fr > 0)
     s = _weights(None if sigma is None else np.asarray(sigma, float)[ok], ok.sum())
@@ -153,19 +158,28 @@ def fit_theta(Fr, theta, sigma=None):
     lo, hi = [-np.inf, 1e-3, 0.1], [np.inf, 5.0, 100.0]
     p0 = list(np.clip(p0, np.array(lo) + 1e-9, np.array(hi) - 1e-9))
     return _covariance_fit(theta_curve, "theta", Fr[ok], theta[ok], s, p0, ["U1", "U2", "U3"],
-                           bounds=(lo, hi))
+                           bounds=(lo, hi), groups=None if groups is None else np.asarray(groups)[ok])
 
 
-def fit_linear(x, y, sigma=None):
+def fit_linear(x, y, sigma=None, groups=None):
     """y = k0 + k1 x."""
-    return _covariance_fit(linear_curve, "linear", x, y, sigma, [0.0, 1.0], ["k0", "k1"])
+    return _covariance_fit(linear_curve, "linear", x, y, sigma, [0.0, 1.0], ["k0", "k1"], groups=groups)
 
 
 def fit_kappa(df):
     """kappa(Fr) = k0 + k1 Fr over all rows with kappa (paper: 0.887 + 0.185 Fr), weighted
-    by the per-point errors (column kappa_err) when the table has them for every row."""
+    by the per-point errors (column kappa_err) when the table has them for every row. The
+    residuals' runs are counted per series (series_labels: D, and depth when D has several)."""
     sigma = df["kappa_err"] if "kappa_err" in df.columns else None
-    return fit_linear(df.Fr, df.kappa, sigma)
+    return fit_linear(df.Fr, df.kappa, sigma, groups=series_labels(df))
+
+
+def series_labels(df):
+    """A label per row naming its series: D, with the depth (h to 0.1 d) where one D was pulled
+    at several depths (two beds' series would otherwise pass for one)."""
+    h = df.h.round(1) if "h" in df.columns else pd.Series(0.0, index=df.index)
+    many = h.groupby(df.D).transform("nunique") > 1
+    return np.where(many, [f"D = {D:g}, h = {v:g}" for D, v in zip(df.D, h)], [f"D = {D:g}" for D in df.D])
 
 
 def fit_power_law(x, y, sigma=None):
@@ -179,7 +193,8 @@ def fit_power_law(x, y, sigma=None):
     A = math.exp(lnA.value)
     return Fit(model="power_law", params={"A": Param(A, A * lnA.err), "p": p},
                method=line.method + " (straight line in log-log)",
-               n_points=line.n_points, x_range=(float(x.min()), float(x.max())))
+               n_points=line.n_points, x_range=(float(x.min()), float(x.max())),
+               meta={"goodness": line.meta["goodness"], "weighted": line.meta["weighted"]})
 
 
 def fit_saturation(mu, FY, sigma=None):
@@ -206,12 +221,23 @@ def _exponent_table(df, variable, system, names, speed):
                     names[0]: f["p"].value, names[0] + "_err": f["p"].err,
                     names[1]: f["A"].value, names[1] + "_err": f["A"].err,
                     "n": f.n_points, variable + "_min": g[variable].min(),
-                    variable + "_max": g[variable].max()})
+                    variable + "_max": g[variable].max(), **goodness_columns(f)})
     cols = ["mu", "kn", "gamman", names[0], names[0] + "_err", names[1], names[1] + "_err",
-            "n", variable + "_min", variable + "_max"]
+            "n", variable + "_min", variable + "_max"] + GOODNESS_COLUMNS
     table = pd.DataFrame(out, columns=cols)
     # An empty table keeps numeric columns, so later selections on it stay valid.
     return table.astype(float) if table.empty else table
+
+
+GOODNESS_COLUMNS = ["chi2_dof", "trend_p", "rejected"]   # a fitted table's row: its fit's goodness
+
+
+def goodness_columns(fit):
+    """The GOODNESS_COLUMNS of a fit (NaN where not estimable; rejected as 0/1)."""
+    g = fit.meta.get("goodness") or {}
+    num = lambda v: np.nan if v is None else float(v)
+    return {"chi2_dof": num(g.get("chi2_dof")), "trend_p": num(g.get("trend_p")),
+            "rejected": float(bool(g.get("rejected")))}
 
 
 def fit_phi(df, speed=None, system="I"):
@@ -351,8 +377,10 @@ def fit_scaling_law(df, phi, alpha, *, mu, kn=None, gamman=None, h_min=None,
         dragb = fitted + resid * rng.choice([-1.0, 1.0], size=len(x))
         reps.append(fitter.fit(x, dragb / sb, w * (sb / scale) ** 2))
         expo.append((ab, pb))
+    series = [f"D = {D:g}, h = {h:.1f}" for D, h in zip(rows.D, rows.h)]   # the goodness's series
     reg = fitter.result(x, best, reps, f"{n_boot} wild-bootstrap refits with alpha, phi "
-                                       f"drawn from their errors (seed {seed})", y, w)
+                                       f"drawn from their errors (seed {seed})", y, w,
+                        series if len(series) == len(x) else None)
     reg.meta.update(collapsed=True, mu=mu, h_min=float(h_min or 0.0))
     keep = [r is not None for r in reps]
     ranges = {"D": [float(p.D_min), float(p.D_max)], "h": [max(float(a.h_min), float(h_min or 0.0)), float(a.h_max)],

@@ -16,6 +16,7 @@ import pandas as pd
 from . import paper
 from .alpha_drag import ALPHA_DRAG_COLUMNS, ALPHA_SPEED_COLUMNS, ALPHA_SPEEDS, fit_alpha_drag
 from .fits import (
+    GOODNESS_COLUMNS,
     fit_alpha,
     fit_kappa,
     fit_phi,
@@ -25,8 +26,10 @@ from .fits import (
     fit_theta,
     load_fits,
     save_fits,
+    series_labels,
     sum_rule,
 )
+from .goodness import describe
 from .table import is_yield, pooled_drag_err, reference_params, select, validate_table, yield_rows
 
 
@@ -138,7 +141,7 @@ def run_fits(df, n_boot=200, seed=0, options=None):
     obs = select(ref, mu=0.5, system="I")
     th = obs.dropna(subset=["theta"])
     th_err = th["theta_err"] if "theta_err" in th.columns else None
-    r.theta = _try(r, "theta(Fr)", fit_theta, th.Fr, th.theta, th_err) if len(th) else None
+    r.theta = _try(r, "theta(Fr)", fit_theta, th.Fr, th.theta, th_err, series_labels(th)) if len(th) else None
     ka = obs.dropna(subset=["kappa"])
     r.kappa = _try(r, "kappa(Fr)", fit_kappa, ka) if len(ka) else None
     r.phi, r.alpha = fit_phi(df), fit_alpha(df)
@@ -191,6 +194,8 @@ def _exponent_list(table, col):
              "value": _num(t[col]), "error": _num(t[col + "_err"])}
             | ({"n_speeds": int(t.n_speeds), "speeds": t.speeds, "spread": _num(t.spread)}
                if "n_speeds" in t else {})
+            | ({"chi2_dof": _num(t.chi2_dof), "trend_p": _num(t.trend_p), "rejected": bool(t.rejected == 1)}
+               if "chi2_dof" in t else {})
             for _, t in table.iterrows()]
 
 
@@ -232,19 +237,21 @@ def named_fits(r):
 
 def summary(r):
     """The top-level keys of fits.json that name the paper's numbers (analysis/README.md)."""
-    bounds, violated = [], []
+    bounds, violated, rejected = [], [], []
     for name, f in named_fits(r).items():
         bounds += [{"fit": name, "what": w} for w in f.meta.get("at_bounds", [])]
         violated += [{"fit": name, "what": w} for w in f.meta.get("violations", [])]
+        g = f.meta.get("goodness")
+        rejected += [{"fit": name, "what": describe(g)}] if g and g.get("rejected") else []
     return {"phi": _exponent_list(r.phi, "phi"), "alpha": _exponent_list(r.alpha, "alpha"),
             "alpha_drag": _exponent_list(r.alpha_drag, "alpha"), "crossovers": crossover_list(r),
-            "at_bounds": bounds, "violations": violated, "options": r.options.to_dict(),
+            "at_bounds": bounds, "violations": violated, "rejected": rejected, "options": r.options.to_dict(),
             "bed_scatter": float(r.bed_scatter)}
 
 
 # Columns of the tables of fits.json (fits.fit_phi, fit_alpha, sum_rule), so that an empty
 # table read back keeps them.
-_EXPONENT = ["mu", "kn", "gamman", "{0}", "{0}_err", "{1}", "{1}_err", "n", "{2}_min", "{2}_max"]
+_EXPONENT = ["mu", "kn", "gamman", "{0}", "{0}_err", "{1}", "{1}_err", "n", "{2}_min", "{2}_max"] + GOODNESS_COLUMNS
 TABLE_COLUMNS = {
     "phi": [c.format("phi", "f", "D") for c in _EXPONENT],
     "alpha": [c.format("alpha", "g", "h") for c in _EXPONENT],

@@ -35,6 +35,7 @@ a 14-point series like the pull table's (tests/python/calibrate_regimes.py).
 """
 import numpy as np
 
+from .goodness import goodness
 from .result import Fit, Param
 
 MIN_POINTS = {"I": 2, "I_power": 4, "II": 3, "III": 3}
@@ -147,6 +148,7 @@ class RegimeFitter:
         self.regime1 = regime1
         self.power, self.continuous, self.grid = regime1 == "power", continuous, grid
         self.min_points = dict(MIN_POINTS)
+        self.weighted = False   # set by prepare: the points had usable errors
 
     def prepare(self, Fr, drag, sigma=None):
         """Finite points sorted by Fr, with weights; raise if too few."""
@@ -157,6 +159,7 @@ class RegimeFitter:
             s = np.asarray(sigma, float)
             if np.all(np.isfinite(s[ok]) & (s[ok] > 0)):
                 w = 1.0 / s ** 2
+                self.weighted = True
         order = np.argsort(x[ok], kind="stable")
         x, y, w = x[ok][order], y[ok][order], w[ok][order]
         need = self.min_total()
@@ -202,8 +205,14 @@ class RegimeFitter:
         u = u[:, sv > 1e-10 * sv[0]]
         return np.sum(u * u, axis=1)
 
-    def result(self, x, best, reps, how, y=None, w=None):
-        """A Fit from the point estimate and the refits (dicts; None = failed)."""
+    def n_free(self, x, best):
+        """The fitted parameters: the linear coefficients, the crossovers and c0 (power law)."""
+        c = np.array([[best["Fr1"], best["Fr2"], best.get("c0", 1.0)]])
+        return self._design(x, c).shape[-1] + 2 + (1 if self.power else 0)
+
+    def result(self, x, best, reps, how, y=None, w=None, groups=None):
+        """A Fit from the point estimate and the refits (dicts; None = failed); with the data
+        y (and weights w), its goodness (goodness.py; groups: each point's series)."""
         names = list(best)
         rows = [[r[k] for k in names] for r in reps if r is not None]
         arr = np.array(rows) if rows else None
@@ -222,7 +231,10 @@ class RegimeFitter:
                    n_points=len(x), x_range=(float(x[0]), float(x[-1])),
                    meta={"regime1": self.regime1, "continuous": self.continuous,
                          "at_bounds": [] if y is None else self.at_bounds(x, y, w, best),
-                         "violations": violations(best, errs)},
+                         "violations": violations(best, errs),
+                         **({} if y is None else {"goodness": goodness(
+                             x, y, regime_curve(x, **best), self.n_free(x, best),
+                             1.0 / np.sqrt(w) if self.weighted else None, groups)})},
                    replicates=arr)
 
     def at_bounds(self, x, y, w, best):

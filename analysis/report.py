@@ -4,8 +4,11 @@ Verdict for a number with a published value p (the paper gives no error
 bars, so only ours count):
   inconclusive       no error bar, an error above INCONCLUSIVE (30 %) of the value,
                      a fit that breaks its model (drag falling with Fr in regime
-                     II or III) or ended on a bound of its parameters, or a fit with
-                     no degrees of freedom left: such a number could agree with anything
+                     II or III), whose model the data reject (its residuals trend:
+                     goodness.py; the report then says "model rejected (...)" in
+                     place of the number), that ended on a bound of its parameters,
+                     or a fit with no degrees of freedom left: such a number could
+                     agree with anything
   within error bars  |fit - p| <= t standard errors, t the two-sided 95 % Student-t
                      quantile at the fit's degrees of freedom (points - parameters;
                      1.96 for a number that has no fit of its own)
@@ -15,7 +18,6 @@ The report counts each verdict apart. Beside every number it says whether its fi
 ended on a bound, how many replicate beds it rests on, and whether any of its
 runs lacked a plateau (table columns SEED_COLUMN and PLATEAU_COLUMN, when present).
 """
-import html
 import math
 from collections import Counter
 from dataclasses import dataclass, field
@@ -29,7 +31,9 @@ from .claims import CLAIMS, claim_of
 from .figure_list import FIGURES, NAMES, Inputs, draw
 from .figures import not_drawn_reason
 from .fits import write_text_atomic
-from .fitset import Results, load_results, run_fits, save_results
+from .fitset import Results, load_results, named_fits, run_fits, save_results
+from .goodness import TREND_ALPHA, describe, rejection_text
+from .report_render import SYMBOLS, markdown, to_html
 from .result import Param, format_pm
 from .table import is_yield, reference_params, select, yield_rows
 
@@ -53,11 +57,11 @@ class Row:
     sentence: str
     notes: list = field(default_factory=list)   # bounds, model violations, beds, plateaus
     base: str = ""                              # the sentence without its notes
+    rejected: str = ""                          # "model rejected (...)" when the data reject the fit
 
-
-# One symbol per verdict, so that a reader sees them at a glance (and the HTML's colours).
-SYMBOLS = {"reproduced within error bars": "✓", "reproduced qualitatively": "≈", "not reproduced": "✗",
-           "inconclusive": "?"}
+    def shown(self):
+        """The fitted cell of the report's table: the number, or why it is not a finding."""
+        return self.rejected or self.fitted
 
 
 def within_quantile(dof=None):
@@ -73,14 +77,17 @@ def fit_dof(fit):
     return None if fit is None else fit.n_points - len(fit.params)
 
 
-def verdict(p, published, violations=(), at_bounds=(), dof=None):
+def verdict(p, published, violations=(), at_bounds=(), dof=None, rejected=""):
     """Verdict and its reason for Param p against a published number; violations: what
     the fit breaks of its model (regimes.violations), at_bounds: parameters that ended on a
-    bound, either of which makes it inconclusive; dof: the error's degrees of freedom."""
+    bound, rejected: "model rejected (...)" when the data reject the model (goodness.py), any
+    of which makes it inconclusive; dof: the error's degrees of freedom."""
     if p is None or not math.isfinite(p.value):
         return "not reproduced", "no fit"
     if violations:
         return "inconclusive", "the fit breaks its model: " + "; ".join(violations)
+    if rejected:
+        return "inconclusive", "the data reject the model: " + rejected.removeprefix("model rejected (").rstrip(")")
     if at_bounds:
         return "inconclusive", "the fit ended on a bound: " + "; ".join(at_bounds)
     if not (math.isfinite(p.err) and p.err > 0):
@@ -100,17 +107,21 @@ def verdict(p, published, violations=(), at_bounds=(), dof=None):
     return "not reproduced", f"off by {d / abs(published):.0%}" if published else "off"
 
 
-def _row(quantity, p, published, shown=None, fit=None, rows=None, extra="", dof=None):
+def _row(quantity, p, published, shown=None, fit=None, rows=None, extra="", dof=None, goodness=None):
     meta = fit.meta if fit is not None else {}
+    g = goodness if goodness is not None else meta.get("goodness")
+    rejected = rejection_text(g) if g and g.get("rejected") else ""
     v, why = verdict(p, published, meta.get("violations", ()), meta.get("at_bounds", ()),
-                     fit_dof(fit) if dof is None else dof)
+                     fit_dof(fit) if dof is None else dof, rejected)
     shown = shown or f"{published:g}"
-    notes = list(meta.get("at_bounds", [])) + list(meta.get("violations", []))
+    notes = [rejected] if rejected else []
+    notes += list(meta.get("at_bounds", [])) + list(meta.get("violations", []))
     if rows is not None:
         notes += _basis(rows)
     tail = f" [{'; '.join(notes)}]" if notes else ""
-    base = f"{quantity}: {p if p else 'n/a'} against {shown} — {v} ({why}){extra}."
-    return Row(quantity, str(p) if p else "n/a", shown, v, base + tail, notes, base)
+    said = f"model rejected, the fitted {p} is not a finding" if rejected else (p if p else "n/a")
+    base = f"{quantity}: {said} against {shown} — {v} ({why}){extra}."
+    return Row(quantity, str(p) if p else "n/a", shown, v, base + tail, notes, base, rejected)
 
 
 def _basis(rows):
@@ -188,7 +199,7 @@ def comparisons(r, df=None):
         for _, t in (tab[np.isclose(tab.mu, 0.0)].iterrows() if tab is not None else []):
             basis = None if yl is None else select(yl, mu=0.0, kn=t.kn, gamman=t.gamman, system=system)
             rows.append(_row(f"{name} (K_n = {t.kn:.3g})", Param(t[col], t[col + "_err"]), pub,
-                             f"≈ {pub:g}", rows=basis, dof=_table_dof(t, "n")))
+                             f"≈ {pub:g}", rows=basis, dof=_table_dof(t, "n"), goodness=_table_goodness(t)))
     ad = r.alpha_drag if r.alpha_drag is not None else []
     for _, t in (ad[np.isclose(ad.mu, 0.0)].iterrows() if len(ad) else []):
         rows.append(_row(f"α_0 (drag, averaged over speeds {t.speeds}; K_n = {t.kn:.3g})",
@@ -202,6 +213,17 @@ def comparisons(r, df=None):
     for D, fit in sorted(r.saturation.items()):
         rows.append(_saturation_row(D, fit))
     return rows
+
+
+def _table_goodness(t):
+    """The goodness of a fitted table row (fits.GOODNESS_COLUMNS), as the report reads a fit's;
+    {} for tables written before the columns."""
+    num = lambda c: float(t[c]) if c in t and math.isfinite(float(t[c])) else None
+    if num("rejected") is None:
+        return {}
+    p = num("trend_p")
+    return {"chi2_dof": num("chi2_dof"), "dof": None if num("n") is None else num("n") - 2, "trend_p": p,
+            "trend": p is not None and p < TREND_ALPHA, "rejected": bool(num("rejected"))}
 
 
 def _table_dof(t, column):
@@ -250,7 +272,8 @@ def _saturation_row(D, fit):
     """F_Y saturates if 95 % of its rise (3 mu_c) happens inside the sampled mu."""
     mu_c, mu_max = fit["mu_c"], fit.x_range[1]
     err = mu_c.err if math.isfinite(mu_c.err) else math.inf
-    notes = list(fit.meta.get("at_bounds", []))
+    g = fit.meta.get("goodness") or {}
+    notes = ([rejection_text(g)] if g.get("rejected") else []) + list(fit.meta.get("at_bounds", []))
     if notes:
         v = "inconclusive"
     elif 3 * (mu_c.value + within_quantile(fit_dof(fit)) * err) < mu_max:
@@ -299,13 +322,14 @@ def _blocks(df, r, figs, n_boot, seed):
     b += [("h2", "Fitted numbers beside the paper's"),
           ("p", f"{len(rows)} numbers: " + ", ".join(f"{SYMBOLS[v]} {n[v]} {v}" for v in VERDICTS) + "."),
           ("table", ["quantity", "fitted", "paper", "verdict", "notes"],
-           [[x.quantity, x.fitted, x.published, f"{SYMBOLS[x.verdict]} {x.verdict}", refs(x.notes)]
+           [[x.quantity, x.shown(), x.published, f"{SYMBOLS[x.verdict]} {x.verdict}", refs(x.notes)]
             for x in rows])]
     if caveats:
         b += [("p", "Notes shared by several rows, stated once:"), ("ul", caveats)]
     b += [("h2", "In words"),
           ("ul", [x.base + (f" [{refs(x.notes)}]" if x.notes else "") if x.base else x.sentence
                   for x in rows] or ["No fit could be made."])]
+    b += _goodness_blocks(r)
     if len(r.sums) or len(r.phi) or len(r.alpha):
         b += [("h2", "Exponents of the yield force")]
         b += [("table", ["μ", "K_n", "φ_μ", "f(μ)", "α_μ", "g(μ)"], _exponent_rows(r))]
@@ -334,6 +358,25 @@ def _blocks(df, r, figs, n_boot, seed):
     if r.notes:
         b += [("h2", "Fits not made"), ("ul", r.notes)]
     return b
+
+
+def _goodness_blocks(r):
+    """The goodness of every fit (goodness.py): χ²/dof and the runs test of its residuals."""
+    fits = [(name, f.meta.get("goodness")) for name, f in named_fits(r).items()]
+    for tab, what in ((r.phi, "phi"), (r.alpha, "alpha")):
+        for _, t in (tab.iterrows() if tab is not None else []):
+            fits.append((f"{what}_mu{t.mu:g}_kn{t.kn:.3g}", _table_goodness(t)))
+    rows = [[name, "rejected" if g and g.get("rejected") else "not rejected" if g else "-",
+             describe(g) if g else "not recorded"] for name, g in fits]
+    return [("h2", "Goodness of the fits"),
+            ("p", "Each fit's χ²/dof against the errors it was weighted by, and a runs test of its "
+                  "residuals' signs in the order of x (within each series): too few runs means the "
+                  "residuals trend, the curve has the wrong shape (a line through a U). The data "
+                  "reject a model whose residuals trend at the 1 % level; its numbers above then read "
+                  "\"model rejected\" and are inconclusive. A χ²/dof above 1 without a trend is scatter "
+                  "beyond the errors, which the fits' errors already include (scaled by it, or "
+                  "bootstrapped from the residuals)."),
+            ("table", ["fit", "model", "goodness"], rows)] if rows else []
 
 
 def _span(values, unit="", fmt="{:.3g}"):
@@ -380,58 +423,6 @@ def _alpha_drag_rows(r):
     return out
 
 
-def _markdown(blocks):
-    out = []
-    for kind, *a in blocks:
-        if kind in ("h1", "h2"):
-            out.append(("#" if kind == "h1" else "##") + f" {a[0]}\n")
-        elif kind == "p":
-            out.append(a[0] + "\n")
-        elif kind == "ul":
-            out.append("".join(f"- {x}\n" for x in a[0]))
-        elif kind == "table":
-            head, body = a
-            cell = lambda s: str(s).replace("|", "\\|")
-            out.append("| " + " | ".join(map(cell, head)) + " |\n|" + "---|" * len(head) + "\n"
-                       + "".join("| " + " | ".join(map(cell, r)) + " |\n" for r in body))
-        elif kind == "img":
-            out.append(f"![{a[0]}]({a[1]})\n\n*{a[0]}*\n")
-    return "\n".join(out)
-
-
-def _td(cell):
-    """A table cell; a verdict cell (it starts with its symbol) gets its colour class."""
-    text = str(cell)
-    cls = f" class='v{text[0]}'" if text[:1] in SYMBOLS.values() else ""
-    return f"<td{cls}>{html.escape(text)}</td>"
-
-
-def _html(blocks):
-    e = html.escape
-    out = ["<!DOCTYPE html><html><head><meta charset='utf-8'><title>granudrag report</title>"
-           "<style>body{font-family:sans-serif;max-width:60em;margin:auto}table{border-collapse:"
-           "collapse}td,th{border:1px solid #999;padding:2px 6px}img{max-width:100%}"
-           ".v✓{background:#cdeccd}.v≈{background:#eeeebb}.v✗{background:#f3c6c6}.v\\?{background:#e2e2e2}"
-           "</style>"
-           "</head><body>"]
-    for kind, *a in blocks:
-        if kind in ("h1", "h2"):
-            out.append(f"<{kind}>{e(a[0])}</{kind}>")
-        elif kind == "p":
-            out.append(f"<p>{e(a[0])}</p>")
-        elif kind == "ul":
-            out.append("<ul>" + "".join(f"<li>{e(x)}</li>" for x in a[0]) + "</ul>")
-        elif kind == "table":
-            head, body = a
-            out.append("<table><tr>" + "".join(f"<th>{e(str(h))}</th>" for h in head) + "</tr>"
-                       + "".join("<tr>" + "".join(_td(c) for c in r) + "</tr>" for r in body)
-                       + "</table>")
-        elif kind == "img":
-            out.append(f"<figure><img src='{e(a[1])}' alt='{e(a[0])}'>"
-                       f"<figcaption>{e(a[0])}</figcaption></figure>")
-    return "\n".join(out + ["</body></html>"])
-
-
 FIG1_CAPTION = ("Fig. 1: (a) a system I and (c) a system II bed with the intruder (red; frozen base "
                 "grey), the half in front of the intruder's plane cut away; (b) the slice of the "
                 "system I bed through the intruder's plane, grains as circles of their cut radius.")
@@ -456,8 +447,8 @@ def write_report(df, r, outdir, n_boot, seed):
     fits.json) and the figure files already in outdir. Returns the path of report.md."""
     outdir = Path(outdir)
     blocks = _blocks(df, r, figure_entries(outdir), n_boot, seed)
-    write_text_atomic(outdir / "report.md", _markdown(blocks))
-    write_text_atomic(outdir / "report.html", _html(blocks))
+    write_text_atomic(outdir / "report.md", markdown(blocks))
+    write_text_atomic(outdir / "report.html", to_html(blocks))
     return outdir / "report.md"
 
 

@@ -252,8 +252,8 @@ def combine_beds(runs, r2=None):
     points (`between_bed_scatter`; or the r2 given): sigma_B^2 = r2 drag^2. drag_dof: k - 1
     when the bed scatter dominates (s^2 > W), else the within-run dof combined (Satterthwaite);
     n_beds: k; plateau: every bed's error converged; seeds: the beds' seeds, ';'-joined.
-    Other observables are means over the beds (theta_err combined as drag_err, without the
-    pooled term). Rows without a seed (runs outside the workflow's layout) pass unchanged.
+    Other observables are means over the beds (theta_err and kappa_err combined as drag_err,
+    without the pooled term). Rows without a seed (runs outside the workflow's layout) pass unchanged.
     """
     if r2 is None:
         r2, r2_dof = between_bed_scatter(runs)
@@ -292,9 +292,10 @@ def combine_beds(runs, r2=None):
         out["plateau"] = np.bincount(codes, ~runs.plateau.astype(bool).to_numpy()) == 0
     for c in ("h", "n_contacts", "Z", "kappa", "theta"):
         out[c] = np.bincount(codes, runs[c].to_numpy(float)) / k
-    if "theta_err" in runs:
-        _, ts2, tW = _moments(codes, k, runs.theta.to_numpy(float), runs.theta_err.to_numpy(float))
-        out["theta_err"] = np.sqrt(np.maximum(np.nan_to_num(ts2), tW) / k)
+    for c in ("theta", "kappa"):     # each bed's error and the beds' scatter, as drag_err
+        if f"{c}_err" in runs:
+            _, s2c, Wc = _moments(codes, k, runs[c].to_numpy(float), runs[f"{c}_err"].to_numpy(float))
+            out[f"{c}_err"] = np.sqrt(np.maximum(np.nan_to_num(s2c), Wc) / k)
     out = out.drop(columns=["_point", "_series"])
     return out.astype({"system": object, "run": object})
 

@@ -1,4 +1,6 @@
 """Every figure function writes a PNG and a PDF from a small synthetic table."""
+import re
+
 import numpy as np
 import pytest
 import synth
@@ -190,3 +192,123 @@ def test_not_drawn_figure_has_an_empty_data_file(tmp_path):
     F.draw_not_drawn(tmp_path, "fig19_scaled_drag_vs_Fr_h", "Fig. 19", "no data")
     d = pd.read_csv(tmp_path / "fig19_scaled_drag_vs_Fr_h.csv")
     assert list(d.columns) == F.DATA_COLUMNS and d.empty
+
+
+# --- figures that show what was fitted: the errors the fit used, the formula as fitted ------
+
+# Every figure that draws a fit (or fitted numbers), the errors drawn being those of the fit.
+FITTED = ["fig05_drag_vs_Fr_mu0.5", "fig06_theta_vs_Fr", "fig08_kappa_vs_Fr", "fig10_drag_vs_Fr_mu0",
+          "fig11_quasistatic_vs_mu", "fig12_yield_vs_mu", "fig13_yield_vs_D", "fig14_phi_vs_mu",
+          "fig16_drag_vs_Fr_depth", "fig17_yield_vs_h", "fig18_alpha_and_sum_rule"]
+
+
+def drawn(monkeypatch, fn, *args, **kw):
+    """(paths, the figure as drawn): the figure is caught as _save closes it."""
+    import matplotlib.pyplot as plt
+    figs, close = [], plt.close
+    monkeypatch.setattr(plt, "close", lambda fig=None: (figs.append(fig), close(fig)))
+    return fn(*args, **kw), figs[-1]
+
+
+def bars(ax):
+    """[(x, y, half-length of each bar)] of every errorbar series drawn on ax."""
+    from matplotlib.container import ErrorbarContainer
+    out = []
+    for c in ax.containers:
+        if isinstance(c, ErrorbarContainer) and c.has_yerr:
+            line, _, cols = c.lines
+            seg = np.asarray(cols[0].get_segments())
+            out.append((np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float),
+                        (seg[:, 1, 1] - seg[:, 0, 1]) / 2))
+    return out
+
+
+def assert_errors_drawn(d, fig):
+    """Every data series (points, or points joined by a line) of the figure's data file that has
+    errors is drawn with those error bars on its panel's axes; returns how many."""
+    checked = 0
+    for (panel, series), p in d[d.kind.isin(["points", "line"])].groupby(["panel", "series"]):
+        err = p.y_err.to_numpy(float)
+        if not (np.isfinite(err) & (err > 0)).any():
+            continue
+        ax = fig.axes["abcdefgh".index(panel)]
+        hits = [b for x, y, b in bars(ax) if len(x) == len(p) and np.allclose(x, p.x) and np.allclose(y, p.y)]
+        assert hits, f"{series} (panel {panel}) has errors in the data file but none drawn"
+        assert np.allclose(hits[0], np.nan_to_num(err)), series
+        checked += 1
+    return checked
+
+
+@pytest.mark.parametrize("name", FITTED)
+def test_fitted_figure_draws_the_errors(table, tmp_path, monkeypatch, name):
+    fn = dict((n, f) for f, n in TABLE_FIGURES)[name]
+    paths, fig = drawn(monkeypatch, fn, table, tmp_path)
+    assert assert_errors_drawn(data(paths), fig) >= 1
+
+
+def test_drag_figures_draw_the_errors_the_regime_fits_weighted_by(table, tmp_path, monkeypatch):
+    # With replicate beds the regime fits weigh a point by the between-bed scatter pooled over
+    # its series (table.pooled_drag_err), not by its own drag_err: the figure draws those.
+    from analysis.table import pooled_drag_err
+    t = table.copy()
+    rng = np.random.default_rng(3)
+    t["n_beds"] = 2
+    t["drag_err_within"] = 0.5 * t.drag_err
+    t["drag_err_between"] = t.drag_err * rng.uniform(0.2, 1.5, len(t))
+    paths, fig = drawn(monkeypatch, F.fig05_drag_vs_Fr, t, tmp_path)
+    d = points(data(paths))
+    assert_errors_drawn(data(paths), fig)
+    for D in (2.0, 4.0, 6.0):
+        g = t[(t.system == "I") & (t.mu == 0.5) & (t.D == D) & (t.V > 0.01) & (t.kn == synth.KN)]
+        g = g.assign(pooled=np.asarray(pooled_drag_err(g), float)).sort_values("Fr")
+        got = d[d.series == f"D = {D:g}d"].sort_values("x").iloc[1:]     # the yield pull, not fitted, aside
+        assert np.allclose(got.x, g.Fr) and np.allclose(got.y_err, g.pooled)
+        assert not np.allclose(got.y_err, g.drag_err)
+
+
+def kappa_table(k1, depths=(14.0,)):
+    """System I kappa at D = 2 and 3 over one Fr grid, kappa = 0.95 + k1 Fr, per depth."""
+    import pandas as pd
+    rows = []
+    for h in depths:
+        for D in (2.0, 3.0):
+            for i, Fr in enumerate([0.5, 1, 2, 3, 5, 7, 10, 15]):
+                rows.append(dict(system="I", D=D, h=h, mu=0.5, kn=2e5, gamman=800.0, V=Fr, Fr=Fr,
+                                 kappa=0.95 + k1 * Fr + 0.01 * np.sin(7 * i + D + h), kappa_err=0.02 + 0.01 * Fr))
+    return pd.DataFrame(rows)
+
+
+def test_kappa_figure_writes_the_fitted_line_with_its_sign(tmp_path, monkeypatch):
+    for k1, sign in ((-0.021, "−"), (0.185, "+")):
+        paths, fig = drawn(monkeypatch, F.fig08_kappa, kappa_table(k1), tmp_path)
+        d = data(paths)
+        line = d[d.kind == "curve"].series.unique()
+        assert len(line) == 1 and re.fullmatch(rf"kappa = 0\.9\d\d {re.escape(sign)} 0\.\d\d\d Fr", line[0]), line
+        legend = " ".join(t.get_text() for t in fig.axes[0].get_legend().get_texts())
+        assert "+ -" not in legend and "+-" not in legend and sign in legend, legend
+        assert "χ²/dof" in legend                      # the fit's goodness beside it
+
+
+def test_kappa_figure_lists_each_point_once(tmp_path):
+    # One D pulled at two depths (two beds' series: say two sweeps at the same D): each point
+    # is drawn once, in its own series, never twice in one.
+    d = points(data(F.fig08_kappa(kappa_table(-0.02, depths=(14.0, 28.0)), tmp_path)))
+    assert not d.duplicated(["series", "x"]).any(), d[d.duplicated(["series", "x"], keep=False)]
+    assert sorted(d.series.unique()) == ["D = 2d, h = 14d", "D = 2d, h = 28d", "D = 3d, h = 14d", "D = 3d, h = 28d"]
+    one = points(data(F.fig08_kappa(kappa_table(-0.02), tmp_path)))
+    assert sorted(one.series.unique()) == ["D = 2d", "D = 3d"] and not one.duplicated(["series", "x"]).any()
+
+
+def test_kappa_error_of_a_point_combines_its_beds():
+    # The point table's kappa_err, which the kappa fit and Fig. 8 use: both beds' errors and
+    # their scatter (as drag_err), not the first bed's error alone.
+    import pandas as pd
+
+    from analysis.table import combine_beds
+    runs = pd.DataFrame([dict(system="I", D=2.0, h=14.0, mu=0.5, kn=2e5, gamman=800.0, V=1.0, Fr=1.0,
+                              drag=100.0 + s, drag_err=2.0, n_contacts=9.0, theta=1.5, theta_err=0.01, Z=3.0,
+                              kappa=k, kappa_err=e, seed=s, run=f"pulls/D~2/seed~{s}/Fr~1")
+                         for s, k, e in ((1, 0.98, 0.019), (2, 0.97, 0.067))])
+    p = combine_beds(runs)
+    w = (0.019 ** 2 + 0.067 ** 2) / 2
+    assert len(p) == 1 and np.isclose(p.kappa_err.iloc[0], np.sqrt(max(np.var([0.98, 0.97], ddof=1), w) / 2))

@@ -287,3 +287,28 @@ def test_eq12_on_shallow_and_deep_pulls_is_flagged(capsys):
     assert "warning: Eq. 12" in capsys.readouterr().err
     deep_only = run_fits(df, n_boot=0, options=Options(n_boot=0, h_min=45.0)).notes
     assert not [n for n in deep_only if "Sec. III H" in n]
+
+
+def test_every_fit_records_its_goodness_in_the_fit_file(table, tmp_path):
+    # chi^2/dof and the residual-trend test beside every fitted quantity (additive keys).
+    import json
+
+    from analysis.fitset import load_results, run_fits, save_results
+    r = run_fits(table, n_boot=5, seed=0)
+    save_results(tmp_path / "fits.json", r)
+    doc = json.loads((tmp_path / "fits.json").read_text())
+    assert {"regimes_mu0.5_D2", "theta", "kappa", "saturation_D2"} <= set(doc["fits"])
+    for name, f in doc["fits"].items():
+        g = f["meta"]["goodness"]
+        assert {"chi2", "dof", "chi2_dof", "chi2_p", "runs", "runs_expected", "trend_p", "trend",
+                "rejected"} <= set(g), name
+        assert g["dof"] == f["n_points"] - len(f["params"]) or f["model"] == "regimes", name
+        assert g["chi2_dof"] is not None and g["rejected"] is False, (name, g)   # the synthetic laws hold
+    for law in doc["laws"]:
+        assert "goodness" in law["regimes"]["meta"]
+    for row in doc["phi"] + doc["alpha"] + doc["tables"]["phi"] + doc["tables"]["alpha_speeds"]:
+        assert {"chi2_dof", "trend_p", "rejected"} <= set(row) and row["chi2_dof"] is not None
+        assert row["rejected"] in (False, 0.0)
+    assert doc["rejected"] == []
+    back = load_results(tmp_path / "fits.json")
+    assert back.kappa.meta["goodness"] == r.kappa.meta["goodness"] and "chi2_dof" in back.phi.columns

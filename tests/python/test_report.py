@@ -138,7 +138,8 @@ def test_the_point_table_counts_its_combined_beds(table):
 
 
 def test_the_report_leads_with_one_line_per_claim_and_states_a_shared_caveat_once():
-    from analysis.report import Row, _html, headline, shared_caveats
+    from analysis.report import Row, headline, shared_caveats
+    from analysis.report_render import to_html as _html
 
     beds = "2 replicate bed(s) per point"
     rows = [Row("Fr_1 (μ = 0.5, D = 1)", "0.9 ± 0.1", "≈ 1", "reproduced within error bars", "", [beds], "a."),
@@ -154,3 +155,29 @@ def test_the_report_leads_with_one_line_per_claim_and_states_a_shared_caveat_onc
     assert refs(rows[2].notes) == ""
     page = _html([("table", ["verdict"], [["✓ reproduced within error bars"], ["? inconclusive"]])])
     assert "<td class='v✓'>" in page and "<td class='v?'>" in page and ".v\\?{" in page
+
+
+def test_a_rejected_model_is_reported_as_such_not_as_a_slope(table):
+    # κ falling to a minimum and rising again (issue 30): a line through it is rejected, and the
+    # report says "model rejected (χ²/dof = ..., residuals trend ...)" where the slope would be.
+    from analysis.report import Row
+    u = table.copy()
+    u["kappa"] = 0.80 + 0.004 * (u.Fr - 5.0) ** 2
+    u["kappa_err"] = 0.02
+    rows = {x.quantity: x for x in comparisons(run_fits(u, n_boot=0), u)}
+    slope = rows["κ(Fr) slope (Fig. 8)"]
+    assert slope.verdict == "inconclusive" and slope.rejected.startswith("model rejected (χ²/dof = ")
+    assert "residuals trend" in slope.rejected and slope.shown() == slope.rejected
+    assert "the data reject the model" in slope.sentence and "not a finding" in slope.base
+    # The linear κ of the synthetic table: the slope is quoted and judged.
+    rows = {x.quantity: x for x in comparisons(run_fits(table, n_boot=0), table)}
+    slope = rows["κ(Fr) slope (Fig. 8)"]
+    assert not slope.rejected and slope.shown() == slope.fitted and slope.verdict != "inconclusive"
+    assert Row("q", "1 ± 0.1", "1", "inconclusive", "s").shown() == "1 ± 0.1"
+
+
+def test_report_lists_the_goodness_of_every_fit(report_dir):
+    md = (report_dir / "report.md").read_text()
+    part = md[md.index("## Goodness of the fits"):]
+    for name in ("regimes_mu0.5_D2", "theta", "kappa", "saturation_D2", "phi_mu0_kn2e+05"):
+        assert f"| {name} | not rejected | χ²/dof = " in part, name
