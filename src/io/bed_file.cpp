@@ -12,7 +12,7 @@ namespace granudrag {
 
 namespace {
 
-const char* kFormat = "granudrag-bed";
+const char* kBedFormat = "granudrag-bed";
 
 }  // namespace
 
@@ -83,7 +83,7 @@ Bed read_bed_groups(const h5::File& f) {
 
 void save_bed(const std::string& path, const Bed& bed, const Parameters& parameters, FrameDump* frames) {
   h5::File f = h5::File::create(path);
-  write_file_header(f, kFormat);
+  write_file_header(f, kBedFormat);
   write_parameters(f, ParameterRecord::of(parameters));
   write_bed_groups(f, bed);
   if (frames) frames->write_into(f);
@@ -92,7 +92,7 @@ void save_bed(const std::string& path, const Bed& bed, const Parameters& paramet
 
 Bed load_bed(const std::string& path, ParameterRecord* parameters) {
   const h5::File f = h5::File::open(path);
-  const std::int64_t version = check_file_header(f, kFormat, 1, "re-create it with this granudrag");
+  const std::int64_t version = check_file_header(f, kBedFormat, 1, "re-create it with this granudrag");
   if (version < kFirstChecksummedVersion)
     std::fprintf(stderr,
                  "note: bed file '%s' (format version %lld) carries no checksums: damage to its data "

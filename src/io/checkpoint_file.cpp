@@ -11,7 +11,7 @@ namespace granudrag {
 
 namespace {
 
-const char* kFormat = "granudrag-checkpoint";
+const char* kCheckpointFormat = "granudrag-checkpoint";
 
 void write_pull_record(h5::File& f, const PullRecord& r) {
   f.set_attr("/pull", "samples_per_interval", static_cast<std::int64_t>(r.samples_per_interval));
@@ -135,7 +135,7 @@ std::string bed_fingerprint(const Bed& bed) {
 void save_checkpoint(const std::string& path, const Pull& pull, const Parameters& pull_parameters,
                      const ParameterRecord& bed_parameters) {
   h5::File f = h5::File::create(path, h5::Compression::None);
-  write_file_header(f, kFormat);
+  write_file_header(f, kCheckpointFormat);
   write_parameters(f, bed_parameters);
   write_parameters(f, ParameterRecord::of(pull_parameters));
   f.set_attr("/pull", "bed_fingerprint", bed_fingerprint(pull.bed()));
@@ -154,7 +154,7 @@ Checkpoint load_checkpoint(const std::string& path, const Bed& bed, const Parame
   bool other_bed = false;  // readable, but not this pull's: an Error, not UnreadableCheckpoint
   try {
     const h5::File f = h5::File::open(path);
-    check_file_header(f, kFormat, 2, "delete it to start the pull over");
+    check_file_header(f, kCheckpointFormat, 2, "delete it to start the pull over");
     Bed saved;
     try {
       saved = read_bed_groups(f);

@@ -11,13 +11,13 @@
 namespace granudrag {
 
 namespace {
-const char* kFormat = "granudrag-pour-checkpoint";
+const char* kPourCheckpointFormat = "granudrag-pour-checkpoint";
 }
 
 void save_pour_checkpoint(const std::string& path, const PourState& s, double dt,
                           const Parameters& pour_parameters) {
   h5::File f = h5::File::create(path, h5::Compression::None);
-  write_file_header(f, kFormat);
+  write_file_header(f, kPourCheckpointFormat);
   write_parameters(f, ParameterRecord::of(pour_parameters));
   write_particle_state(f, s.state, dt);
   f.set_attr("/pour", "energy_start", s.energy_start);
@@ -33,7 +33,7 @@ PourState load_pour_checkpoint(const std::string& path, const Parameters& now,
   std::string differences;
   try {
     const h5::File f = h5::File::open(path);
-    check_file_header(f, kFormat, 2, "delete it to start the pour over");
+    check_file_header(f, kPourCheckpointFormat, 2, "delete it to start the pour over");
     s.state = read_particle_state(f);
     s.energy_start = f.get_attr_double("/pour", "energy_start");
     s.max_overlap_seen = f.get_attr_double("/pour", "max_overlap_seen");

@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "protocol/pull.hpp"
@@ -38,6 +39,13 @@ class TempDir {
  private:
   fs::path path_;
 };
+
+// 0.5 i - 3.25e-3: values that are neither integers nor exact in binary.
+inline std::vector<double> ramp(std::size_t n) {
+  std::vector<double> v(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = 0.5 * static_cast<double>(i) - 3.25e-3;
+  return v;
+}
 
 inline std::string read_text(const std::string& path) {
   std::ifstream in(path);

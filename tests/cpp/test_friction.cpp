@@ -69,8 +69,6 @@ Motion roll_down(double mu, double tan_theta, Surface surface = Surface::Wall) {
   return out;
 }
 
-}  // namespace
-
 class FrictionOn : public ::testing::TestWithParam<Surface> {};
 
 TEST_P(FrictionOn, RollsWithoutSlipBelowThreshold) {
@@ -104,3 +102,5 @@ TEST_P(FrictionOn, FrictionlessSphereSlidesWithoutSpinning) {
 
 INSTANTIATE_TEST_SUITE_P(WallAndFrozenGrain, FrictionOn,
                          ::testing::Values(Surface::Wall, Surface::FrozenGrain));
+
+}  // namespace

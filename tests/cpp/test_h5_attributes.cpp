@@ -12,16 +12,6 @@
 using namespace granudrag;
 using namespace granudrag::support;
 
-namespace {
-
-std::vector<double> ramp(std::size_t n) {
-  std::vector<double> v(n);
-  for (std::size_t i = 0; i < n; ++i) v[i] = 0.5 * static_cast<double>(i) - 3.25e-3;
-  return v;
-}
-
-}  // namespace
-
 TEST(H5Attributes, OnGroupsAndDatasets) {
   TempDir dir;
   const std::string path = dir.file("attrs.h5");

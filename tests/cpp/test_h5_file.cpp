@@ -23,12 +23,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::vector<double> ramp(std::size_t n) {
-  std::vector<double> v(n);
-  for (std::size_t i = 0; i < n; ++i) v[i] = 0.5 * static_cast<double>(i) - 3.25e-3;
-  return v;
-}
-
 // Writes a small file with one dataset of each kind.
 void write_sample(const std::string& path) {
   h5::File f = h5::File::create(path);

@@ -50,7 +50,7 @@ Parameters pour_parameters() {
 }
 
 // One shared small bed: 150 soft grains, D = 1.5 at depth 1.5, settled for half a time unit only.
-const Bed& small_bed() {
+const Bed& tiny_bed() {
   static const Bed bed = [] {
     PourSpec s;
     s.lx = 5;
@@ -152,7 +152,7 @@ TEST(ParameterRecord, AnAttributeNoKeyCanHoldIsRefusedByName) {
 
 TEST(BedFile, CarriesItsParametersAndOldVersionsStillLoad) {
   TempDir dir;
-  const Bed& bed = small_bed();
+  const Bed& bed = tiny_bed();
   save_bed(dir.file("bed.h5"), bed, pour_parameters());
   ParameterRecord parameters;
   const Bed loaded = load_bed(dir.file("bed.h5"), &parameters);
@@ -182,7 +182,7 @@ TEST(BedFile, CarriesItsParametersAndOldVersionsStillLoad) {
 
 TEST(RunFile, CarriesTheBedsParametersAndThePulls) {
   TempDir dir;
-  const Bed& bed = small_bed();
+  const Bed& bed = tiny_bed();
   const auto pull_ptr = short_pull(bed);
   const Pull& pull = *pull_ptr;
   save_run(dir.file("run.h5"), pull, pull_parameters(), ParameterRecord::of(pour_parameters()), "sanity\n");
@@ -207,7 +207,7 @@ TEST(RunFile, CarriesTheBedsParametersAndThePulls) {
 
 TEST(CheckpointFile, ResumesOnlyWithTheSameOptionsAndBed) {
   TempDir dir;
-  const Bed& bed = small_bed();
+  const Bed& bed = tiny_bed();
   const auto pull_ptr = short_pull(bed);
   const Pull& pull = *pull_ptr;
   const std::string path = dir.file("run.h5.checkpoint.h5");
