@@ -8,7 +8,7 @@ namespace granudrag {
 ParameterSpec max_overlap_key() {
   return Key::number("max_overlap")
       .unit("d")
-      .default_value("0.1")
+      .default_value(number_text(GuardLimits{}.max_overlap))
       .above(0)
       .at_most(0.5)
       .help(
