@@ -181,8 +181,9 @@ def alive(pid):
 
 
 def test_a_study_killed_three_times_at_random_moments_ends_as_an_uninterrupted_one(smoke, tmp_path):
-    """Each kill comes once a seeded random number of the study's beds and pulls exist, after a
-    seeded random delay of up to a second: during Snakemake's start, a pour, a pull, or the table.
+    """Each kill comes once a seeded random number of the study's beds and pulls exist (and,
+    among the pulls, once a pull has checkpointed), after a seeded random delay of up to half a
+    second: during Snakemake's start, a pour, a pull after its checkpoint.
     Each re-run: `--unlock` (a killed Snakemake leaves its lock), then the same command with
     --rerun-incomplete; killed pulls resume from their checkpoints."""
     reference = smoke[0] / "uninterrupted"
@@ -199,7 +200,12 @@ def test_a_study_killed_three_times_at_random_moments_ends_as_an_uninterrupted_o
     # (at most once every simulation but the last exists: the table and the fits follow).
     thirds = [round(len(simulations) * i / KILLS) for i in range(KILLS + 1)]
     thresholds = [rng.randrange(a, b) for a, b in zip(thirds, thirds[1:])]
-    delays = [rng.uniform(0, 1) for _ in range(KILLS)]
+    delays = [rng.uniform(0, 0.5) for _ in range(KILLS)]
+    pulls = simulations[len(plan.beds):]
+
+    def in_a_pull():
+        """A pull has checkpointed and not finished (so that the kill tests a resume)."""
+        return any(Path(f"{p}.checkpoint.h5").exists() and not p.exists() for p in pulls)
     landed = []
     for k, (threshold, delay) in enumerate(zip(thresholds, delays)):
         if k:
@@ -207,8 +213,9 @@ def test_a_study_killed_three_times_at_random_moments_ends_as_an_uninterrupted_o
         with open(tmp_path / f"run{k}.log", "w") as out:
             proc = subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT, start_new_session=True)
         start = time.monotonic()
-        while sum(p.exists() for p in simulations) < threshold and proc.poll() is None:
-            time.sleep(0.05)
+        while proc.poll() is None and (sum(p.exists() for p in simulations) < threshold
+                                       or threshold >= len(plan.beds) and not in_a_pull()):
+            time.sleep(0.02)
         time.sleep(delay)
         assert proc.poll() is None, f"kill {k + 1}: the study finished before it ({threshold} simulations, " \
                                     f"{delay:.2f} s); see {tmp_path}/run{k}.log"
@@ -224,5 +231,7 @@ def test_a_study_killed_three_times_at_random_moments_ends_as_an_uninterrupted_o
     snakemake(tmp_path, configfile, "--unlock")
     r = snakemake(tmp_path, configfile, "--cores", "2", "--rerun-incomplete", targets=targets)
     assert "Nothing to be done" not in r.stdout + r.stderr   # the kills left work to do
+    logs = tmp_path / config["logs"] / "pulls"
+    assert any("resuming from" in log.read_text() for log in logs.rglob("*.log")), "no pull resumed"
     assert (results / "table.csv").read_bytes() == (reference / "table.csv").read_bytes()
     assert (results / "report" / "fits.json").read_bytes() == (reference / "fits.json").read_bytes()
