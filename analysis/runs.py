@@ -54,7 +54,7 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
                  "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "stop_reason",
-                 "sanity", "path"]
+                 "active_radius", "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
@@ -164,6 +164,7 @@ def read_run(path, system=None, root=None):
         Z, kappa = observable("bulk_coordination"), observable("kappa")
         kappa_err = _kappa_error(obs, kappa, n, transient / get["speed"] if get["speed"] > 0 else 0.0)
         scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
+        active_radius = _active_radius(f, path) if version >= 2 else 0.0
         sanity = _verdict(f, path)
     except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
         raise RunFileError(f"{path}: damaged run file: {exc}") from None
@@ -210,7 +211,7 @@ def read_run(path, system=None, root=None):
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,
-            "sanity": sanity,
+            "active_radius": active_radius, "sanity": sanity,
             "path": str(path)}
 
 
@@ -336,6 +337,17 @@ def _scale(f, path):
                                f"is not a number ({value!r})")
         out[key] = float(value)
     return out
+
+
+def _active_radius(f, path):
+    """The pull's active region radius, d (0: every grain integrated; also for files from
+    before the active region, which record no such key)."""
+    pull = _parameters(f, path).get("pull", {}) if "parameters" in f else {}
+    value = pull.get("active_radius", 0.0)
+    if isinstance(value, (bool, str, list)):
+        raise RunFileError(f"{path}: damaged run file: /parameters/pull attribute 'active_radius' "
+                           f"is not a number ({value!r})")
+    return float(value)
 
 
 def _legacy_scale_v1(f):

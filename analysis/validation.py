@@ -1,6 +1,7 @@
 """Validation studies: does a cheaper protocol give the paper's numbers within errors?
 
-Each study varies one thing of the protocol — the yield pull's speed, the box, the stiffness —
+Each study varies one thing of the protocol — the yield pull's speed, the box, the stiffness,
+the active region's radius —
 and compares the drag of every point (same D, μ, depth and, for pulls at speed, Fr) with
 its value under the reference protocol (the slowest yield speed, the largest box, the
 stiffest K_n). A variant agrees at a point when
@@ -38,6 +39,10 @@ class Study:
     label: str          # the variant, as text
     paired: bool        # variants share beds: compare bed by bed
     question: str       # what the sentence answers
+    # Observables judged besides the drag (each with its error column), and those only
+    # reported as a relative difference (the run table gives them no error).
+    also_judged: tuple = ()
+    also_reported: tuple = ()
 
 
 STUDIES = {
@@ -47,6 +52,12 @@ STUDIES = {
                       "box length lx (d)", False, "the smallest box that agrees with the largest, for each D"),
     "stiffness": Study("stiffness", "kn", "max", ("system", "D", "h_requested", "mu", "Fr"),
                        "K_n", False, "how much the drag moves per decade of K_n"),
+    # Pulls through the same beds with and without the active region (systems with beds_from):
+    # the reference is active_radius = 0, every grain integrated.
+    "active_region": Study("active_region", "active_radius", "min",
+                           ("D", "h_requested", "mu", "kn", "gamman", "Fr"), "active radius (d)", True,
+                           "the smallest active radius that agrees with every grain integrated, for each D",
+                           also_judged=(("theta", "theta_err"),), also_reported=("n_contacts", "Z")),
 }
 
 
@@ -110,12 +121,27 @@ def _difference(base, other, study, keys, ref, v):
             row |= {"drag_ref": f_ref, "drag": f, "beds": len(pairs), "paired": True,
                     "drag_err_ref": np.sqrt((pairs.drag_err_ref**2).sum()) / len(pairs),
                     "drag_err": np.sqrt((pairs.drag_err**2).sum()) / len(pairs)}
-            return _verdict(row, diff, diff_err)
+            return _also(_verdict(row, diff, diff_err), pairs, study)
     f_ref, e_ref = base.drag.mean(), np.sqrt((base.drag_err**2).sum()) / len(base)
     f, e = other.drag.mean(), np.sqrt((other.drag_err**2).sum()) / len(other)
     row |= {"drag_ref": f_ref, "drag": f, "drag_err_ref": e_ref, "drag_err": e,
             "beds": int(other.get("n_beds", pd.Series([len(other)])).iloc[0]), "paired": False}
     return _verdict(row, f - f_ref, np.hypot(e, e_ref))
+
+
+def _also(row, pairs, study):
+    """The paired comparison of the study's other observables: z and agreement for those with
+    an error (the row agrees only if they all do), the relative difference for the rest."""
+    for col, err in study.also_judged:
+        d = (pairs[col] - pairs[f"{col}_ref"]).mean()
+        de = np.sqrt((pairs[err]**2 + pairs[f"{err}_ref"]**2).sum()) / len(pairs)
+        z = d / de if de > 0 else np.inf * np.sign(d)
+        row |= {f"{col}_diff": d, f"{col}_diff_err": de, f"{col}_z": z}
+        row["agrees"] = bool(row["agrees"] and abs(z) < Z_AGREE)
+    for col in study.also_reported:
+        ref = pairs[f"{col}_ref"].mean()
+        row[f"{col}_rel_diff"] = (pairs[col].mean() - ref) / ref if ref else np.nan
+    return row
 
 
 def _verdict(row, diff, diff_err):
@@ -172,6 +198,19 @@ def _answer(cmp, study):
                 smallest = v
             out.append(f"D = {D:g}: lx = {smallest:g}")
         return "Smallest box that agrees: " + ", ".join(out) + "."
+    if study.name == "active_region":
+        out = []
+        for D, g in cmp.groupby("D"):
+            smallest = None
+            for v in sorted(g.variant.unique(), reverse=True):   # agreeing radii: contiguous from the widest
+                if not g[g.variant == v].agrees.all():
+                    break
+                smallest = v
+            out.append(f"D = {D:g}: " + ("none agrees" if smallest is None
+                                         else f"{smallest:g} d ({smallest / D:.3g} D)"))
+        judged = ", ".join(["drag"] + [c for c, _ in study.also_judged])
+        return (f"Smallest active radius at which {judged} agree with every grain integrated at every "
+                f"point: " + ", ".join(out) + ".")
     # stiffness: the drag's change per decade of K_n, at each speed (regimes differ)
     cmp = cmp.assign(_per_decade=cmp.rel_diff / np.log10(cmp.variant / cmp.reference))
     by = "Fr" if "Fr" in cmp.columns and cmp.Fr.nunique() > 1 else None

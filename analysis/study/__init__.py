@@ -13,7 +13,7 @@ The names below are the library's interface: `from analysis import study; study.
 """
 
 from .commands import checkpoint_interval, movie_pull_args, pour_args, pour_checkpoint_interval, pull_args
-from .config import SCHEMA, ConfigError, fit_options, resolve_binary, validate_config
+from .config import SCHEMA, ConfigError, fit_options, resolve_beds_from, resolve_binary, validate_config
 from .cost import (
     bed_cost,
     bed_dt,
@@ -35,6 +35,7 @@ from .plan import (
     log_grid,
     nearest_pull,
     plan,
+    poured_bed,
     reference_law,
     trace_pull,
 )
@@ -65,6 +66,7 @@ __all__ = [
     "number",
     "parse_speed",
     "plan",
+    "poured_bed",
     "pour_args",
     "pour_checkpoint_interval",
     "pull_args",
@@ -73,6 +75,7 @@ __all__ = [
     "pull_distance",
     "pull_retries",
     "reference_law",
+    "resolve_beds_from",
     "resolve_binary",
     "run_file",
     "summary",

@@ -35,6 +35,43 @@ def validate_config(config, schema_path=SCHEMA):
     raise ConfigError("invalid config:\n  " + "\n  ".join(lines))
 
 
+# What a system that pulls through another's beds (`beds_from`) takes from it: the bed's box,
+# grains and pour. Its own `pull` settings are laid over the other system's.
+BED_KEYS = ("lx", "ly", "grains", "pour")
+
+
+def resolve_beds_from(config):
+    """Fill in, for each system with `beds_from: A`, system A's box, grains and pour (and A's
+    pull settings under its own), so that every reader of `systems` sees a whole system; its
+    beds stay A's (study.plan pours them once, under system~A). Such systems exist for paired
+    comparisons of pull settings through the same beds (config/validate/active_region.yaml).
+    Idempotent; raises ConfigError naming the key."""
+    systems = config.get("systems") or {}
+    for name, sysc in systems.items():
+        source = sysc.get("beds_from")
+        if source is None:
+            continue
+        source = str(source)
+        where = f"config key 'systems.{name}.beds_from'"
+        if source not in map(str, systems):
+            raise ConfigError(f"{where}: no system '{source}' (defined: {', '.join(map(str, systems))})")
+        origin = systems[source] if source in systems else systems[int(source)]
+        if str(source) == str(name):
+            raise ConfigError(f"{where}: a system cannot take its beds from itself")
+        if origin.get("beds_from") is not None:
+            raise ConfigError(f"{where}: system '{source}' itself pulls through system "
+                              f"'{origin['beds_from']}''s beds: name that one")
+        for key in BED_KEYS:
+            if key in origin and key in sysc and sysc[key] != origin[key]:
+                raise ConfigError(f"config key 'systems.{name}.{key}': a system with beds_from takes "
+                                  f"its beds' {key} from system '{source}'; remove it")
+            if key in origin:
+                sysc[key] = origin[key]
+        # The same protocol but for what this system changes: its pull settings over A's.
+        sysc["pull"] = {**(origin.get("pull") or {}), **(sysc.get("pull") or {})}
+    return config
+
+
 def resolve_binary(config, repo=REPO):
     """The config's `granudrag`, relative to the repository unless absolute."""
     path = Path(str(config["granudrag"]))

@@ -3,13 +3,14 @@
 Adding a value to a sweep adds paths; the existing ones, and the beds they share, stay.
 """
 
+import dataclasses
 import itertools
 import math
 from collections import Counter
 from dataclasses import dataclass
 
 from ..physics import PAPER_RATIO, gamman_for
-from .config import ConfigError
+from .config import ConfigError, resolve_beds_from
 from .paths import Bed, Pull, fmt
 
 SWEEP_AXES = ("D", "depth", "z", "mu", "kn", "gamman", "gamman_ratio", "seed")
@@ -72,8 +73,17 @@ def _sweep_values(sweep, defaults, name, i):
     return {k: _as_list(v) for k, v in merged.items()}
 
 
+def poured_bed(bed, config):
+    """The bed a pull of `bed.system` goes through: its own, or with `beds_from: A` system A's
+    (the same path but for system~A)."""
+    source = config["systems"][bed.system].get("beds_from")
+    return bed if source is None else dataclasses.replace(bed, system=str(source))
+
+
 def plan(config):
-    """All beds and pulls of the config's sweeps (duplicates merged)."""
+    """All beds and pulls of the config's sweeps (duplicates merged). A pull's `bed` names its
+    own system (its path); the bed poured for it is `poured_bed(pull.bed, config)`."""
+    resolve_beds_from(config)
     systems, defaults = config["systems"], config.get("defaults", {}) or {}
     beds, pulls = {}, {}
     for i, sweep in enumerate(config["sweeps"]):
@@ -96,7 +106,8 @@ def plan(config):
             kn_text = fmt(kn)
             gn_value = gamman_for(float(kn_text), gn[1]) if isinstance(gn, tuple) else gn
             bed = Bed(system, fmt(D), place, fmt(pos), fmt(mu), kn_text, fmt(gn_value), str(int(seed)))
-            beds.setdefault(bed.key, bed)
+            poured = poured_bed(bed, config)
+            beds.setdefault(poured.key, poured)
             for speed in speeds:
                 pull = Pull(bed, speed, settings, name)
                 old = pulls.get(pull.key)

@@ -119,6 +119,7 @@ def test_scale_is_nan_when_the_file_does_not_record_it(tmp_path, version):
         del f["parameters"]
     row = read_run(p)
     assert all(np.isnan(row[k]) for k in ("lx", "ly", "grains")) and row["drag"] > 0
+    assert row["active_radius"] == 0.0      # a pull that records no region integrated every grain
     # A bed of format version 1, or imported: the run has no /parameters/pour.
     q = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5", speed=1.5)
     with h5py.File(q, "a") as f:
@@ -199,7 +200,7 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     run = tmp_path / "system~I" / "run.h5"
     run.parent.mkdir()
     subprocess.run([str(BINARY), "pull", "--bed", str(tmp_path / "bed.h5"), "--output", str(run),
-                    "--distance", "0.5", "--quiet"], check=True, capture_output=True)
+                    "--distance", "0.5", "--active_radius", "3", "--quiet"], check=True, capture_output=True)
     params = read_parameters(run)
     assert params["pour"]["grains"] == 150 and params["pour"]["lx"] == 5.0
     assert params["pour"]["quiet"] is True and "intruder_z" not in params["pour"]   # unset: absent
@@ -207,6 +208,7 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     assert params["pull"]["resume"] is False and params["pull"]["snapshots"] == 3
     row = read_run(run)
     assert (row["lx"], row["ly"], row["grains"]) == (5.0, 4.5, 150.0)
+    assert row["active_radius"] == 3.0       # the validation of the active region compares by it
     assert row["sanity"] == "clean"
     # The drag error's Student-t dof and convergence flag: a 0.5 d pull is far too short.
     assert row["drag_dof"] >= 1 and row["plateau"] is False

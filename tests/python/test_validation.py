@@ -78,6 +78,44 @@ def test_stiffness_states_the_drift_per_decade():
     assert "at Fr = 0.5: +5.0 % per decade (disagrees); at Fr = 2: +5.0 % per decade (disagrees)." in text, text
 
 
+def region_runs(shift, theta_shift=0.0, beds=2, noise=0.01, bed_scatter=0.06, seed=3):
+    """Paired runs of an active-region study: D = 2 and 6, Fr = 1 and 5, radii 0 (the
+    reference), 4, 8 and 12 d through the same beds; the drag at radius R is F0 (1 + shift[R])
+    and theta shifts by theta_shift at the smallest radius only."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for D in (2.0, 6.0):
+        for Fr in (1.0, 5.0):
+            F0, th0 = 100 * D * (1 + 0.1 * Fr), 0.5
+            for b in range(1, beds + 1):
+                bed = 1 + bed_scatter * rng.standard_normal()
+                for R in (0.0, 4.0, 8.0, 12.0):
+                    F = F0 * bed * (1 + shift[R])
+                    th = th0 + (theta_shift if R == 4.0 else 0.0)
+                    rows.append(dict(system=f"R{R:g}", D=D, h_requested=7.0, mu=0.5, kn=2e4, gamman=199.05, Fr=Fr,
+                                     V=Fr * np.sqrt(D), seed=b, active_radius=R,
+                                     drag=F * (1 + noise * rng.standard_normal()), drag_err=noise * F,
+                                     theta=th + 0.005 * rng.standard_normal(), theta_err=0.005,
+                                     n_contacts=4.0 * (1 + shift[R]), Z=4.5, sanity="clean"))
+    return pd.DataFrame(rows)
+
+
+def test_active_region_names_the_smallest_radius_that_agrees_for_each_D():
+    cmp = val.compare(region_runs({0.0: 0.0, 4.0: 0.15, 8.0: 0.0, 12.0: 0.0}), "active_region")
+    assert cmp.paired.all() and set(cmp.variant) == {4.0, 8.0, 12.0} and len(cmp) == 12
+    assert not cmp[cmp.variant == 4].agrees.any() and cmp[cmp.variant > 4].agrees.all()
+    assert cmp[cmp.variant == 4].n_contacts_rel_diff.to_numpy() == pytest.approx(0.15)
+    text = val.conclusion(cmp, "active_region")
+    assert "D = 2: 8 d (4 D)" in text and "D = 6: 8 d (1.33 D)" in text
+    # A radius whose drag agrees but whose theta does not is no agreement.
+    cmp = val.compare(region_runs({R: 0.0 for R in (0.0, 4.0, 8.0, 12.0)}, theta_shift=0.05), "active_region")
+    assert cmp[cmp.variant == 4].theta_z.abs().min() > 2 and not cmp[cmp.variant == 4].agrees.any()
+    assert "D = 2: 8 d" in val.conclusion(cmp, "active_region")
+    # Disagreement at the widest radius: none agrees, whatever the narrower ones say.
+    cmp = val.compare(region_runs({0.0: 0.0, 4.0: 0.0, 8.0: 0.0, 12.0: 0.2}), "active_region")
+    assert "D = 2: none agrees" in val.conclusion(cmp, "active_region")
+
+
 def test_flagged_runs_and_missing_variants_are_named(tmp_path):
     runs = yield_runs({0.01: 0.0, 0.03: 0.0, 0.1: 0.0})
     runs.loc[runs.V != 0.01, "sanity"] = "overlap 0.3 d > max_overlap"

@@ -99,6 +99,38 @@ def test_conflicting_pull_settings_are_refused():
         study.plan(config)
 
 
+def test_a_system_with_beds_from_pulls_through_the_other_systems_beds_with_its_own_settings():
+    config = copy.deepcopy(BASE)
+    config["systems"]["R"] = {"beds_from": "I", "pull": {"active_radius": 5}}
+    config["sweeps"].append({"name": "region", "system": "R", "D": 2, "depth": 4, "Fr": [0.5, 1]})
+    study.validate_config(config, SCHEMA)
+    plan = study.plan(config)
+    assert len(plan.beds) == 3                        # no bed of its own: I's D = 2 bed is shared
+    assert all(b.system == "I" for b in plan.beds.values())
+    region = [p for p in plan.pulls.values() if p.bed.system == "R"]
+    assert {p.speed for p in region} == {"Fr~0.5", "Fr~1"} and len(plan.pulls) == 6 + 2
+    poured = study.poured_bed(region[0].bed, config)
+    assert poured.key in plan.beds and poured.key == region[0].bed.key.replace("system~R/", "system~I/")
+    args = study.pull_args(region[0].bed, region[0].speed, plan)
+    # I's pull settings under R's own: the same protocol but for the region.
+    assert args[args.index("--distance") + 1] == "2" and args[args.index("--active_radius") + 1] == "5"
+    assert config["systems"]["R"]["grains"] == 800    # the bed's scale, for the cost estimate
+    assert study.pull_cost(region[0], config) > 0
+
+
+@pytest.mark.parametrize("system, message", [
+    ({"beds_from": "II"}, "no system 'II'"),
+    ({"beds_from": "R"}, "from itself"),
+    ({"beds_from": "I", "grains": 900}, r"systems\.R\.grains.*remove it"),
+])
+def test_beds_from_errors_name_the_key(system, message):
+    config = copy.deepcopy(BASE)
+    config["systems"]["R"] = system
+    config["sweeps"].append({"name": "region", "system": "R", "D": 2, "depth": 4, "Fr": 1})
+    with pytest.raises(study.ConfigError, match=message):
+        study.plan(config)
+
+
 @pytest.mark.parametrize("change, message", [
     (lambda c: c["sweeps"][0].update(system="III"), "system 'III' is not defined"),
     (lambda c: c["sweeps"][0].update(z=3), "exactly one of 'depth'"),

@@ -15,6 +15,8 @@ REPO = Path(workflow.basedir).parent
 try:
     # First our check, whose messages name the bad key in one line ...
     study.validate_config(config, REPO / "workflow" / "schemas" / "config.schema.yaml")
+    # A system with beds_from takes its box, grains and pour from the system named.
+    study.resolve_beds_from(config)
 except study.ConfigError as exc:
     raise WorkflowError(str(exc)) from None
 # ... then Snakemake's, which also fills in the schema's defaults.
@@ -35,7 +37,9 @@ BED_RETRIES = study.bed_retries(PLAN)
 # table.allow_failed: a pull that the engine stops (exit status 1) leaves a placeholder for the
 # table and the report to list instead of failing its job (scripts/resumable.sh reads this; an
 # environment variable, not a param, so that the pull rule and its jobs' records are unchanged).
-os.environ.update(GRANUDRAG_ALLOW_FAILED="1" if config["table"]["allow_failed"] else "0")
+os.environ.update(
+    GRANUDRAG_ALLOW_FAILED="1" if config["table"]["allow_failed"] else "0"
+)
 
 
 wildcard_constraints:
@@ -79,6 +83,11 @@ def figure(name, subcategory):
 
 def _bed(wildcards):
     return study.Bed.parse(wildcards.bed)
+
+
+def poured_bed_file(wildcards):
+    """The bed a pull goes through: its system's, or with beds_from the other system's."""
+    return bed_file(study.poured_bed(_bed(wildcards), config).key)
 
 
 def pour_args(wildcards):

@@ -9,7 +9,7 @@ MOVIE_PULL = study.trace_pull(PLAN)
 rule movie_pull:
     input:
         granudrag=ancient(GRANUDRAG),
-        bed=bed_file(MOVIE_PULL.bed.key),
+        bed=bed_file(study.poured_bed(MOVIE_PULL.bed, config).key),
     output:
         run=f"{RESULTS}/movie/run.h5",
         sidecar=f"{RESULTS}/movie/run.h5.xdmf",

@@ -66,7 +66,7 @@ rule bed:
 rule pull:
     input:
         granudrag=ancient(GRANUDRAG),
-        bed=f"{RESULTS}/beds/{{bed}}/bed.h5",
+        bed=poured_bed_file,
     output:
         f"{RESULTS}/pulls/{{bed}}/{{speed}}/run.h5",
     log:
