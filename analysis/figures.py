@@ -62,7 +62,7 @@ from .figures_yield import (
     fig18_alpha,
     fig19_scaled_drag_h,
 )
-from .fits import fit_alpha, fit_kappa, fit_theta, series_labels
+from .fits import THETA_MIN_POINTS, fit_alpha, fit_kappa, fit_theta, series_labels
 from .physics import gamman_ratio
 from .result import format_pm
 from .table import reference_params, select, yield_rows
@@ -127,7 +127,7 @@ def fig10_drag_vs_Fr_mu0(df, outdir, fits=None):
 def fig06_theta(df, outdir, mu=0.5, fit=None):
     """Fig. 6: contact angle vs Fr per D with theta = U1 Fr^U2 + pi/U3."""
     rows = select(_reference(df), mu=mu, system="I").dropna(subset=["theta"])
-    rows = _need(rows, f"contact angles at mu = {mu:g}")
+    rows = _need(rows, f"contact angles at mu = {mu:g}", at_least=1 if fit else THETA_MIN_POINTS)
     err = rows["theta_err"] if "theta_err" in rows else None
     fit = fit or fit_theta(rows.Fr, rows.theta, err, series_labels(rows))
     fig, ax = _subplots(figsize=(5, 3.8))

@@ -165,9 +165,12 @@ def _moving(rows, by):
     return rows[keep.astype(bool)]
 
 
-def _need(rows, what):
+def _need(rows, what, at_least=1):
+    """rows, or NoData when there are fewer than at_least (a fitted figure: the fit's minimum)."""
     if len(rows) == 0:
         raise NoData(f"no pulls for {what}")
+    if len(rows) < at_least:
+        raise NoData(f"{len(rows)} pulls for {what}; the fit needs {at_least}")
     return rows
 
 

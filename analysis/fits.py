@@ -143,6 +143,9 @@ def theta_start(Fr, theta, sigma=None):
     return best[1]
 
 
+THETA_MIN_POINTS = 3   # Eq. 7 has three parameters
+
+
 def fit_theta(Fr, theta, sigma=None, groups=None):
     """theta(Fr) = U1 Fr^U2 + pi/U3 (paper Eq. 7; paper: -0.15, 0.38, 2.45), weighted by
     the per-point errors sigma when given. Started from theta_start (the data's own
@@ -152,8 +155,8 @@ def fit_theta(Fr, theta, sigma=None, groups=None):
     Fr, theta = np.asarray(Fr, float), np.asarray(theta, float)
     ok = np.isfinite(Fr) & np.isfinite(theta) & (Fr > 0)
     s = _weights(None if sigma is None else np.asarray(sigma, float)[ok], ok.sum())
-    if ok.sum() < 3:
-        raise ValueError(f"theta fit needs at least 3 points, got {ok.sum()}")
+    if ok.sum() < THETA_MIN_POINTS:
+        raise ValueError(f"theta fit needs at least {THETA_MIN_POINTS} points, got {ok.sum()}")
     p0 = theta_start(Fr[ok], theta[ok], s)
     lo, hi = [-np.inf, 1e-3, 0.1], [np.inf, 5.0, 100.0]
     p0 = list(np.clip(p0, np.array(lo) + 1e-9, np.array(hi) - 1e-9))

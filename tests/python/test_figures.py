@@ -61,6 +61,11 @@ def test_missing_data_raise_nodata(table, tmp_path):
         F.fig05_drag_vs_Fr(table, tmp_path, mu=0.7)
     with pytest.raises(F.NoData, match="K_n or gamma_n"):
         F.fig20_kn_gamman(table[(table.kn == 2e5) & (table.gamman == 500.0)], tmp_path)
+    # Fewer contact angles than Eq. 7's three parameters: not drawn (a study with a failed
+    # pull left out of the table had two), not a crash of the figure rule.
+    two = table[(table.system == "I") & (table.mu == 0.5)].dropna(subset=["theta"]).head(2)
+    with pytest.raises(F.NoData, match="2 pulls for contact angles at mu = 0.5; the fit needs 3"):
+        F.fig06_theta(two, tmp_path)
     assert not list(tmp_path.iterdir())
 
 
