@@ -136,13 +136,30 @@ def describe(g):
 
 def rejection_text(g):
     """'model rejected (χ²/dof = 2.31, residuals trend, runs test p = 0.0004)': the report's
-    words for a fit whose data reject its model."""
+    words for a fit whose data reject its model; for a number built from other fits (inherited),
+    'model rejected (φ_μ fit: χ²/dof = 2.31, residuals trend, runs test p = 0.0004)'."""
+    return "model rejected (" + _why(g) + ")"
+
+
+def _why(g):
+    if g.get("from"):
+        return "; ".join(g["from"])
     why = []
     if g.get("chi2_dof") is not None:
         why.append(f"χ²/dof = {g['chi2_dof']:.2f}")
     if g.get("trend"):
         why.append("residuals trend" + (f", runs test p = {_p(g['trend_p'])}" if g.get("trend_p") is not None else ""))
-    return "model rejected (" + ", ".join(why) + ")"
+    return ", ".join(why)
+
+
+def inherited(parts):
+    """The goodness of a number that is not fitted itself but built from fits (the sum rule
+    α_μ + φ_μ adds two fitted exponents): the data reject it when they reject any fit it is
+    built from, whatever its own error says. parts: [(name, goodness dict)], e.g.
+    [("φ_μ fit", {...}), ("α_μ fit", {...})]. Returns {} when none is rejected (nothing to say),
+    else a dict that is_rejected and rejection_text read, naming each rejected part."""
+    bad = [f"{name}: {_why(g)}" for name, g in parts if is_rejected(g)]
+    return {"rejected": True, "trend": True, "from": bad} if bad else {}
 
 
 def _p(p):

@@ -23,6 +23,8 @@ rule reads them and passed to analysis.report.comparisons; nothing is re-judged 
 The rest of the ladder lives beside this module (all re-exported here): analysis.ladder_collect
 (collect), analysis.ladder_claims (the claims of a rung), analysis.ladder_diagnostics (κ shells,
 Fr_2 range and startup refits) and analysis.ladder_report (ladder.md and the figures).
+analysis.ladder_refit makes each recorded rung's table.csv, fits.json and report.md again from
+its runs.csv after a change of the analysis (`python -m analysis.ladder_refit <root>`).
 """
 import json
 from pathlib import Path
@@ -159,7 +161,7 @@ def ladder_rows(root, rungs):
         else:
             rows += [{**base, **c} for c in sorted(claims, key=lambda c: keys.index((c["claim"], c["quantity"])))]
     cols = ["claim", "quantity", "rung", "label", "value", "error", "fitted", "published", "published_value",
-            "verdict", "core_hours", "wall_seconds", "cores", "machine_cpu", "notes", "order"]
+            "verdict", "rejected", "core_hours", "wall_seconds", "cores", "machine_cpu", "notes", "order"]
     return pd.DataFrame(rows, columns=cols)
 
 

@@ -51,9 +51,10 @@ def load_rung(rung_dir):
 def rung_claims(rung_dir):
     """The report's rows of a rung as dicts, each with its claim letter (claim_of): claim,
     quantity, report_quantity, fitted, value, error, published, published_value, verdict,
-    notes. `quantity` drops the rung's own reference K_n from the report's text (the ladder
-    varies K_n between rungs; rows of another K_n keep theirs), so one quantity lines up
-    across rungs. Claims the rung did not study have no rows."""
+    rejected (the report's "model rejected (...)" when the data reject the fit the number
+    comes from, goodness.py; "" otherwise), notes. `quantity` drops the rung's own reference
+    K_n from the report's text (the ladder varies K_n between rungs; rows of another K_n keep
+    theirs), so one quantity lines up across rungs. Claims the rung did not study have no rows."""
     df, r = load_rung(rung_dir)
     kn = f"{reference_params(df)[0]:.3g}"
     depths = _requested_depths(df)
@@ -67,7 +68,7 @@ def rung_claims(rung_dir):
         out.append({"claim": claim_of(row.quantity), "quantity": q, "report_quantity": row.quantity,
                     "fitted": row.fitted, "value": value, "error": error, "published": row.published,
                     "published_value": parse_published(row.published), "verdict": row.verdict,
-                    "notes": "; ".join(row.notes)})
+                    "rejected": row.rejected, "notes": "; ".join(row.notes)})
     return out
 
 

@@ -48,7 +48,9 @@ def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=
            "the paper's value inside the 95 % interval (the Student-t quantile at the fit's degrees of "
            "freedom times its standard error; 1.96 without a fit of its own), qualitatively = within 25 % "
            "of it, inconclusive = no error bar, an error above 30 % of the value, a fit that breaks its "
-           "model or ended on a bound, or one with no degrees of freedom left. A rung not run "
+           "model or ended on a bound, one with no degrees of freedom left, or one the data reject (its "
+           "residuals trend, analysis/goodness.py: \"model rejected\", which a sum rule built on it "
+           "inherits; hollow markers in the figures). A rung not run "
            "shows no numbers; — : the rung does not study the quantity. Written by "
            "`granudrag-analysis ladder table`; do not edit by hand.\n",
            "### Rungs\n",
@@ -66,7 +68,7 @@ def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=
             cells = []
             for n in names:
                 hit = rows[rows.rung == n]
-                cells.append(f"{hit.fitted.iloc[0]} — {hit.verdict.iloc[0]}" if len(hit)
+                cells.append(f"{hit.fitted.iloc[0]} — {_verdict(hit.iloc[0])}" if len(hit)
                              else NOT_RUN if infos.get(n) is None else "—")
             body.append([q, rows.published.iloc[0]] + cells)
         out.append(_md_table(["quantity", "paper"] + names, body))
@@ -75,10 +77,16 @@ def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=
         body = []
         for (letter, q), rows in ran.groupby(["claim", "quantity"], sort=False):
             top = rows.loc[rows.order.idxmax()]
-            body.append([letter, q, top.rung, top.fitted, top.published, top.verdict])
+            body.append([letter, q, top.rung, top.fitted, top.published, _verdict(top)])
         out.append(_md_table(["claim", "quantity", "top rung", "fitted", "paper", "verdict"], body))
     out += _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition, startup)
     return "\n".join(out)
+
+
+def _verdict(row):
+    """A ladder cell's verdict: the report's, with "(model rejected)" when the data reject the fit."""
+    rejected = row.get("rejected")
+    return f"{row.verdict} (model rejected)" if isinstance(rejected, str) and rejected else row.verdict
 
 
 def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None, startup=None):
@@ -203,8 +211,12 @@ def _claim_figures(root, table, rungs, claims):
         for ax, q in zip(axes.ravel(), quantities):
             rows = sub[sub.quantity == q].sort_values("order")
             err = rows.error.astype(float).to_numpy()
-            ax.errorbar(rows.order, rows.value.astype(float), yerr=np.where(np.isfinite(err), err, 0.0),
-                        fmt="o", capsize=3)
+            bad = (rows.rejected.fillna("").astype(str) != "").to_numpy() if "rejected" in rows \
+                else np.zeros(len(rows), bool)
+            for mask, face in ((~bad, None), (bad, "none")):     # a rejected model's number: hollow
+                if mask.any():
+                    ax.errorbar(rows.order[mask], rows.value.astype(float)[mask], fmt="o", capsize=3, color="C0",
+                                mfc=face, yerr=np.where(np.isfinite(err), err, 0.0)[mask])
             pub = rows.published_value.astype(float).iloc[0]
             if np.isfinite(pub):
                 ax.axhline(pub, color="k", ls="--", lw=1, label=f"paper {rows.published.iloc[0]}")

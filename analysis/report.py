@@ -32,7 +32,7 @@ from .figure_list import FIGURES, NAMES, Inputs, draw
 from .figures import not_drawn_reason
 from .fits import write_text_atomic
 from .fitset import Results, load_results, named_fits, run_fits, save_results
-from .goodness import TREND_ALPHA, describe, rejection_text
+from .goodness import TREND_ALPHA, describe, inherited, rejection_text
 from .report_render import SYMBOLS, markdown, to_html
 from .result import Param, format_pm
 from .table import is_yield, reference_params, select, yield_rows
@@ -206,10 +206,12 @@ def comparisons(r, df=None):
                          Param(t.alpha, t.alpha_err), paper.ALPHA_0, f"≈ {paper.ALPHA_0:g}",
                          rows=None if df is None else _moving(select(df, mu=0.0, kn=t.kn, gamman=t.gamman,
                                                                       system="II"))))
-    for tab, how in ((r.sums, "α_μ from the yield force"), (r.sums_drag, "α_μ from the drag, averaged over speeds")):
+    for tab, how, alphas in ((r.sums, "α_μ from the yield force", r.alpha),
+                             (r.sums_drag, "α_μ from the drag, averaged over speeds", r.alpha_speeds)):
         for _, t in (tab.iterrows() if tab is not None else []):
             rows.append(_row(f"α_μ + φ_μ ({how}; μ = {t.mu:g}, K_n = {t.kn:.3g})",
-                             Param(t["sum"], t["sum_err"]), paper.SUM_RULE, "≈ 3", dof=_table_dof(t, "n_min")))
+                             Param(t["sum"], t["sum_err"]), paper.SUM_RULE, "≈ 3", dof=_table_dof(t, "n_min"),
+                             goodness=_sum_goodness(t, r.phi, alphas)))
     for D, fit in sorted(r.saturation.items()):
         rows.append(_saturation_row(D, fit))
     return rows
@@ -224,6 +226,18 @@ def _table_goodness(t):
     p = num("trend_p")
     return {"chi2_dof": num("chi2_dof"), "dof": None if num("n") is None else num("n") - 2, "trend_p": p,
             "trend": p is not None and p < TREND_ALPHA, "rejected": bool(num("rejected"))}
+
+
+def _sum_goodness(t, phi, alphas):
+    """The sum rule's goodness: rejected when the data reject the φ_μ fit or an α_μ fit it adds
+    (goodness.inherited; the averaged α_μ: any of its speeds' fits), at the sum's μ, K_n, γ_n."""
+    parts = []
+    for name, tab in (("φ_μ fit", phi), ("α_μ fit", alphas)):
+        hit = [] if tab is None or not len(tab) else tab[np.isclose(tab.mu, t.mu) & np.isclose(tab.kn, t.kn)
+                                                        & np.isclose(tab.gamman, t.gamman)]
+        for _, h in (hit.iterrows() if len(hit) else []):
+            parts.append((f"{name} at V = {h.V:.3g}" if "V" in h else name, _table_goodness(h)))
+    return inherited(parts)
 
 
 def _table_dof(t, column):

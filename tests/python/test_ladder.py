@@ -395,3 +395,30 @@ def test_depth_series_line_up_by_the_requested_depth(tmp_path):
     assert all("requested h = " in q for q in rows[0])
     assert {f"requested h = {h:g})" for h in df[df.system == "II"].h.unique()} >= \
         {q[q.index("requested"):] for q in rows[0]}
+
+
+def test_a_recorded_rung_is_refitted_from_its_runs(tmp_path):
+    # analysis.ladder_refit: table.csv from runs.csv (two beds a point), fits.json with the options
+    # the rung recorded, report.md; a rung listed but not run is left alone.
+    from analysis.ladder_refit import main
+
+    root = tmp_path / "reproduction"
+    d = root / "rung-a"
+    d.mkdir(parents=True)
+    (root / "ladder.yaml").write_text("rungs: [rung-a, rung-b]\n")
+    one = synth.make_table(seed=3, mus=(0.0, 0.5), kn_variants=False)
+    beds = []
+    for b, k in ((1, 0.0), (2, 0.05)):       # the second bed's κ higher: a scatter κ's error must hold
+        part = one.assign(seed=float(b), kappa=one.kappa + k, run=[f"{r}/seed~{b}/pull" for r in one.run])
+        beds.append(part)
+    save_csv(pd.concat(beds, ignore_index=True), d / "runs.csv")
+    save_results(d / "fits.json", run_fits(one, n_boot=3, seed=4))
+    (d / "run.json").write_text("{}")
+    assert main([str(root)]) == 0
+    table = load_csv(d / "table.csv")
+    assert len(table) == len(one) and (table.n_beds == 2).all()
+    assert np.allclose(table.kappa_err, 0.025)    # sqrt(max(s², W)/k), s² = 0.05²/2 above W = 0.01²
+    doc = json.loads((d / "fits.json").read_text())
+    assert doc["options"]["n_boot"] == 3 and doc["options"]["seed"] == 4
+    assert "## Fitted numbers beside the paper's" in (d / "report.md").read_text()
+    assert not (root / "rung-b").exists()

@@ -181,3 +181,27 @@ def test_report_lists_the_goodness_of_every_fit(report_dir):
     part = md[md.index("## Goodness of the fits"):]
     for name in ("regimes_mu0.5_D2", "theta", "kappa", "saturation_D2", "phi_mu0_kn2e+05"):
         assert f"| {name} | not rejected | χ²/dof = " in part, name
+
+
+def test_a_sum_rule_built_on_a_rejected_fit_is_inconclusive(table):
+    # α_μ + φ_μ is not fitted itself: it adds the φ_μ fit and an α_μ fit (from F_Y, or the
+    # average of the drag's per-speed fits). When the data reject one of those (goodness.py),
+    # the sum is no finding either, however close its number lands to 3.
+    r = run_fits(table, n_boot=0)
+    sums = lambda: {x.quantity: x for x in comparisons(r, table) if x.quantity.startswith("α_μ + φ_μ")}
+    yield_sum = lambda rows: [x for q, x in rows.items() if "from the yield force" in q]
+    drag_sum = lambda rows: [x for q, x in rows.items() if "from the drag" in q]
+    rows = sums()
+    assert yield_sum(rows) and drag_sum(rows) and not any(x.rejected for x in rows.values())
+    # The φ_μ fit rejected: every sum that uses it says so.
+    phi = r.phi.copy()
+    r.phi = phi.assign(rejected=1.0, trend_p=0.0004, chi2_dof=2.5)
+    for x in sums().values():
+        assert x.verdict == "inconclusive" and x.rejected.startswith("model rejected (φ_μ fit: χ²/dof = 2.50")
+        assert "the data reject the model: φ_μ fit" in x.sentence and x.shown() == x.rejected
+    # One speed's α_μ fit rejected: the sum with the averaged α_μ, not the one from F_Y.
+    r.phi = phi
+    r.alpha_speeds = r.alpha_speeds.assign(rejected=[1.0] + [0.0] * (len(r.alpha_speeds) - 1), trend_p=0.002)
+    rows = sums()
+    assert all(x.rejected.startswith("model rejected (α_μ fit at V = ") for x in drag_sum(rows))
+    assert not any(x.rejected for x in yield_sum(rows))

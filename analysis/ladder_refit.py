@@ -1,0 +1,119 @@
+"""Refitting the recorded rungs with the current analysis, from the files each rung keeps:
+runs.csv (one row per pull, as the study's table rule wrote it) -> table.csv (replicate beds
+combined, analysis.table.combine_beds) -> fits.json (analysis.fitset.run_fits, with the options
+the rung's own fits.json recorded) -> report.md (every figure the table and fits allow, drawn
+in a scratch directory; only report.md is kept). Nothing is simulated again: run.json,
+kappa_shells.csv and startup.csv come from the run files and stay as collected.
+
+    python -m analysis.ladder_refit results/reproduction [--rung NAME ...] [--report-only]
+    python -m analysis ladder table results/reproduction      # then the ladder from the rungs
+
+A rung without run.json (not run) or without runs.csv (collected before runs.csv was kept) is
+left alone and named on standard error. --report-only rewrites report.md from the rung's
+table.csv and fits.json (after a change of the report's rules, which need no refit).
+"""
+import argparse
+import json
+import sys
+import tempfile
+from pathlib import Path
+
+from .fits import write_text_atomic
+from .ladder_claims import LadderError
+
+__all__ = ["refit_table", "refit_fits", "rewrite_report", "refit_rung", "main"]
+
+
+def refit_table(rung_dir):
+    """table.csv of a rung again from its runs.csv (what workflow/scripts/make_table.py does after
+    reading the run files; runs.csv already has the yield pulls marked). Returns the point table."""
+    from .table import combine_beds, load_csv, save_csv
+
+    d = Path(rung_dir)
+    runs = load_csv(d / "runs.csv")
+    points = combine_beds(runs)
+    save_csv(points, d / "table.csv")
+    return points
+
+
+def _options(rung_dir):
+    """The fits' options the rung's fits.json was written with (n_boot, seed, h_min, alpha_speeds)."""
+    from .fitset import Options
+
+    path = Path(rung_dir) / "fits.json"
+    try:
+        doc = json.loads(path.read_text()) if path.is_file() else {}
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise LadderError(f"{path}: not a readable fits.json ({exc})") from None
+    return Options.from_dict(doc.get("options"))
+
+
+def refit_fits(rung_dir):
+    """fits.json of a rung again from its table.csv, with the options it recorded. Returns Results."""
+    from .fitset import run_fits, save_results
+    from .table import load_csv
+
+    d = Path(rung_dir)
+    r = run_fits(load_csv(d / "table.csv"), options=_options(d))
+    save_results(d / "fits.json", r)
+    return r
+
+
+def rewrite_report(rung_dir):
+    """report.md of a rung again from its table.csv and fits.json: the figures those allow are
+    drawn in a scratch directory (the rung keeps none; Figs. 1, 2, 4, 7 and 9 need files a rung
+    does not keep and are listed as not drawn), the report written there and report.md copied."""
+    from .figure_list import NAMES, Inputs, draw
+    from .fitset import load_results
+    from .report import write_report
+    from .table import load_csv
+
+    d = Path(rung_dir)
+    df, r = load_csv(d / "table.csv"), load_results(d / "fits.json")
+    with tempfile.TemporaryDirectory(prefix="ladder_refit_") as tmp:
+        inputs = Inputs(table=df)
+        for name in NAMES:
+            draw(name, inputs, r, tmp)
+        md = write_report(df, r, tmp, r.options.n_boot, r.options.seed)
+        write_text_atomic(d / "report.md", md.read_text())
+    return d / "report.md"
+
+
+def refit_rung(rung_dir, report_only=False):
+    """table.csv, fits.json and report.md of one rung (report.md only with report_only)."""
+    if not report_only:
+        refit_table(rung_dir)
+        refit_fits(rung_dir)
+    return rewrite_report(rung_dir)
+
+
+def main(argv=None):
+    from .ladder import read_ladder, rung_run
+
+    ap = argparse.ArgumentParser(prog="python -m analysis.ladder_refit", description=__doc__.split("\n")[0])
+    ap.add_argument("root", help="the ladder's root with ladder.yaml (results/reproduction)")
+    ap.add_argument("--rung", action="append", help="only this rung (repeatable; default: every rung run)")
+    ap.add_argument("--report-only", action="store_true", help="rewrite report.md only, from table.csv and fits.json")
+    args = ap.parse_args(argv)
+    root = Path(args.root)
+    try:
+        rungs = [r["name"] for r in read_ladder(root)[0]]
+        unknown = sorted(set(args.rung or ()) - set(rungs))
+        if unknown:
+            raise LadderError(f"{root / 'ladder.yaml'} lists no rung {', '.join(unknown)}")
+        for name in args.rung or rungs:
+            d = root / name
+            if rung_run(root, name) is None:
+                print(f"{d}: not run (no run.json); left alone", file=sys.stderr)
+            elif not args.report_only and not (d / "runs.csv").is_file():
+                print(f"{d}: no runs.csv to refit from; left alone", file=sys.stderr)
+            else:
+                print(refit_rung(d, args.report_only), flush=True)
+    except (LadderError, ValueError, OSError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
