@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "app/command.hpp"
 #include "app/output_paths.hpp"
@@ -81,7 +82,7 @@ int pour_command(const std::vector<std::string>& args) {
                       args);
   if (!par) return 0;
   set_threads(*par);
-  const PourSpec s = pour_spec(*par);
+  PourSpec s = pour_spec(*par);
   const std::string out = par->text("output");
   check_output_dir(out, "output");
   const std::string checkpoint = out + ".checkpoint.h5";
@@ -91,43 +92,42 @@ int pour_command(const std::vector<std::string>& args) {
                                     {"the checkpoint", checkpoint, "granudrag-pour-checkpoint", false, true},
                                     {"the frames' sidecar", out + ".frames.xdmf", "text", false}});
 
-  const double t0 = omp_get_wtime();
-  PourCheckpoints checkpoints;
-  PourState resumed;
-  if (par->number("checkpoint_interval") > 0) {
-    const double every = std::ceil(par->number("checkpoint_interval") / s.check_interval - 1e-9);
-    checkpoints.every = std::max(1L, static_cast<long>(every));
-    checkpoints.save = [&](const PourState& state) {
-      save_pour_checkpoint(checkpoint, state, state.dt, *par);
-    };
-  }
-  if (par->flag("resume") && std::filesystem::exists(checkpoint)) {
-    if (auto c = load_pour_checkpoint_or_move_aside(checkpoint, *par, {"resume", "quiet", "threads"})) {
-      resumed = std::move(*c);
-      checkpoints.resume_from = &resumed;
-      std::fprintf(stderr, "pour: resuming from %s at step %ld\n", checkpoint.c_str(), resumed.state.steps);
-    }
-  }
-  // Frames: the dump is made at the first frame (the pour places the grains), knowing how many
-  // frames the checkpoint resumed from counts.
-  std::unique_ptr<FrameDump> frames;
-  if (par->number("dump_interval") > 0) {
-    checkpoints.frame_every =
+  if (par->number("checkpoint_interval") > 0)
+    s.checkpoint_every = std::max(
+        1L, static_cast<long>(std::ceil(par->number("checkpoint_interval") / s.check_interval - 1e-9)));
+  if (par->number("dump_interval") > 0)
+    s.dump_every =
         std::max(1L, static_cast<long>(std::ceil(par->number("dump_interval") / s.check_interval - 1e-9)));
-    checkpoints.frame = [&](const Simulation& sim) {
-      if (!frames) frames = std::make_unique<FrameDump>(out, sim.particles(), resumed.frames);
-      frames->add(sim.steps_done(), sim.time(), sim.particles());
-    };
-    if (checkpoints.save) {
-      checkpoints.save = [&](const PourState& state) {
-        if (frames) frames->seal();  // every frame the checkpoint counts is in a sealed segment
-        save_pour_checkpoint(checkpoint, state, state.dt, *par);
-      };
-    }
+
+  const double t0 = omp_get_wtime();
+  std::unique_ptr<FrameDump> frames;
+  auto save = [&](const Pour& p) {
+    if (frames) frames->seal();  // every frame the checkpoint counts is in a sealed segment
+    save_pour_checkpoint(checkpoint, p, *par);
+  };
+  auto dump = [&](const Pour& p) {
+    const Simulation& sim = p.simulation();
+    frames->add(sim.steps_done(), sim.time(), sim.particles());
+  };
+  std::unique_ptr<Pour> pour;
+  // A resumed pour must match every option but the run controls; an unreadable checkpoint is
+  // moved aside and the pour starts over.
+  std::optional<PourCheckpoint> c;
+  if (par->flag("resume") && std::filesystem::exists(checkpoint))
+    c = load_pour_checkpoint_or_move_aside(checkpoint, *par, {"resume", "quiet", "threads"});
+  if (c) {
+    pour = std::make_unique<Pour>(s, c->state, std::move(c->record));
+    std::fprintf(stderr, "pour: resuming from %s at step %ld\n", checkpoint.c_str(),
+                 pour->simulation().steps_done());
+  } else {
+    pour = std::make_unique<Pour>(s);
   }
-  const Bed bed = pour(s, !par->flag("quiet"), checkpoints);
-  if (checkpoints.frame_every > 0 && !frames)
-    frames = std::make_unique<FrameDump>(out, bed.state.particles, resumed.frames);
+  if (s.dump_every > 0)
+    frames = std::make_unique<FrameDump>(out, pour->simulation().particles(), pour->record().frames);
+  pour->run(!par->flag("quiet"), save, dump);
+  const double wall = omp_get_wtime() - t0;
+  Bed bed = pour->result();
+  bed.sanity = pour->sanity_report(wall);
   save_bed(out, bed, *par, frames.get());
   std::filesystem::remove(checkpoint);
   write_bed_xdmf(out, bed.state.particles.size());
@@ -148,7 +148,8 @@ int pour_command(const std::vector<std::string>& args) {
     std::printf(
         "  intruder D = %g at depth h = %.3f d (requested %s)\n", s.intruder_diameter, bed.depth,
         std::isnan(bed.requested_depth) ? "by intruder_z" : std::to_string(bed.requested_depth).c_str());
-  std::printf("  wall time %.1f s\n%s", omp_get_wtime() - t0, bed.sanity.c_str());
+  std::printf("  wall time %.1f s\n%s", wall, bed.sanity.c_str());
+  std::printf("%s", pour->timing_report().c_str());
   return 0;
 }
 

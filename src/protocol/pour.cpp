@@ -8,7 +8,9 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "engine/run_guard.hpp"
+#include "protocol/run_report.hpp"
 
 namespace granudrag {
 
@@ -121,12 +123,14 @@ Particles place_grains(const PourSpec& s, double intruder_z, double* column_top)
   return sorted;
 }
 
-Bed pour(const PourSpec& s, bool show_progress, const PourCheckpoints& checkpoints) {
+struct Pour::Column {
+  Particles particles;  // the grains placed, the intruder last
+  double top = 0;       // of the loose column
+  int intruder = -1;
+};
+
+Pour::Column Pour::loose_column(const PourSpec& s) {
   s.validate();
-  Bed bed;
-  bed.box = Box{s.lx, s.ly, true};
-  bed.contact = s.contact;
-  bed.requested_depth = s.depth;
   const bool has_intruder = s.intruder_diameter > 0;
   double z0 = NAN;
   if (has_intruder) z0 = std::isnan(s.depth) ? s.intruder_z : intruder_height_for_depth(s);
@@ -134,113 +138,171 @@ Bed pour(const PourSpec& s, bool show_progress, const PourCheckpoints& checkpoin
     throw Error(
         "'intruder_z' = " + std::to_string(z0) + " puts the intruder into the base; it " +
         "must be >= D/2 + base_height = " + std::to_string(0.5 * s.intruder_diameter + s.base_height));
-  double column_top = 0;
-  Particles p = place_grains(s, has_intruder ? z0 : 0.0, &column_top);
-  if (has_intruder) {
-    bed.intruder = static_cast<int>(
-        p.add(Vec3(s.intruder_x, s.intruder_y, z0), 0.5 * s.intruder_diameter, Species::Intruder));
-  }
+  Column c;
+  c.particles = place_grains(s, has_intruder ? z0 : 0.0, &c.top);
+  if (has_intruder)
+    c.intruder = static_cast<int>(
+        c.particles.add(Vec3(s.intruder_x, s.intruder_y, z0), 0.5 * s.intruder_diameter, Species::Intruder));
+  return c;
+}
+
+namespace {
+
+Settings pour_settings(const PourSpec& s) {
   Settings settings;
   settings.dt = s.dt;
   settings.skin = s.skin;
-  Simulation sim(std::move(p), bed.box, s.contact, settings);
-  bed.dt = sim.dt();
-  const long chunk = std::max(1L, std::lround(s.check_interval / sim.dt()));
+  return settings;
+}
+
+}  // namespace
+
+Pour::Pour(const PourSpec& spec) : Pour(spec, loose_column(spec), nullptr) {}
+
+Pour::Pour(const PourSpec& spec, const Simulation::State& state, PourRecord record)
+    : Pour(spec, loose_column(spec), &state) {
+  record_ = std::move(record);
+  record_.stop_reason.clear();  // a checkpoint is taken only while the pour runs
+  guard_ = RunGuard(guard_.limits(), record_.energy_start);
+  guard_.restore(record_.max_overlap, record_.grains_lost);
+}
+
+Pour::Pour(const PourSpec& spec, Column column, const Simulation::State* resume)
+    : spec_(spec),
+      sim_(std::move(column.particles), Box{spec.lx, spec.ly, true}, spec.contact, pour_settings(spec)),
+      guard_(GuardLimits{}, 0.0),
+      column_top_(column.top) {
+  bed_.box = Box{spec_.lx, spec_.ly, true};
+  bed_.contact = spec_.contact;
+  bed_.requested_depth = spec_.depth;
+  bed_.intruder = column.intruder;
+  bed_.dt = sim_.dt();
+  chunk_ = std::max(1L, std::lround(spec_.check_interval / sim_.dt()));
+  // The loop ends at the first check at or past max_settle_time, at time() = steps * dt.
+  auto time_at = [&](long checks) { return static_cast<double>(checks * chunk_) * sim_.dt(); };
+  long checks = std::max(1L, static_cast<long>(std::ceil(spec_.max_settle_time / time_at(1))));
+  while (checks > 1 && time_at(checks - 1) >= spec_.max_settle_time) --checks;
+  while (time_at(checks) < spec_.max_settle_time) ++checks;
+  max_steps_ = checks * chunk_;
   // Grains start at rest: the kinetic energy is tiny before they have fallen. No threshold
   // stop before the top of the column could have fallen to the wall (t = sqrt(2 z_top / g)).
-  const double min_settle_time = std::min(s.max_settle_time, std::sqrt(2.0 * column_top));
-  const long grains = s.grains;
+  min_settle_time_ = std::min(spec_.max_settle_time, std::sqrt(2.0 * column_top_));
   GuardLimits limits;
-  limits.max_overlap = s.max_overlap;
-  limits.z_max = column_top + 10.0;  // the grains start at rest below column_top
-  const PourState* resume = checkpoints.resume_from;
+  limits.max_overlap = spec_.max_overlap;
+  limits.z_max = column_top_ + 10.0;  // the grains start at rest below column_top
   if (resume) {
-    if (resume->state.particles.size() != sim.particles().size() || resume->state.steps % chunk != 0)
+    if (resume->particles.size() != sim_.particles().size() || resume->steps % chunk_ != 0)
       throw Error("the pour checkpoint does not fit this pour (particle count or check interval)");
-    sim.restore(resume->state);
+    sim_.restore(*resume);
   } else {
-    sim.setup();
+    sim_.setup();
+    record_.energy_start = sim_.energy().total();
   }
-  RunGuard guard(limits, resume ? resume->energy_start : sim.energy().total());
-  if (resume) guard.restore(resume->max_overlap_seen, resume->grains_lost);
-  const bool dump = checkpoints.frame_every > 0 && checkpoints.frame;
-  long frames = resume ? resume->frames : 0;
-  if (dump && frames == 0) {
-    checkpoints.frame(sim);
-    ++frames;
-  }
+  guard_ = RunGuard(limits, record_.energy_start);
+}
+
+void Pour::run(bool show_progress, const std::function<void(const Pour&)>& on_checkpoint,
+               const std::function<void(const Pour&)>& on_frame) {
+  if (finished()) return;
+  Progress progress("pour", max_steps_);
+  const double n = static_cast<double>(sim_.particles().size());
+  Timers& timers = sim_.timers();
+  timers.reset();
+  const long first_step = sim_.steps_done();
   const double t0 = omp_get_wtime();
-  const long steps0 = sim.steps_done();
-  bed.stop_reason = "max_time";
+  const bool dump = spec_.dump_every > 0 && on_frame;
+  auto frame = [&] {
+    timers.start();
+    on_frame(*this);
+    ++record_.frames;
+    timers.stamp(Phase::IO);
+  };
+  if (dump && record_.frames == 0) frame();
   while (true) {
-    sim.run(chunk);
+    sim_.run(chunk_);
     // A failure stops the pour here, before a checkpoint could save it.
-    const std::string why = guard.check(sim, 0.0);
+    const std::string why = guard_.check(sim_, 0.0);
+    record_.max_overlap = guard_.max_overlap_seen();
+    record_.grains_lost = guard_.grains_lost();
     if (!why.empty()) throw Error("the pour stopped: " + why + ". The last good checkpoint, if any, is kept");
-    if (dump && (sim.steps_done() / chunk) % checkpoints.frame_every == 0) {
-      checkpoints.frame(sim);
-      ++frames;
-    }
-    const Energy e = sim.energy();
-    bed.kinetic_energy = (e.kinetic + e.rotational) / grains;
-    if (show_progress) {
-      const double elapsed = omp_get_wtime() - t0;
-      std::fprintf(stderr,
-                   "pour: t = %.1f of at most %.0f sqrt(d/g), kinetic energy per grain %.3g "
-                   "(target %.3g), %.3g particle-steps/s, elapsed %.0f s\n",
-                   sim.time(), s.max_settle_time, bed.kinetic_energy, s.ke_threshold,
-                   sim.particles().size() * static_cast<double>(sim.steps_done() - steps0) / elapsed,
-                   elapsed);
-    }
-    if (!std::isfinite(bed.kinetic_energy))
-      throw Error("the pour blew up at t = " + std::to_string(sim.time()) +
+    const Energy e = sim_.energy();
+    record_.kinetic_energy = (e.kinetic + e.rotational) / spec_.grains;
+    timers.stamp(Phase::Observables);
+    const long checks = sim_.steps_done() / chunk_;
+    if (dump && checks % spec_.dump_every == 0) frame();
+    if (show_progress) progress.update(sim_.steps_done(), n, "particle-steps");
+    if (!std::isfinite(record_.kinetic_energy))
+      throw Error("the pour blew up at t = " + std::to_string(sim_.time()) +
                   ": non-finite kinetic energy; the time step is too large for the stiffness");
-    if (bed.kinetic_energy < s.ke_threshold && sim.time() >= min_settle_time) {
-      bed.stop_reason = "threshold";
+    if (record_.kinetic_energy < spec_.ke_threshold && sim_.time() >= min_settle_time_) {
+      record_.stop_reason = "threshold";
       break;
     }
-    if (sim.time() >= s.max_settle_time) break;
-    if (checkpoints.every > 0 && (sim.steps_done() / chunk) % checkpoints.every == 0 && checkpoints.save) {
-      sim.rebuild_lists();
-      checkpoints.save(PourState{sim.state(), guard.energy_start(), guard.max_overlap_seen(),
-                                 guard.grains_lost(), sim.dt(), frames});
+    if (sim_.time() >= spec_.max_settle_time) {
+      record_.stop_reason = "max_time";
+      break;
+    }
+    if (spec_.checkpoint_every > 0 && checks % spec_.checkpoint_every == 0 && on_checkpoint) {
+      sim_.rebuild_lists();
+      on_checkpoint(*this);
+      timers.stamp(Phase::IO);
     }
   }
-  bed.settle_time = sim.time();
-  {
-    const Particles& q = sim.particles();
-    long lost = 0;
-    for (std::size_t i = 0; i < q.size(); ++i)
-      if (q.species[i] == Species::Mobile && (!q.x[i].allFinite() || q.x[i].z() < 0)) ++lost;
-    const Energy e = sim.energy();
-    const double elapsed = omp_get_wtime() - t0;
-    std::ostringstream report;
-    report << "sanity: grains lost " << lost << " of " << grains << "; largest overlap "
-           << sim.contacts().max_overlap(q, bed.box) << " d; energy of the grains: kinetic "
-           << e.kinetic + e.rotational << ", gravitational " << e.potential << ", elastic " << e.elastic
-           << " (rho g d^4); "
-           << q.size() * static_cast<double>(sim.steps_done() - steps0) / std::max(elapsed, 1e-9)
-           << " particle-steps/s\n";
-    bed.sanity = report.str();
-  }
-  sim.particles().freeze_below(s.base_height);
-  sim.rebuild_lists();  // frozen pairs leave the lists; the state is saved from a fresh build
-  bed.state = sim.state();
-  bed.state.steps = 0;  // a pull starts its own clock
-  bed.profile = measure_bed(bed.state.particles, bed.box);
-  bed.surface_height = bed.profile.surface_height;
-  if (has_intruder) {
-    bed.depth = bed.surface_height - bed.state.particles.x[bed.intruder].z();
-    if (!std::isnan(s.depth) && std::abs(bed.depth - s.depth) > 1.0)
-      std::fprintf(stderr,
-                   "pour: warning: the intruder ended at depth %.3f d, %.2f d from the requested %.3f d "
-                   "(bulk packing fraction %.3f, packing_estimate %.3f)\n",
-                   bed.depth, bed.depth - s.depth, s.depth, bed.profile.bulk_packing_fraction,
-                   assumed_packing(s));
-    if (bed.depth < 0.5 * s.intruder_diameter)
-      std::fprintf(stderr, "pour: warning: the intruder is not buried (depth %.3f d < D/2)\n", bed.depth);
-  }
-  return bed;
+  loop_seconds_ = omp_get_wtime() - t0;
+  loop_steps_ = sim_.steps_done() - first_step;
+  finish();
+}
+
+void Pour::finish() {
+  const Particles& q = sim_.particles();
+  end_lost_ = 0;
+  for (std::size_t i = 0; i < q.size(); ++i)
+    if (q.species[i] == Species::Mobile && (!q.x[i].allFinite() || q.x[i].z() < 0)) ++end_lost_;
+  end_energy_ = sim_.energy().total();
+  bed_.stop_reason = record_.stop_reason;
+  bed_.kinetic_energy = record_.kinetic_energy;
+  bed_.settle_time = sim_.time();
+  bed_.sanity = sanity_report(loop_seconds_);
+  sim_.particles().freeze_below(spec_.base_height);
+  sim_.rebuild_lists();  // frozen pairs leave the lists; the state is saved from a fresh build
+  bed_.state = sim_.state();
+  bed_.state.steps = 0;  // a pull starts its own clock
+  bed_.profile = measure_bed(bed_.state.particles, bed_.box);
+  bed_.surface_height = bed_.profile.surface_height;
+  if (bed_.intruder < 0) return;
+  const PourSpec& s = spec_;
+  bed_.depth = bed_.surface_height - bed_.state.particles.x[bed_.intruder].z();
+  if (!std::isnan(s.depth) && std::abs(bed_.depth - s.depth) > 1.0)
+    std::fprintf(stderr,
+                 "pour: warning: the intruder ended at depth %.3f d, %.2f d from the requested %.3f d "
+                 "(bulk packing fraction %.3f, packing_estimate %.3f)\n",
+                 bed_.depth, bed_.depth - s.depth, s.depth, bed_.profile.bulk_packing_fraction,
+                 assumed_packing(s));
+  if (bed_.depth < 0.5 * s.intruder_diameter)
+    std::fprintf(stderr, "pour: warning: the intruder is not buried (depth %.3f d < D/2)\n", bed_.depth);
+}
+
+std::string Pour::sanity_report(double wall_seconds) const {
+  SanityFigures f;
+  f.grains_lost = end_lost_;
+  f.grains = spec_.grains;
+  f.largest_overlap = record_.max_overlap;
+  f.energy_start = record_.energy_start;
+  f.energy_end = end_energy_;
+  // This run's steps: a resumed pour did the others in another process.
+  f.particle_steps_per_second =
+      static_cast<double>(sim_.particles().size()) * loop_steps_ / std::max(wall_seconds, 1e-9);
+  return sanity_line(f);
+}
+
+std::string Pour::timing_report() const {
+  return timing_line(sim_.timers(), static_cast<double>(sim_.particles().size()), loop_steps_, loop_seconds_);
+}
+
+Bed pour(const PourSpec& spec, bool show_progress) {
+  Pour p(spec);
+  p.run(show_progress);
+  return p.result();
 }
 
 }  // namespace granudrag

@@ -42,6 +42,10 @@ struct PourSpec {
   double base_height = 0.6;      // grains below are frozen into the rough base
   std::uint64_t seed = 1;
   double max_overlap = GuardLimits{}.max_overlap;  // d: the pour stops when an overlap exceeds it
+  // Run controls, not keys: kinetic-energy checks between checkpoints and between frames (the
+  // first at step 0); 0: none.
+  long checkpoint_every = 0;
+  long dump_every = 0;
 
   // Every field within its key's range (pour_keys()), and what no single range says: the intruder
   // inside the box, exactly one of depth and intruder_z, not too many grains for the box, the
@@ -90,30 +94,75 @@ constexpr double kSurfaceOffset = -0.35;
 // The intruder height for the requested depth, from the estimated packing fraction.
 double intruder_height_for_depth(const PourSpec& spec);
 
-// Where a pour stands between two kinetic-energy checks: enough to continue it bit for bit.
-struct PourState {
-  Simulation::State state;  // taken right after a forced list rebuild
-  double energy_start = 0;  // of the grains after setup, for the run guard
-  double max_overlap_seen = 0;
-  long grains_lost = 0;
-  double dt = 0;    // the pour's time step (recorded, not restored)
-  long frames = 0;  // frames handed to PourCheckpoints::frame so far
+// Everything a pour carries from one kinetic-energy check to the next besides the simulation
+// state; with that state (taken right after a forced list rebuild) it is the whole checkpoint.
+struct PourRecord {
+  double energy_start = 0;    // of the grains after setup, for the run guard
+  double max_overlap = 0;     // largest overlap seen at a check, d
+  long grains_lost = 0;       // most grains out of the box at a check
+  long frames = 0;            // frames handed to on_frame so far (dump_every)
+  double kinetic_energy = 0;  // per grain at the last check
+  // Why the pour ended: "threshold" (settled) or "max_time"; "" while it runs.
+  std::string stop_reason;
 };
 
-// Periodic checkpoints of a pour. Every `every` kinetic-energy checks (0: none) the lists are
-// rebuilt and `save` is called with the state; a pour resumed from that state with the same
-// spec and `every` continues bitwise identically to one never interrupted (same thread count).
-struct PourCheckpoints {
-  long every = 0;
-  std::function<void(const PourState&)> save;
-  const PourState* resume_from = nullptr;
-  // Frames (--dump_interval): `frame` is called at step 0 and every `frame_every` checks after,
-  // before a checkpoint due at the same check, and counted in PourState::frames.
-  long frame_every = 0;
-  std::function<void(const Simulation&)> frame;
+class Pour {
+ public:
+  // Places the grains in the loose column around the intruder and sets the forces up. Throws
+  // Error naming the key when the spec is invalid or the grains do not fit.
+  explicit Pour(const PourSpec& spec);
+  // Continues from a checkpoint of a pour with the same spec: its state and record.
+  Pour(const PourSpec& spec, const Simulation::State& state, PourRecord record);
+
+  // Runs until the grains have settled or max_settle_time; then freezes the base and measures
+  // the bed (result()). on_checkpoint is called every spec.checkpoint_every kinetic-energy checks,
+  // right after the forced rebuild that makes a resumed run bitwise identical (same thread count).
+  // Throws Error when the run guard (engine/run_guard.hpp) finds a failure at a check, before a
+  // checkpoint could save it. on_frame is called at step 0 and every spec.dump_every checks
+  // after, before a checkpoint due at the same check, and counted in record().frames. The
+  // progress line counts steps to max_settle_time, the most a pour runs: a bed that settles
+  // first ends sooner than its ETA.
+  void run(bool show_progress, const std::function<void(const Pour&)>& on_checkpoint = {},
+           const std::function<void(const Pour&)>& on_frame = {});
+
+  // The settled bed, once finished(); its sanity is sanity_report(loop_seconds()).
+  const Bed& result() const { return bed_; }
+  const PourRecord& record() const { return record_; }
+  const Simulation& simulation() const { return sim_; }
+  Simulation::State state() const { return sim_.state(); }
+  const PourSpec& spec() const { return spec_; }
+  bool finished() const { return !record_.stop_reason.empty(); }
+  // Sanity report of the run (the pull's format): grains lost, largest overlap, the grains'
+  // energy and its dissipation, throughput. Taken before the base is frozen.
+  std::string sanity_report(double wall_seconds) const;
+  // The step loop alone and its split by phase for the last run(), one line (as the pull's).
+  std::string timing_report() const;
+  double loop_seconds() const { return loop_seconds_; }
+  long loop_steps() const { return loop_steps_; }
+
+ private:
+  struct Column;  // the grains placed around the intruder, before anything moves
+  static Column loose_column(const PourSpec& spec);  // validates the spec first
+  Pour(const PourSpec& spec, Column column, const Simulation::State* resume);
+  void finish();
+
+  PourSpec spec_;
+  Simulation sim_;
+  PourRecord record_;
+  RunGuard guard_;
+  Bed bed_;
+  double column_top_ = 0;
+  long chunk_ = 1;      // steps per kinetic-energy check
+  long max_steps_ = 0;  // the step of the last check max_settle_time allows
+  double min_settle_time_ = 0;
+  // The grains when the loop ended, before the base was frozen: lost, energy.
+  long end_lost_ = 0;
+  double end_energy_ = 0;
+  double loop_seconds_ = 0;
+  long loop_steps_ = 0;
 };
 
-// Throws Error, naming the failure (engine/run_guard.hpp), when the pour runs away.
-Bed pour(const PourSpec& spec, bool show_progress, const PourCheckpoints& checkpoints = {});
+// Pours a bed in one go: Pour(spec).run(show_progress), its result with the sanity report.
+Bed pour(const PourSpec& spec, bool show_progress);
 
 }  // namespace granudrag

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/progress.hpp"
 #include "protocol/observables.hpp"
+#include "protocol/run_report.hpp"
 #include "protocol/speed_limit.hpp"
 
 namespace granudrag {
@@ -157,15 +158,7 @@ void Pull::run(bool show_progress, const std::function<void(const Pull&)>& on_ch
 }
 
 std::string Pull::timing_report() const {
-  const Timers& t = sim_.timers();
-  std::ostringstream s;
-  const double ps = static_cast<double>(sim_.particles().size()) * loop_steps_;
-  s << "timing: loop " << loop_seconds_ << " s for " << loop_steps_ << " steps, "
-    << ps / std::max(loop_seconds_, 1e-9) << " particle-steps/s;";
-  for (int k = 0; k < static_cast<int>(Phase::Count); ++k)
-    s << ' ' << phase_name(static_cast<Phase>(k)) << ' ' << t.seconds(static_cast<Phase>(k));
-  s << " s\n";
-  return s.str();
+  return timing_line(sim_.timers(), static_cast<double>(sim_.particles().size()), loop_steps_, loop_seconds_);
 }
 
 long Pull::samples_in_transient() const {
@@ -363,15 +356,16 @@ int Pull::grains_lost() const {
 }
 
 std::string Pull::sanity_report(double wall_seconds) const {
-  const Energy e = sim_.energy();
-  const double grains = static_cast<double>(sim_.particles().size());
-  std::ostringstream s;
-  s << "sanity: grains lost " << grains_lost() << " of " << sim_.particles().count(Species::Mobile)
-    << "; largest overlap " << record_.max_overlap << " d; energy of the grains " << record_.energy_start
-    << " -> " << e.total() << ", work by the intruder " << record_.work << ", dissipated "
-    << record_.work - (e.total() - record_.energy_start) << " (rho g d^4); "
-    << grains * sim_.steps_done() / std::max(wall_seconds, 1e-9) << " particle-steps/s\n";
-  return s.str();
+  SanityFigures f;
+  f.grains_lost = grains_lost();
+  f.grains = static_cast<long>(sim_.particles().count(Species::Mobile));
+  f.largest_overlap = record_.max_overlap;
+  f.energy_start = record_.energy_start;
+  f.energy_end = sim_.energy().total();
+  f.work = record_.work;
+  f.particle_steps_per_second =
+      static_cast<double>(sim_.particles().size()) * sim_.steps_done() / std::max(wall_seconds, 1e-9);
+  return sanity_line(f);
 }
 
 }  // namespace granudrag

@@ -6,6 +6,7 @@
 #include "helpers.hpp"
 #include "protocol/bed_profile.hpp"
 #include "protocol/pour.hpp"
+#include "protocol/run_report.hpp"
 
 using namespace granudrag;
 
@@ -178,19 +179,17 @@ PourSpec small_pour() {
 }  // namespace
 
 TEST(Pour, ResumedFromACheckpointItEndsBitwiseAsAnUninterruptedPour) {
-  const PourSpec s = small_pour();
-  std::vector<PourState> saved;
-  PourCheckpoints every2;
-  every2.every = 2;  // every second check: t = 1, 2, ...
-  every2.save = [&](const PourState& state) { saved.push_back(state); };
-  const Bed whole = pour(s, false, every2);
+  PourSpec s = small_pour();
+  s.checkpoint_every = 2;  // every second check: t = 1, 2, ...
+  std::vector<std::pair<Simulation::State, PourRecord>> saved;
+  Pour first(s);
+  first.run(false, [&](const Pour& p) { saved.emplace_back(p.state(), p.record()); });
+  const Bed& whole = first.result();
   ASSERT_GE(saved.size(), 5u);
   for (std::size_t k : {std::size_t{0}, std::size_t{3}}) {
-    PourCheckpoints resume;
-    resume.every = 2;
-    resume.save = [](const PourState&) {};
-    resume.resume_from = &saved[k];
-    const Bed again = pour(s, false, resume);
+    Pour resumed(s, saved[k].first, saved[k].second);
+    resumed.run(false, [](const Pour&) {});
+    const Bed& again = resumed.result();
     const Particles& a = whole.state.particles;
     const Particles& b = again.state.particles;
     ASSERT_EQ(a.size(), b.size());
@@ -217,4 +216,20 @@ TEST(Pour, AnOverlapOverTheBoundStopsThePour) {
   }
   s.max_overlap = 0.1;
   EXPECT_NO_THROW(pour(s, false));
+}
+
+TEST(Pour, SanityReportReadsAsThePulls) {
+  // A pour's intruder is held fixed: no work term, and what the grains lost was dissipated.
+  SanityFigures f;
+  f.grains = 500;
+  f.largest_overlap = 0.05;
+  f.energy_start = 100;
+  f.energy_end = 40;
+  f.particle_steps_per_second = 2e6;
+  EXPECT_EQ(sanity_line(f),
+            "sanity: grains lost 0 of 500; largest overlap 0.05 d; energy of the grains 100 -> 40, "
+            "dissipated 60 (rho g d^4); 2e+06 particle-steps/s\n");
+  f.work = 30;
+  EXPECT_NE(sanity_line(f).find("100 -> 40, work by the intruder 30, dissipated 90 (rho g d^4)"),
+            std::string::npos);
 }
