@@ -15,7 +15,7 @@ Modules:
     goodness every fit's chi^2/dof and runs test of its residuals (rejects a model that trends)
     alpha_drag  alpha_mu from the drag at several speeds, averaged (Fig. 18)
     fitset   every fit of a table into fits.json, and back
-    figures, figures_yield, figures_drawing
+    figures, figures_yield, figures_drawing, figures_bed
              one function per paper figure (PNG + PDF), and what they share
     claims   the paper's headline claims by letter
     report   Markdown/HTML report with fitted-vs-published table
