@@ -97,12 +97,18 @@ def _yield_beside(g):
 def point_bed_scatter(points):
     """The pooled relative between-bed standard deviation of the drag, sqrt(mean(sigma_B^2 /
     drag^2)) over the points with two or more beds, from a point table (sigma_B^2 = n_beds
-    drag_err_between^2; analysis.table.combine_beds); 0 when no point has replicate beds (the
-    scatter is then not measured, and the fits say so)."""
+    drag_err_between^2; analysis.table.combine_beds); when no point has replicate beds, the
+    prior the points poured once took (column bed_scatter_r of the points whose
+    bed_scatter_source is "prior": the config's table.bed_scatter); else 0 (the scatter is then
+    not measured, and the fits say so)."""
     if not {"n_beds", "drag_err_between"} <= set(points.columns):
         return 0.0
     rep = points[points.n_beds.astype(float) >= 2]
     if rep.empty:
+        if {"bed_scatter_source", "bed_scatter_r"} <= set(points.columns):
+            prior = points.bed_scatter_r[points.bed_scatter_source == "prior"].astype(float)
+            if len(prior) and np.isfinite(prior).all():
+                return float(prior.max())
         return 0.0
     r2 = rep.n_beds.astype(float) * rep.drag_err_between.astype(float) ** 2 / rep.drag.astype(float) ** 2
     return float(np.sqrt(np.nanmean(r2)))

@@ -24,14 +24,24 @@ from .ladder_claims import LadderError
 __all__ = ["refit_table", "refit_fits", "rewrite_report", "refit_rung", "main"]
 
 
+def _bed_scatter_prior(rung_dir):
+    """The table.bed_scatter prior of the config the rung was run with (its config.yaml), or None."""
+    import yaml
+
+    path = Path(rung_dir) / "config.yaml"
+    config = yaml.safe_load(path.read_text()) if path.is_file() else None
+    return ((config or {}).get("table") or {}).get("bed_scatter")
+
+
 def refit_table(rung_dir):
     """table.csv of a rung again from its runs.csv (what workflow/scripts/make_table.py does after
-    reading the run files; runs.csv already has the yield pulls marked). Returns the point table."""
+    reading the run files, with the bed-scatter prior of the rung's config.yaml; runs.csv already
+    has the yield pulls marked). Returns the point table."""
     from .table import combine_beds, load_csv, save_csv
 
     d = Path(rung_dir)
     runs = load_csv(d / "runs.csv")
-    points = combine_beds(runs)
+    points = combine_beds(runs, prior=_bed_scatter_prior(d))
     save_csv(points, d / "table.csv")
     return points
 

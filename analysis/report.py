@@ -16,11 +16,15 @@ bars, so only ours count):
   not reproduced     otherwise (or no fit)
 The report counts each verdict apart. Beside every number it says whether its fit
 ended on a bound, how many replicate beds it rests on, and whether any of its
-runs lacked a plateau (table columns SEED_COLUMN and PLATEAU_COLUMN, when present).
+runs lacked a plateau (table columns SEED_COLUMN and PLATEAU_COLUMN, when present); where
+the scatter between beds in its points' errors came from (replicate beds, pooled from the
+study's replicated points, a config's prior, or none: analysis.report_notes) is stated once
+for every fit when all points share it, else beside each number.
 """
 import math
 from collections import Counter
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -33,17 +37,24 @@ from .figures import not_drawn_reason
 from .fits import write_text_atomic
 from .fitset import Results, load_results, named_fits, run_fits, save_results
 from .goodness import TREND_ALPHA, describe, inherited, rejection_text
+from .report_notes import (
+    PLATEAU_COLUMN,
+    SEED_COLUMN,
+    basis_notes,
+    bed_scatter_sentence,
+    shared_caveats,
+    uniform_bed_scatter,
+)
 from .report_render import SYMBOLS, markdown, to_html
 from .result import Param, format_pm
 from .table import is_yield, reference_params, select, yield_rows
 
-__all__ = ["Results", "build_report", "comparisons", "run_fits", "verdict", "write_report"]
+__all__ = ["PLATEAU_COLUMN", "SEED_COLUMN", "Results", "build_report", "comparisons", "run_fits", "shared_caveats",
+           "verdict", "write_report"]
 
 COVERAGE, REL_TOL = 0.95, 0.25   # the within-error interval's coverage; "qualitatively"
 INCONCLUSIVE = 0.30        # relative error above which a number cannot confirm anything
 VERDICTS = ("reproduced within error bars", "reproduced qualitatively", "not reproduced", "inconclusive")
-SEED_COLUMN = "seed"         # replicate bed of a pull (absent: one bed per point)
-PLATEAU_COLUMN = "plateau"   # 1/True when the run's drag error converged (observables.cpp)
 
 
 # --- comparisons ---------------------------------------------------------
@@ -107,7 +118,8 @@ def verdict(p, published, violations=(), at_bounds=(), dof=None, rejected=""):
     return "not reproduced", f"off by {d / abs(published):.0%}" if published else "off"
 
 
-def _row(quantity, p, published, shown=None, fit=None, rows=None, extra="", dof=None, goodness=None):
+def _row(quantity, p, published, shown=None, fit=None, rows=None, extra="", dof=None, goodness=None,
+         bed_scatter=True, observable=False):
     meta = fit.meta if fit is not None else {}
     g = goodness if goodness is not None else meta.get("goodness")
     rejected = rejection_text(g) if g and g.get("rejected") else ""
@@ -117,33 +129,11 @@ def _row(quantity, p, published, shown=None, fit=None, rows=None, extra="", dof=
     notes = [rejected] if rejected else []
     notes += list(meta.get("at_bounds", [])) + list(meta.get("violations", []))
     if rows is not None:
-        notes += _basis(rows)
+        notes += basis_notes(rows, bed_scatter, observable)
     tail = f" [{'; '.join(notes)}]" if notes else ""
     said = f"model rejected, the fitted {p} is not a finding" if rejected else (p if p else "n/a")
     base = f"{quantity}: {said} against {shown} — {v} ({why}){extra}."
     return Row(quantity, str(p) if p else "n/a", shown, v, base + tail, notes, base, rejected)
-
-
-def _basis(rows):
-    """How many replicate beds the rows rest on and whether any of their runs lacked a plateau."""
-    if rows is None or len(rows) == 0:
-        return []
-    if "n_beds" in rows.columns:           # the point table: replicate beds already combined
-        per = rows["n_beds"].astype(int)
-        beds = f"{per.min()}–{per.max()}" if per.min() != per.max() else f"{per.min()}"
-        out = [f"{beds} replicate bed(s) per point"]
-    elif SEED_COLUMN in rows.columns:      # a run table: one row per bed
-        per = rows.groupby(["system", "D", "h", "mu", "kn", "gamman", "V"])[SEED_COLUMN].nunique()
-        beds = f"{per.min()}–{per.max()}" if per.min() != per.max() else f"{per.min()}"
-        out = [f"{beds} replicate bed(s) per point"]
-    else:
-        out = ["1 bed per point (no replicates)"]
-    if PLATEAU_COLUMN in rows.columns:
-        flat = rows[PLATEAU_COLUMN].astype(float)
-        bad = int((flat == 0).sum())
-        out.append(f"{bad} of {len(rows)} runs whose drag error reached no plateau (a conservative bound)"
-                   if bad else "every run reached a plateau")
-    return out
 
 
 def _moving(rows):
@@ -151,7 +141,10 @@ def _moving(rows):
 
 
 def comparisons(r, df=None):
-    """Rows of the report's table; with the pull table df, each says what its fit rests on."""
+    """Rows of the report's table; with the pull table df, each says what its fit rests on (the
+    bed scatter of its points only when the table's points do not all share one source: the
+    report's introduction states it once)."""
+    entry = partial(_row, bed_scatter=not uniform_bed_scatter(df))
     ref = None
     if df is not None:
         kn, gn = reference_params(df)
@@ -162,26 +155,28 @@ def comparisons(r, df=None):
         where = f"μ = {mu:g}, {label} = {key:.3g}"
         basis = sub(mu=mu, system="I" if label == "D" else "II", **{label: key})
         basis = None if basis is None else _moving(basis)
-        rows.append(_row(f"Fr_1 ({where})", fit["Fr1"], paper.CROSSOVER_FR1, "≈ 1", fit, basis))
-        rows.append(_row(f"Fr_2 ({where})", fit["Fr2"], paper.CROSSOVER_FR2, "≈ 5", fit, basis))
+        rows.append(entry(f"Fr_1 ({where})", fit["Fr1"], paper.CROSSOVER_FR1, "≈ 1", fit, basis))
+        rows.append(entry(f"Fr_2 ({where})", fit["Fr2"], paper.CROSSOVER_FR2, "≈ 5", fit, basis))
     h_min = r.options.h_min
     for law in r.laws:
         basis = sub(mu=law.mu)
         if basis is not None:
             basis = _moving(basis[basis.h >= h_min] if h_min else basis)
         cut = f", h ≥ {h_min:g}" if h_min else ""
-        rows.append(_row(f"Fr_1 (Eq. 12 collapse, μ = {law.mu:g}{cut})", law.regimes["Fr1"], 1.0, "≈ 1",
+        rows.append(entry(f"Fr_1 (Eq. 12 collapse, μ = {law.mu:g}{cut})", law.regimes["Fr1"], 1.0, "≈ 1",
                          law.regimes, basis))
-        rows.append(_row(f"Fr_2 (Eq. 12 collapse, μ = {law.mu:g}{cut})", law.regimes["Fr2"], 5.0, "≈ 5",
+        rows.append(entry(f"Fr_2 (Eq. 12 collapse, μ = {law.mu:g}{cut})", law.regimes["Fr2"], 5.0, "≈ 5",
                          law.regimes, basis))
     obs = sub(mu=0.5, system="I")
     if r.theta is not None:
         for k, name in (("U1", "Υ1"), ("U2", "Υ2"), ("U3", "Υ3")):
-            rows.append(_row(f"θ(Fr) {name} (Eq. 7)", r.theta[k], paper.THETA[k], fit=r.theta, rows=obs))
+            rows.append(entry(f"θ(Fr) {name} (Eq. 7)", r.theta[k], paper.THETA[k], fit=r.theta, rows=obs,
+                             observable=True))
     if r.kappa is not None:
         for k in ("k0", "k1"):
-            rows.append(_row(f"κ(Fr) {'intercept' if k == 'k0' else 'slope'} (Fig. 8)",
-                             r.kappa[k], paper.KAPPA[k], fit=r.kappa, rows=obs))
+            rows.append(entry(f"κ(Fr) {'intercept' if k == 'k0' else 'slope'} (Fig. 8)",
+                             r.kappa[k], paper.KAPPA[k], fit=r.kappa, rows=obs,
+                             observable=True))
     for D, fit in sorted(r.by("D", 0.0).items()):
         pub = paper.TABLE1.get(int(round(D))) if float(D).is_integer() else None
         if pub and "b0" in fit.params:
@@ -190,7 +185,7 @@ def comparisons(r, df=None):
                       if y else "")
             basis = sub(mu=0.0, system="I", D=D)
             for k, name, v in zip(("a0", "b0", "c0"), ("a''", "b''", "c''"), pub):
-                rows.append(_row(f"Table I {name} (D = {D:g}d)", fit[k], v, fit=fit,
+                rows.append(entry(f"Table I {name} (D = {D:g}d)", fit[k], v, fit=fit,
                                  rows=None if basis is None else _moving(basis),
                                  extra=beside if k == "a0" else ""))
     yl = None if ref is None else yield_rows(df)
@@ -198,18 +193,18 @@ def comparisons(r, df=None):
                                         (r.alpha, "alpha", paper.ALPHA_0, "α_0 (yield force, Fig. 17)", "II")):
         for _, t in (tab[np.isclose(tab.mu, 0.0)].iterrows() if tab is not None else []):
             basis = None if yl is None else select(yl, mu=0.0, kn=t.kn, gamman=t.gamman, system=system)
-            rows.append(_row(f"{name} (K_n = {t.kn:.3g})", Param(t[col], t[col + "_err"]), pub,
+            rows.append(entry(f"{name} (K_n = {t.kn:.3g})", Param(t[col], t[col + "_err"]), pub,
                              f"≈ {pub:g}", rows=basis, dof=_table_dof(t, "n"), goodness=_table_goodness(t)))
     ad = r.alpha_drag if r.alpha_drag is not None else []
     for _, t in (ad[np.isclose(ad.mu, 0.0)].iterrows() if len(ad) else []):
-        rows.append(_row(f"α_0 (drag, averaged over speeds {t.speeds}; K_n = {t.kn:.3g})",
+        rows.append(entry(f"α_0 (drag, averaged over speeds {t.speeds}; K_n = {t.kn:.3g})",
                          Param(t.alpha, t.alpha_err), paper.ALPHA_0, f"≈ {paper.ALPHA_0:g}",
                          rows=None if df is None else _moving(select(df, mu=0.0, kn=t.kn, gamman=t.gamman,
                                                                       system="II"))))
     for tab, how, alphas in ((r.sums, "α_μ from the yield force", r.alpha),
                              (r.sums_drag, "α_μ from the drag, averaged over speeds", r.alpha_speeds)):
         for _, t in (tab.iterrows() if tab is not None else []):
-            rows.append(_row(f"α_μ + φ_μ ({how}; μ = {t.mu:g}, K_n = {t.kn:.3g})",
+            rows.append(entry(f"α_μ + φ_μ ({how}; μ = {t.mu:g}, K_n = {t.kn:.3g})",
                              Param(t["sum"], t["sum_err"]), paper.SUM_RULE, "≈ 3", dof=_table_dof(t, "n_min"),
                              goodness=_sum_goodness(t, r.phi, alphas)))
     for D, fit in sorted(r.saturation.items()):
@@ -261,21 +256,6 @@ def headline(rows):
     return out
 
 
-def shared_caveats(rows):
-    """(the notes several rows share, as "[k] note (n rows)", and a function that writes a row's
-    notes with those replaced by their [k]): a caveat is stated once, not on every row."""
-    seen = Counter(n for x in rows for n in dict.fromkeys(x.notes))
-    shared = [n for n, k in seen.items() if k > 1]
-    number = {n: i + 1 for i, n in enumerate(shared)}
-
-    def refs(notes):
-        own = [n for n in notes if n not in number]
-        cited = sorted({number[n] for n in notes if n in number})
-        return "; ".join(own + ([", ".join(f"[{k}]" for k in cited)] if cited else []))
-
-    return [f"[{number[n]}] {n} ({seen[n]} rows)" for n in shared], refs
-
-
 def counts(rows):
     """How many numbers got each verdict (inconclusive counted apart)."""
     c = Counter(x.verdict for x in rows)
@@ -313,7 +293,7 @@ def _blocks(df, r, figs, n_boot, seed):
                f"μ = {', '.join(f'{m:g}' for m in sorted(df.mu.unique()))}; reference contact law "
                f"K_n = {kn:.3g}, γ_n = {gn:.3g}. Regime fits: crossovers fitted by profile least "
                f"squares, errors from {n_boot} wild-bootstrap refits (seed {seed}); other fits: "
-               "least-squares covariance. Errors are one standard error."),
+               "least-squares covariance. Errors are one standard error. " + bed_scatter_sentence(df)),
          ("p", _scale_text(df, kn)),
          ("p", f"Verdicts: inconclusive = no error bar, an error above {INCONCLUSIVE:.0%} of the "
                "value, a fit that breaks its model (drag falling with Fr in regime II or III) or "

@@ -3,6 +3,7 @@
 One row per pull. All quantities are dimensionless in grain density rho,
 mean grain diameter d and gravity g.
 """
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -191,7 +192,40 @@ def select(df, *, atol=1e-9, **equal):
 # A sweep with `seed: [1, 2, 3]` pours one bed per seed; every speed of the sweep is pulled
 # through each. The run table (one row per pull) then has several rows per point, told apart
 # by `seed`; `combine_beds` makes the point table (one row per point) the fits read, and
-# `bed_bootstrap` its resamples that keep the beds' correlations.
+# `bed_bootstrap` its resamples that keep the beds' correlations. A point poured once cannot
+# measure the scatter between beds: it takes the study's own, pooled over its replicated points,
+# or, in a study without any, a prior the config declares (table.bed_scatter: measured by a
+# named study, with its degrees of freedom); each point says which (column bed_scatter_source).
+
+BED_SCATTER_SOURCES = {   # the point table's bed_scatter_source -> the report's words
+    "replicates": "replicate beds",
+    "pooled": "pooled from this study's replicated points",
+    "prior": "prior",
+    "none": "none (single beds, no prior)",
+}
+
+
+@dataclass(frozen=True)
+class BedScatterPrior:
+    """The relative between-bed scatter sigma_B/drag of a study poured once per point, measured
+    by another study (`source`, e.g. a ladder rung's directory) on `dof` degrees of freedom
+    (between_bed_scatter's sum(k - 1)): the config's table.bed_scatter."""
+    relative: float
+    dof: int
+    source: str
+
+    def __post_init__(self):
+        if not (np.isfinite(self.relative) and self.relative >= 0 and self.dof >= 1 and self.source):
+            raise ValueError(f"table.bed_scatter {self!r}: needs relative >= 0, dof >= 1 and a source")
+
+    @classmethod
+    def of(cls, value):
+        """A prior from the config's table.bed_scatter mapping ({relative, dof, source}), an
+        instance, or None (no prior)."""
+        if value is None or isinstance(value, cls):
+            return value
+        return cls(float(value["relative"]), int(value["dof"]), str(value["source"]))
+
 
 def _point_and_series(run):
     """(point, series) identifiers of a run directory: the directory without its `seed~`
@@ -240,7 +274,21 @@ def between_bed_scatter(runs):
     return float(np.sum((k[rep] - 1) * sb2 / m[rep] ** 2) / dof), dof
 
 
-def combine_beds(runs, r2=None):
+def single_bed_scatter(runs, prior=None):
+    """(r2, dof, source): the relative between-bed variance a point poured once takes, by the
+    rule: the study's own replicates first (between_bed_scatter pooled over its points with two
+    or more beds: "pooled"), else the config's prior (a BedScatterPrior or its mapping: "prior"),
+    else none (NaN, 0, "none": such a point's error is its run's alone)."""
+    r2, dof = between_bed_scatter(runs)
+    if dof:
+        return r2, dof, "pooled"
+    prior = BedScatterPrior.of(prior)
+    if prior is not None:
+        return prior.relative ** 2, prior.dof, "prior"
+    return np.nan, 0, "none"
+
+
+def combine_beds(runs, r2=None, prior=None):
     """The point table: one row per point of a run table, combining its replicate beds.
 
     For a point with beds b = 1..k, drags y_b and within-run standard errors e_b:
@@ -248,17 +296,22 @@ def combine_beds(runs, r2=None):
         s^2 = var(y_b) (k >= 2, ddof 1), sigma_B^2 = max(0, s^2 - W)  (between-bed variance),
         drag_err^2 = (sigma_B^2 + W)/k = max(s^2, W)/k,
     with drag_err_within = sqrt(W/k), drag_err_between = sqrt(sigma_B^2/k). A point with one
-    bed cannot measure sigma_B; it takes the pooled relative scatter r2 of the replicated
-    points (`between_bed_scatter`; or the r2 given): sigma_B^2 = r2 drag^2. drag_dof: k - 1
-    when the bed scatter dominates (s^2 > W), else the within-run dof combined (Satterthwaite);
-    n_beds: k; plateau: every bed's error converged; seeds: the beds' seeds, ';'-joined.
+    bed cannot measure sigma_B; it takes sigma_B^2 = r2 drag^2, r2 by `single_bed_scatter`: the
+    pooled relative scatter of the study's replicated points, else the `prior` (the config's
+    table.bed_scatter), else none; or the r2 given (counted as pooled). drag_dof: k - 1
+    when the bed scatter dominates (s^2 > W), else the within-run dof combined (Satterthwaite,
+    with the pooled or prior r2's dof for one bed);
+    n_beds: k; plateau: every bed's error converged; seeds: the beds' seeds, ';'-joined;
+    bed_scatter_source: where the point's bed scatter came from (BED_SCATTER_SOURCES: replicates,
+    pooled, prior, none), bed_scatter_r and bed_scatter_dof: sqrt(r2) and its dof for a point
+    poured once (NaN otherwise), bed_scatter_study: the prior's source (empty otherwise).
     Other observables are means over the beds (theta_err and kappa_err combined as drag_err,
     without the pooled term). Rows without a seed (runs outside the workflow's layout) pass unchanged.
     """
     if r2 is None:
-        r2, r2_dof = between_bed_scatter(runs)
+        r2, r2_dof, single = single_bed_scatter(runs, prior)
     else:
-        r2_dof = np.inf
+        r2_dof, single = np.inf, "pooled"
     runs, codes, k, first = _by_point(runs)
     y, e = runs.drag.to_numpy(float), runs.drag_err.to_numpy(float)
     nu = runs.drag_dof.to_numpy(float) if "drag_dof" in runs else np.full(len(runs), np.nan)
@@ -280,6 +333,12 @@ def combine_beds(runs, r2=None):
     out["drag_err_between"] = np.sqrt(sb2 / k)
     out["drag_dof"] = dof
     out["n_beds"] = k
+    known = np.isfinite(r2) and single != "none"
+    out["bed_scatter_source"] = np.where(rep, "replicates", single if known else "none").astype(object)
+    out["bed_scatter_r"] = np.where(~rep & known, np.sqrt(r2) if known else np.nan, np.nan)
+    out["bed_scatter_dof"] = np.where(~rep & known, float(r2_dof), np.nan)
+    study = BedScatterPrior.of(prior).source if single == "prior" else ""
+    out["bed_scatter_study"] = np.where(~rep & (single == "prior"), study, "").astype(object)
     if "seed" in runs:
         texts = [[] for _ in k]
         for c, v in zip(codes, runs.seed.to_numpy(float)):
@@ -319,7 +378,7 @@ def pooled_drag_err(points):
     return np.sqrt(within ** 2 + r2 * points["drag"].astype(float) ** 2 / k)
 
 
-def bed_bootstrap(runs, n_boot, seed=0):
+def bed_bootstrap(runs, n_boot, seed=0, prior=None):
     """Yield n_boot point tables (combine_beds) resampled by bed, not by point.
 
     A series is the set of points pulled through the same beds (one bed per seed). In each
@@ -327,11 +386,12 @@ def bed_bootstrap(runs, n_boot, seed=0):
     of their pulls (so a bed's points move together); a series with one bed keeps it and is
     perturbed parametrically: drag_i + e_i z_i + sqrt(r2) drag_i z (z_i, z standard normal,
     z shared by the series' points: a bed shifts every point it carries), r2 the pooled
-    between-bed scatter (0 if no point is replicated). The resamples' spread of any fitted
-    quantity is then its error including bed-to-bed scatter and its correlations.
+    between-bed scatter, else the prior's (single_bed_scatter; 0 with neither). The resamples'
+    spread of any fitted quantity is then its error including bed-to-bed scatter and its
+    correlations.
     """
     rng = np.random.default_rng(seed)
-    r2, _ = between_bed_scatter(runs)
+    r2, _, single = single_bed_scatter(runs, prior)
     r = float(np.sqrt(r2)) if np.isfinite(r2) else 0.0
     runs = _with_ids(runs).reset_index(drop=True)
     series = list(runs.groupby("_series", sort=False))
@@ -352,4 +412,4 @@ def bed_bootstrap(runs, n_boot, seed=0):
                 part["drag"] = y + e * rng.standard_normal(len(y)) + r * y * rng.standard_normal()
                 parts.append(part)
         sample = pd.concat(parts, ignore_index=True).drop(columns=["_point", "_series"])
-        yield combine_beds(sample, r2=r2 if np.isfinite(r2) else None)
+        yield combine_beds(sample, r2=r2 if single == "pooled" else None, prior=prior)

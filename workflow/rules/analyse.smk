@@ -22,6 +22,7 @@ rule table:
         root=lambda wildcards, output: Path(output.table).parent,
         allow_failed=config["table"]["allow_failed"],
         yield_speed=config["report"].get("yield_speed", 0.01),
+        bed_scatter=config["table"].get("bed_scatter"),
     script:
         "../scripts/make_table.py"
 

@@ -1,5 +1,7 @@
 """Rule table: every run file of the study -> results/runs.csv (one row per pull, analysis.runs),
-results/table.csv (one row per point: replicate beds combined, analysis.table.combine_beds),
+results/table.csv (one row per point: replicate beds combined, analysis.table.combine_beds; a
+point poured once takes the study's pooled between-bed scatter, else the config's
+table.bed_scatter prior, and says which in bed_scatter_source),
 and the P(Z) of every pull (Fig. 7). Unusable run files and the placeholders of failed pulls
 (table.allow_failed, analysis.study.failures) are listed in results/table_problems.txt, one
 line each with the reason, and, with table.allow_failed, left out; the failed pulls also in
@@ -41,12 +43,19 @@ if len(off):
     )
 df = mark_yield(df, sm.params.yield_speed)  # which pulls are the yield force (report.yield_speed)
 save_csv(df, sm.output.runs)
-points = combine_beds(df)
+points = combine_beds(df, prior=sm.params.bed_scatter)
 replicated = points[points.n_beds > 1]
 log.info(
     f"table: {len(points)} points, {len(replicated)} with replicate beds; "
     f"{(~df.plateau.astype(bool)).sum()} of {len(df)} pulls without a converged drag error"
 )
+sources = points.bed_scatter_source.value_counts()
+log.info("bed scatter of the points: " + ", ".join(f"{n} {s}" for s, n in sources.items()))
+if "none" in sources:
+    log.warning(
+        f"table: {sources['none']} points poured once have no bed scatter in their errors "
+        "(no replicated point in the study, no table.bed_scatter prior in the config)"
+    )
 if len(replicated):
     rel = (replicated.drag_err_between / replicated.drag).median()
     log.info(f"between-bed error of the mean, median relative: {rel:.3g}")

@@ -1,0 +1,160 @@
+"""Where a point's scatter between beds comes from (issue 30, item 1): its own replicate beds, the
+study's pooled scatter, a config's prior (table.bed_scatter) or none; the point table marks it
+(bed_scatter_source) and the report names it, once when every point shares it."""
+import numpy as np
+import pandas as pd
+import pytest
+import synth
+
+from analysis.fitset import point_bed_scatter, run_fits
+from analysis.report import comparisons
+from analysis.report_notes import bed_scatter_sentence
+from analysis.table import BedScatterPrior, bed_bootstrap, between_bed_scatter, combine_beds, froude, save_csv
+
+FR = np.array([0.5, 1.0, 2.0, 4.0, 8.0])
+PRIOR = {"relative": 0.05, "dof": 14, "source": "results/reproduction/some-rung"}
+
+
+def runs(seeds_of, rng, rel_bed=0.06, rel_run=0.02):
+    """A run table in the workflow's layout: for each D, its series poured with seeds_of[D]."""
+    rows = []
+    for D, seeds in seeds_of.items():
+        for s in seeds:
+            shift = rel_bed * rng.standard_normal()
+            for fr in FR:
+                y = (100.0 + 20.0 * fr) * D
+                e = rel_run * y
+                rows.append({"system": "I", "D": D, "h": 6.5, "mu": 0.5, "kn": 2e4, "gamman": 199.0,
+                             "V": fr / float(froude(1.0, D)), "Fr": fr,
+                             "drag": y * (1 + shift) + e * rng.standard_normal(),
+                             "drag_err": e, "n_contacts": 9.0, "theta": 1.5, "Z": 3.5, "kappa": 1.0,
+                             "run": f"pulls/system~I/D~{D:g}/h~6.5/mu~0.5/seed~{s}/Fr~{fr:g}",
+                             "drag_dof": 20.0, "plateau": True, "seed": float(s)})
+    df = pd.DataFrame(rows)
+    df["Fr"] = froude(df.V, df.D)
+    return df
+
+
+def test_a_single_bed_point_takes_the_prior_and_says_so():
+    # Mutation tried: single_bed_scatter ignoring the prior (returning none): the errors lose
+    # the r2 F^2 term and the source reads "none", and this test fails.
+    df = runs({2.0: [1], 3.0: [1]}, np.random.default_rng(0))
+    pts = combine_beds(df, prior=PRIOR)
+    W = df.drag_err.to_numpy() ** 2
+    assert pts.drag_err.to_numpy() ** 2 == pytest.approx(W + 0.05 ** 2 * pts.drag.to_numpy() ** 2)
+    assert (pts.bed_scatter_source == "prior").all()
+    assert (pts.bed_scatter_r == 0.05).all() and (pts.bed_scatter_dof == 14).all()
+    assert (pts.bed_scatter_study == PRIOR["source"]).all()
+    # The prior's dof enter the point's (Satterthwaite): fewer than the within-run 20 alone.
+    assert (pts.drag_dof < 20 + 14).all() and np.isfinite(pts.drag_dof).all()
+    assert combine_beds(df, prior=BedScatterPrior.of(PRIOR)).drag_err.equals(pts.drag_err)
+
+
+def test_the_studys_own_replicates_come_before_the_prior():
+    # Mutation tried: single_bed_scatter consulting the prior first: the single-bed points read
+    # "prior" with the prior's 5 % instead of the study's pooled scatter, and this test fails.
+    rng = np.random.default_rng(1)
+    df = runs({2.0: [1, 2, 3], 3.0: [1]}, rng)
+    r2, dof = between_bed_scatter(df)
+    pts = combine_beds(df, prior=PRIOR)
+    rep, single = pts[pts.n_beds == 3], pts[pts.n_beds == 1]
+    assert (rep.bed_scatter_source == "replicates").all() and rep.bed_scatter_r.isna().all()
+    assert (single.bed_scatter_source == "pooled").all()
+    assert single.bed_scatter_r.to_numpy() == pytest.approx(np.sqrt(r2)) and (single.bed_scatter_dof == dof).all()
+    W = df[df.D == 3.0].drag_err.to_numpy() ** 2
+    assert single.drag_err.to_numpy() ** 2 == pytest.approx(W + r2 * single.drag.to_numpy() ** 2)
+    assert (single.bed_scatter_study == "").all()
+    # The point table is what it was before priors existed.
+    before = combine_beds(df)
+    assert before.drag_err.equals(pts.drag_err) and before.drag_dof.equals(pts.drag_dof)
+
+
+def test_without_replicates_or_prior_a_point_has_no_bed_scatter_and_the_report_says_so():
+    # Mutation tried: labelling every single-bed point "pooled" whatever its r2: the
+    # column and the report's sentence no longer say "none", and this test fails.
+    df = runs({2.0: [1], 3.0: [1]}, np.random.default_rng(2))
+    pts = combine_beds(df)
+    assert (pts.bed_scatter_source == "none").all() and pts.bed_scatter_r.isna().all()
+    assert pts.drag_err.to_numpy() == pytest.approx(df.drag_err.to_numpy())
+    assert bed_scatter_sentence(pts) == ("Scatter between beds in the drags' errors, every fit: "
+                                         "none (single beds, no prior).")
+    assert point_bed_scatter(pts) == 0.0
+
+
+def test_the_regime_bootstrap_and_the_bed_bootstrap_use_the_prior():
+    # Mutation tried: point_bed_scatter without its prior branch (0 with no replicated point):
+    # the first assertion fails; bed_bootstrap without the prior (its r from the pooled scatter
+    # alone, NaN here, so 0): the spread falls to the within-run 2 %/sqrt(5) and the second fails.
+    df = runs({2.0: [1]}, np.random.default_rng(3))
+    pts = combine_beds(df, prior={**PRIOR, "relative": 0.10})
+    assert point_bed_scatter(pts) == pytest.approx(0.10)
+    means = [t.drag.mean() for t in bed_bootstrap(df, 300, seed=4, prior={**PRIOR, "relative": 0.10})]
+    spread = np.std(means) / np.mean(means)
+    assert 0.08 < spread < 0.12
+    assert all((t.bed_scatter_source == "prior").all() for t in bed_bootstrap(df, 2, prior=PRIOR))
+
+
+def test_a_prior_without_its_source_or_dof_is_refused():
+    for bad in ({"relative": 0.05, "dof": 14, "source": ""}, {"relative": -0.1, "dof": 14, "source": "x"},
+                {"relative": 0.05, "dof": 0, "source": "x"}):
+        with pytest.raises(ValueError, match="table.bed_scatter"):
+            combine_beds(runs({2.0: [1]}, np.random.default_rng(5)), prior=bad)
+
+
+def _point_table(prior=None, replicated_D=None):
+    """The synthetic study's table as the workflow's point table (each pull its own point), with
+    the system I mu = 0.5 series at replicated_D poured twice."""
+    t = synth.make_table(seed=1)
+    t = t.assign(run=[f"pulls/p{i}/seed~1/x" for i in range(len(t))], seed=1.0)
+    if replicated_D is not None:
+        twin = t[(t.system == "I") & (t.mu == 0.5) & np.isclose(t.D, replicated_D)]
+        twin = twin.assign(seed=2.0, drag=twin.drag * 1.03, run=[r.replace("seed~1", "seed~2") for r in twin.run])
+        t = pd.concat([t, twin], ignore_index=True)
+    return combine_beds(t, prior=prior)
+
+
+@pytest.fixture(scope="module")
+def fits():
+    return run_fits(synth.make_table(seed=1), n_boot=0)
+
+
+def test_the_report_names_the_prior_once_when_every_point_shares_it(fits):
+    # Mutation tried: bed_scatter_sentence dropping the prior's source (text "prior" alone): the
+    # sentence's assertion fails. With every point on the prior, the rows carry no bed note (the
+    # introduction states it), except θ and κ, whose errors take no prior and say so.
+    pts = _point_table(prior=PRIOR)
+    assert (pts.bed_scatter_source == "prior").all()
+    assert bed_scatter_sentence(pts) == ("Scatter between beds in the drags' errors, every fit: prior r = 0.05 "
+                                         "(dof 14) from results/reproduction/some-rung.")
+    rows = {x.quantity: x for x in comparisons(fits, pts)}
+    assert not any(n.startswith("bed scatter") for n in rows["Fr_1 (μ = 0.5, D = 4)"].notes)
+    assert "θ and κ bed scatter: none (single beds: θ and κ take no pooled or prior scatter)" in \
+        rows["θ(Fr) Υ1 (Eq. 7)"].notes
+
+
+def test_with_mixed_sources_each_number_names_its_own(fits):
+    # Mutation tried: comparisons stating the bed scatter beside no number (bed_scatter=False
+    # always): the per-row assertions fail.
+    pts = _point_table(prior=PRIOR, replicated_D=2.0)
+    r2 = pts[pts.n_beds == 1].bed_scatter_r.iloc[0] ** 2
+    assert set(pts.bed_scatter_source) == {"replicates", "pooled"}
+    rows = {x.quantity: x for x in comparisons(fits, pts)}
+    assert "bed scatter: replicate beds" in rows["Fr_1 (μ = 0.5, D = 2)"].notes
+    dof = int(pts.bed_scatter_dof.dropna().iloc[0])
+    assert (f"bed scatter: pooled from this study's replicated points (r = {np.sqrt(r2):.3g}, dof {dof})"
+            in rows["Fr_1 (μ = 0.5, D = 4)"].notes)
+    assert "Each number's notes say which" in bed_scatter_sentence(pts)
+    assert "replicate beds (" in bed_scatter_sentence(pts) and "points)" in bed_scatter_sentence(pts)
+
+
+def test_the_ladder_refit_takes_the_rungs_prior(tmp_path):
+    # Mutation tried: refit_table calling combine_beds without the rung config's prior: the
+    # points read "none" and this test fails.
+    from analysis.ladder_refit import refit_table
+    df = runs({2.0: [1]}, np.random.default_rng(6))
+    save_csv(df, tmp_path / "runs.csv")
+    (tmp_path / "config.yaml").write_text(
+        "table:\n  bed_scatter: {relative: 0.05, dof: 14, source: results/reproduction/some-rung}\n")
+    assert (refit_table(tmp_path).bed_scatter_source == "prior").all()
+    (tmp_path / "config.yaml").write_text("table: {allow_failed: false}\n")
+    assert (refit_table(tmp_path).bed_scatter_source == "none").all()
