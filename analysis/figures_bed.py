@@ -20,7 +20,7 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import PatchCollection  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
 
-from .study.headless import run_pvbatch  # noqa: E402
+from .headless import run_pvbatch  # noqa: E402
 
 COLOURS = {0: "#d9bf8c", 1: "#737373", 2: "#d91a1a"}
 

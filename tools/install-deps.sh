@@ -50,10 +50,10 @@ fi
 where='
 import sys, tomllib
 from importlib.metadata import distribution
-import analysis
-scripts = set(tomllib.load(open(sys.argv[1], "rb"))["project"].get("scripts", {}))
-installed = {e.name for e in distribution("granudrag-analysis").entry_points if e.group == "console_scripts"}
-print(analysis.__path__[0] if scripts == installed else "stale")
+import analysis, granudrag_study
+scripts = tomllib.load(open(sys.argv[1], "rb"))["project"].get("scripts", {})
+installed = {e.name: e.value for e in distribution("granudrag-analysis").entry_points if e.group == "console_scripts"}
+print(analysis.__path__[0] + " " + granudrag_study.__path__[0] if scripts == installed else "stale")
 '
 
 # The project environment: made again when requirements/project.txt differs from the copy
@@ -75,14 +75,14 @@ if ! cmp -s "$lock" "$venv/requirements-project.txt" || [ ! -x "$venv/bin/snakem
   cp "$lock" "$venv/requirements-project.txt"
 fi
 installed=$(cd / && "$venv/bin/python" -c "$where" "$repo/pyproject.toml" 2>/dev/null || true)
-if [ "$installed" != "$repo/analysis" ]; then
+if [ "$installed" != "$repo/analysis $repo/workflow/granudrag_study" ]; then
   echo "install-deps: installing the analysis package from $repo into $venv (pip, editable)" >&2
   "$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps --no-build-isolation -e "$repo" >&2
 fi
 [ "${1:-all}" = venv ] && exit 0
 # `analysis` from this checkout, with pyproject.toml's entries, for Debian's interpreter too?
 installed=$(cd / && /usr/bin/python3 -c "$where" "$repo/pyproject.toml" 2>/dev/null || true)
-if [ "$installed" != "$repo/analysis" ]; then
+if [ "$installed" != "$repo/analysis $repo/workflow/granudrag_study" ]; then
   echo "install-deps: installing the analysis package from $repo (pip, editable, user site)" >&2
   /usr/bin/python3 -m pip install --quiet --user --break-system-packages --no-deps --no-build-isolation \
     --no-warn-script-location -e "$repo" >&2

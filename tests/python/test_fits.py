@@ -162,7 +162,7 @@ def test_config_h_min_and_alpha_speeds_reach_the_fits():
     # (its beds are all shallower), and both average alpha over the paper's five speeds.
     import yaml
 
-    from analysis.study import fit_options, validate_config
+    from granudrag_study import fit_options, validate_config
     root = synth.__file__.rsplit("/tests/", 1)[0]
     opts = {}
     for name in ("paper.yaml", "config.yaml", "smoke.yaml"):

@@ -23,9 +23,9 @@ import yaml
 from analysis.fits import FitFileError, load_fits
 from analysis.fitset import run_fits, save_results
 from analysis.runs import RunFileError, read_run
-from analysis.study.config import ConfigError, validate_config
-from analysis.study.plan import plan
 from analysis.table import TableError, load_csv, write_csv
+from granudrag_study.config import ConfigError, validate_config
+from granudrag_study.plan import plan
 
 ROOT = Path(__file__).resolve().parents[2]
 BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag"))

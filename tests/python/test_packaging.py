@@ -80,6 +80,22 @@ def test_the_analysis_modules_import_each_other_without_a_cycle():
     assert not cycles, f"import cycles in analysis/: {cycles}"
 
 
+def test_the_analysis_does_not_import_the_workflows_study_library():
+    """Layers: the workflow's study library (workflow/granudrag_study) uses the analysis (its
+    physics, the fits' options), never the reverse, so the fits' package stands alone."""
+    import ast
+
+    pkg = Path(__file__).resolve().parents[2] / "analysis"
+    offenders = []
+    for path in pkg.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = ([node.module or ""] if isinstance(node, ast.ImportFrom)
+                     else [a.name for a in node.names] if isinstance(node, ast.Import) else [])
+            if any(n.split(".")[0] == "granudrag_study" for n in names):
+                offenders.append(f"{path.name}:{node.lineno}")
+    assert offenders == []
+
+
 def test_no_source_file_is_over_500_lines():
     """One concept per file: a file past 500 lines holds more than one (the C++ engine, the
     analysis package, the workflow, tools and tests alike)."""

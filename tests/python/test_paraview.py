@@ -7,7 +7,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from analysis.study.headless import run_pvbatch
+from analysis.headless import run_pvbatch
 
 ROOT = Path(__file__).resolve().parents[2]
 BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag"))

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import yaml
 
-from analysis import study
+import granudrag_study as study
 
 ROOT = Path(__file__).resolve().parents[2]
 SNAKEMAKE = "/usr/bin/snakemake"

@@ -1,4 +1,4 @@
-"""analysis.study.breakdown: the cost of a study by figure and by sweep."""
+"""granudrag_study.breakdown: the cost of a study by figure and by sweep."""
 import copy
 import subprocess
 from pathlib import Path
@@ -6,8 +6,9 @@ from pathlib import Path
 import pytest
 import yaml
 
-from analysis import physics, study
-from analysis.study.breakdown import by_figure, by_sweep, core_hours
+import granudrag_study as study
+from analysis import physics
+from granudrag_study.breakdown import by_figure, by_sweep, core_hours
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -88,7 +89,7 @@ def test_figures_on_the_same_runs_share_a_row():
 
 
 def test_a_target_error_costs_the_expected_stopping_distance():
-    from analysis.study import cost
+    from granudrag_study import cost
 
     config = copy.deepcopy(CONFIG)
     config["systems"]["I"]["pull"] = {"distance": 100}

@@ -29,8 +29,8 @@ from workflow_support import (
     write_config,
 )
 
-from analysis import study
-from analysis.study import failures
+import granudrag_study as study
+from granudrag_study import failures
 
 pytestmark = NEEDS_SNAKEMAKE_AND_ENGINE
 

@@ -29,7 +29,7 @@ from workflow_support import (
     write_config,
 )
 
-from analysis import study
+import granudrag_study as study
 
 pytestmark = NEEDS_SNAKEMAKE_AND_ENGINE
 

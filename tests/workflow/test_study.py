@@ -1,4 +1,4 @@
-"""analysis.study, the workflow's library: the plan of beds and pulls, paths, arguments, cost."""
+"""granudrag_study, the workflow's library: the plan of beds and pulls, paths, arguments, cost."""
 import copy
 import math
 import subprocess
@@ -7,7 +7,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from analysis import physics, study
+import granudrag_study as study
+from analysis import physics
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -1,5 +1,5 @@
 # Config validation, the study's plan (beds and pulls) and helpers of the rules. The
-# library behind them is analysis.study (plain Python, tested on its own).
+# library behind them is granudrag_study (plain Python, tested on its own).
 
 import os
 from pathlib import Path
@@ -7,8 +7,9 @@ from pathlib import Path
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
-from analysis import figure_list, study
-from analysis.study import failures
+from analysis import figure_list
+import granudrag_study as study
+from granudrag_study import failures
 
 REPO = Path(workflow.basedir).parent
 
@@ -135,7 +136,7 @@ def pull_runtime(wildcards, attempt):
 def end_of_run(succeeded):
     """Say which pulls failed; remove their placeholders (table.allow_failed) and the table's
     failed_pulls.txt, so that the next run makes the table again and retries them
-    (analysis/study/failures.py)."""
+    (workflow/granudrag_study/failures.py)."""
     failed = [run for run in ALL_RUNS if failures.read_failure(run) is not None]
     if failures.remove_placeholders(ALL_RUNS):
         Path(f"{RESULTS}/failed_pulls.txt").unlink(missing_ok=True)

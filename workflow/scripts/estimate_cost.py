@@ -1,12 +1,12 @@
 #!/usr/bin/python3
-"""Job count and estimated cost of a study config (analysis.study.estimate; --help).
+"""Job count and estimated cost of a study config (granudrag_study.estimate; --help).
 
     /usr/bin/python3 workflow/scripts/estimate_cost.py config/paper.yaml [--by-sweep] [--measure]
 """
 
 import sys
 
-from analysis.study.estimate import main
+from granudrag_study.estimate import main
 
 if __name__ == "__main__":
     sys.exit(main())

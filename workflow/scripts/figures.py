@@ -1,7 +1,7 @@
 """Rules figure_*: draw the figures the rule's PNG outputs name (analysis.figure_list)."""
 
 from analysis.figure_list import draw_files
-from analysis.study.script import start
+from granudrag_study.script import start
 
 log = start(snakemake)
 for line in draw_files(snakemake.input.items(), snakemake.output):

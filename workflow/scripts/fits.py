@@ -1,8 +1,8 @@
 """Rule fits: every fit of the report, bootstraps included -> fits.json (analysis.fitset)."""
 
 from analysis.fitset import Options, run_fits, save_results
-from analysis.study.script import start
 from analysis.table import load_csv
+from granudrag_study.script import start
 
 log = start(snakemake)
 options = Options.from_dict(dict(snakemake.params.options))

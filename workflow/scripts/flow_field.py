@@ -7,9 +7,9 @@ is logged and left out, and Fig. 9 says so."""
 import pandas as pd
 
 from analysis.runs import read_run, read_snapshots
-from analysis.study.failures import describe, is_placeholder
-from analysis.study.script import start
 from analysis.table import write_csv
+from granudrag_study.failures import describe, is_placeholder
+from granudrag_study.script import start
 
 log = start(snakemake)
 parts = []

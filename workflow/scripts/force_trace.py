@@ -3,8 +3,8 @@
 import pandas as pd
 
 from analysis.runs import read_force_trace
-from analysis.study.script import start
 from analysis.table import write_csv
+from granudrag_study.script import start
 
 log = start(snakemake)
 t, drag, transient = read_force_trace(snakemake.input[0])

@@ -3,7 +3,7 @@ results/table.csv (one row per point: replicate beds combined, analysis.table.co
 point poured once takes the study's pooled between-bed scatter, else the config's
 table.bed_scatter prior, and says which in bed_scatter_source),
 and the P(Z) of every pull (Fig. 7). Unusable run files and the placeholders of failed pulls
-(table.allow_failed, analysis.study.failures) are listed in results/table_problems.txt, one
+(table.allow_failed, granudrag_study.failures) are listed in results/table_problems.txt, one
 line each with the reason, and, with table.allow_failed, left out; the failed pulls also in
 results/failed_pulls.txt, which the end of the run removes so that the next run retries them."""
 
@@ -13,9 +13,9 @@ from pathlib import Path
 import pandas as pd
 
 from analysis.runs import load_runs, read_coordination_distribution
-from analysis.study.failures import describe, is_placeholder
-from analysis.study.script import start
 from analysis.table import combine_beds, mark_yield, save_csv, write_csv
+from granudrag_study.failures import describe, is_placeholder
+from granudrag_study.script import start
 
 sm = snakemake
 log = start(sm)

@@ -8,8 +8,8 @@ from pathlib import Path
 from analysis.fits import write_text_atomic
 from analysis.fitset import load_results
 from analysis.report import write_report
-from analysis.study.script import start
 from analysis.table import load_csv
+from granudrag_study.script import start
 
 TITLE = "Pulls left out of the table"
 

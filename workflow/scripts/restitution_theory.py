@@ -5,8 +5,8 @@ import pandas as pd
 
 from analysis.physics import gamman_ratio
 from analysis.restitution import kuwabara_kono
-from analysis.study.script import start
 from analysis.table import write_csv
+from granudrag_study.script import start
 
 log = start(snakemake)
 kn, gn, par = float(snakemake.params.kn), float(snakemake.params.gamman), snakemake.params

@@ -17,7 +17,7 @@
 #   unreadable input), when the workflow sets GRANUDRAG_ALLOW_FAILED=1 (table.allow_failed),
 #   leaves a placeholder at OUTPUT instead of failing the job, so that the study's table and
 #   report are made without the pull and list it; the end of the run removes the placeholder,
-#   and the next run retries the pull (analysis/study/failures.py).
+#   and the next run retries the pull (workflow/granudrag_study/failures.py).
 set -euo pipefail
 out=$1 log=$2 attempt=$3 args=$4 newer=$5
 shift 5
@@ -56,7 +56,7 @@ else
 fi
 [ "$status" -ne 0 ] || rm -f "$out.failed"
 if [ "$status" -eq 1 ] && [ "${2:-}" = pull ] && [ "${GRANUDRAG_ALLOW_FAILED:-0}" = 1 ]; then
-  # Atomic too; its first line is what analysis/study/failures.py looks for.
+  # Atomic too; its first line is what workflow/granudrag_study/failures.py looks for.
   printf '%s\n' "granudrag: failed pull placeholder" \
     "not a run file: this pull failed, its reason is in $(basename "$out").failed; the study's table" \
     "left it out (table.allow_failed) and the study's next run retries it" >"$out.placeholder.tmp"

@@ -1,8 +1,8 @@
 """Rule validation: a validation study's runs against the reference protocol (analysis.validation)."""
 
-from analysis.study.script import start
 from analysis.table import load_csv
 from analysis.validation import validate
+from granudrag_study.script import start
 
 log = start(snakemake)
 paths = validate(load_csv(snakemake.input[0]), snakemake.params.study, snakemake.params.outdir)

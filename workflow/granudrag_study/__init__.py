@@ -1,0 +1,85 @@
+"""The study library of the Snakemake workflow (workflow/Snakefile): plain Python, no
+Snakemake, so it is tested on its own (tests/workflow/test_study.py).
+
+    config    the config's schema check (ConfigError names the bad key), the engine's path
+    paths     a bed and a pull as paths whose numbers are their parameters (Bed, Pull, fmt)
+    plan      every bed and pull of the config's sweeps; the pulls of Figs. 4 and 9
+    cost      estimated particle-steps and wall time of each job, scheduler resources
+    commands  `granudrag pour` / `granudrag pull` arguments of a job
+    estimate  the job count and cost of a config (command line)
+    script    the common start of the workflow's scripts (logging to the rule's log)
+    failures  a failed job's record and the placeholders of table.allow_failed
+
+The names below are the library's interface: `import granudrag_study as study; study.plan(config)`.
+"""
+
+from .commands import checkpoint_interval, movie_pull_args, pour_args, pour_checkpoint_interval, pull_args
+from .config import SCHEMA, ConfigError, fit_options, resolve_beds_from, resolve_binary, validate_config
+from .cost import (
+    bed_cost,
+    bed_dt,
+    bed_retries,
+    job_attempts,
+    job_resources,
+    job_seconds,
+    pull_cost,
+    pull_distance,
+    pull_retries,
+    summary,
+)
+from .paths import BED_PATTERN, SPEED_PATTERN, Bed, Pull, bed_file, fmt, number, parse_speed, run_file
+from .plan import (
+    PAPER_FLOW_FIELD,
+    SWEEP_AXES,
+    Plan,
+    flow_pulls,
+    log_grid,
+    nearest_pull,
+    plan,
+    poured_bed,
+    reference_law,
+    trace_pull,
+)
+
+__all__ = [
+    "BED_PATTERN",
+    "PAPER_FLOW_FIELD",
+    "SCHEMA",
+    "SPEED_PATTERN",
+    "SWEEP_AXES",
+    "Bed",
+    "ConfigError",
+    "Plan",
+    "Pull",
+    "bed_cost",
+    "bed_dt",
+    "bed_retries",
+    "bed_file",
+    "checkpoint_interval",
+    "fit_options",
+    "flow_pulls",
+    "fmt",
+    "job_attempts",
+    "job_resources",
+    "job_seconds",
+    "log_grid",
+    "nearest_pull",
+    "number",
+    "parse_speed",
+    "plan",
+    "poured_bed",
+    "pour_args",
+    "pour_checkpoint_interval",
+    "pull_args",
+    "movie_pull_args",
+    "pull_cost",
+    "pull_distance",
+    "pull_retries",
+    "reference_law",
+    "resolve_beds_from",
+    "resolve_binary",
+    "run_file",
+    "summary",
+    "trace_pull",
+    "validate_config",
+]

@@ -1,0 +1,186 @@
+"""Job count and estimated cost of a study config, from measured throughput.
+
+    /usr/bin/python3 -m granudrag_study.estimate config/paper.yaml [--throughput PS] [--cores N] [--by-sweep]
+        [--by-figure] [--measure [--grains G] [--binary build/granudrag]]
+
+Cost model (granudrag_study.cost): a pull costs grains x travel / (V dt)
+particle-steps, a pour at most grains x max_settle_time / dt (pours that reach
+the kinetic-energy threshold stop earlier, so the bed figures are upper
+bounds). dt is the config's, or granudrag's default (analysis.physics.default_dt,
+proportional to K_n^-0.4). Core-hours = particle-steps / throughput x threads, where
+throughput is the particle-steps per second of one job on `threads` threads
+(the config's `throughput`, measured with `granudrag pull`, which prints it).
+Wall time on N cores (default: this machine's) assumes N / threads jobs at a time, perfectly
+packed; on fewer cores than a job's threads, the jobs run one at a time on N threads at the
+throughput's rate per thread (the core-hours over N), never at the rate of the job's own node.
+
+--measure replaces the config's throughput by one measured here on the workload the jobs run:
+`granudrag pour` settles a bed of G grains (default: the smallest system's, at most 70,000;
+the column density of the benchmark bed, 19.25 grains per d^2, K_n = 2e5), then `granudrag
+pull` drags a D = 2 intruder through it at V = 1 for 1,000 steps, both on min(threads, cores
+here) threads; the slower of the two rates is taken (the cost of a step depends on the
+contacts, not on K_n).
+For a job with more threads than this machine has, the measured per-core rate is scaled by
+the threads at PARALLEL_EFFICIENCY (an assumption, stated in the output; measure on the
+cluster's nodes to replace it).
+"""
+
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+from collections import defaultdict
+from pathlib import Path
+
+import yaml
+
+import granudrag_study as study
+
+from .breakdown import by_figure
+
+# Assumed efficiency of a job's OpenMP threads beyond those measured here (2 threads: 0.95-0.97
+# on bench/compare_lammps.sh's beds).
+PARALLEL_EFFICIENCY = 0.8
+
+
+# Grains per d^2 of bed area in the measuring bed: bench/compare_lammps.sh's 7.7k bed.
+COLUMN_DENSITY = 19.25
+MEASURE_STEPS, MEASURE_DT = 1000, 5e-4
+
+
+def _run(cmd):
+    print(f"measuring: {' '.join(cmd)}", file=sys.stderr)
+    try:
+        return subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
+    except FileNotFoundError:
+        sys.exit(f"estimate_cost: no granudrag at {cmd[0]}: build it (cmake --build build) or pass --binary")
+    except subprocess.CalledProcessError as exc:
+        sys.exit(f"estimate_cost: {' '.join(cmd)} failed:\n{exc.stderr.strip()}")
+
+
+def measure_throughput(binary, grains, threads):
+    """(particle-steps/s of one job on `threads` threads, how it was obtained), from a pull
+    through a bed poured here."""
+    here = min(threads, os.cpu_count() or 1)
+    side = max(8.0, (grains / COLUMN_DENSITY) ** 0.5)
+    with tempfile.TemporaryDirectory() as tmp:
+        bed, run = str(Path(tmp) / "bed.h5"), str(Path(tmp) / "run.h5")
+        poured = _run([str(binary), "pour", "--output", bed, "--grains", str(grains), "--lx", f"{side:.6g}",
+              "--ly", f"{side:.6g}", "--intruder_diameter", "2", "--depth", "5", "--kn", "2e5",
+              "--dt", str(MEASURE_DT), "--ke_threshold", "1e-4", "--max_settle_time", "10",
+              "--threads", str(here), "--quiet"])
+        out = _run([str(binary), "pull", "--bed", bed, "--output", run, "--speed", "1",
+                    "--distance", repr((MEASURE_STEPS - 0.5) * MEASURE_DT), "--snapshots", "0",
+                    "--threads", str(here), "--quiet"])
+    timing = re.search(r"timing: loop [\d.e+-]+ s for (\d+) steps, ([\d.e+-]+) particle-steps/s", out)
+    pour_rate = re.search(r"; ([\d.e+-]+) particle-steps/s", poured)
+    if not timing or not pour_rate:
+        sys.exit(f"estimate_cost: could not read the throughput from:\n{poured}\n{out}")
+    # One rate prices beds and pulls alike: the slower of the two, so neither is underpriced.
+    pull_rate, pour_rate = float(timing.group(2)), float(pour_rate.group(1))
+    measured = min(pull_rate, pour_rate)
+    how = (f"measured here: {measured:.3g} particle-steps/s on {here} thread(s), the slower of a pull of "
+           f"{timing.group(1)} steps ({pull_rate:.3g}) through a bed of {grains} grains and its pour "
+           f"({pour_rate:.3g})")
+    if here == threads:
+        return measured, how
+    scaled = measured / here * threads * PARALLEL_EFFICIENCY
+    return scaled, (how + f"; x {threads}/{here} threads x {PARALLEL_EFFICIENCY} assumed parallel "
+                          f"efficiency = {scaled:.3g} for a {threads}-thread job")
+
+
+def wall_seconds(particle_steps, throughput, threads, cores):
+    """(jobs at a time, wall seconds, whether a job gets fewer cores than its threads) of
+    `particle_steps` on `cores` cores, for jobs of `threads` threads running at `throughput`
+    particle-steps/s each. With fewer cores than threads a job runs at cores/threads of that
+    rate: a throughput measured on a 16-thread node says nothing faster about a 2-core one."""
+    if cores >= threads:
+        parallel = cores // threads
+        return parallel, particle_steps / throughput / parallel, False
+    return 1, particle_steps / throughput * threads / cores, True
+
+
+def _positive_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of cores") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} cores: give at least 1")
+    return value
+
+
+def hours(seconds):
+    h = seconds / 3600.0
+    return f"{h:.3g} h" if h >= 1 else f"{seconds / 60.0:.3g} min"
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("config", help="study config (YAML)")
+    ap.add_argument("--throughput", type=float, help="particle-steps/s of one job (default: the config's)")
+    ap.add_argument("--cores", type=_positive_int, default=len(os.sched_getaffinity(0)) or 1,
+                    help="cores for the wall-time estimate (default: this machine's)")
+    ap.add_argument("--by-sweep", action="store_true", help="break the cost down by sweep")
+    ap.add_argument("--by-figure", action="store_true",
+                    help="the cost of the runs behind each figure (the sweeps' `figures` keys)")
+    ap.add_argument("--measure", action="store_true",
+                    help="measure the throughput here: a pull through a bed poured here (under a minute)")
+    ap.add_argument("--grains", type=int, help="grains of the --measure bed (default: smallest system's, <= 70000)")
+    ap.add_argument("--binary", help="granudrag for --measure (default: the config's `granudrag`)")
+    args = ap.parse_args(argv)
+    with open(args.config) as fh:
+        config = yaml.safe_load(fh)
+    try:
+        study.validate_config(config)
+        config.setdefault("threads", 2)
+        config.setdefault("throughput", 1.0e7)
+        if args.throughput:
+            config["throughput"] = args.throughput
+        plan = study.plan(config)
+    except study.ConfigError as exc:
+        sys.exit(f"{args.config}: {exc}")
+    how = "the config's `throughput`"
+    if args.measure:
+        binary = Path(args.binary) if args.binary else study.resolve_binary(config)
+        grains = args.grains or min(70000, min(int(s["grains"]) for s in config["systems"].values()))
+        config["throughput"], how = measure_throughput(binary, grains, int(config["threads"]))
+        plan = study.plan(config)
+    s = study.summary(plan)
+    tp, threads = float(config["throughput"]), s["threads"]
+    total = s["bed_particle_steps"] + s["pull_particle_steps"]
+    parallel, wall, squeezed = wall_seconds(total, tp, threads, args.cores)
+    print(f"{args.config}: {s['beds']} beds + {s['pulls']} pulls = {s['beds'] + s['pulls']} "
+          f"simulation jobs (+ table, restitution, force trace, report)")
+    print(f"  particle-steps: beds <= {s['bed_particle_steps']:.3g}, pulls {s['pull_particle_steps']:.3g}")
+    print(f"  throughput {tp:.3g} particle-steps/s per job on {threads} thread(s) ({how})")
+    print(f"  cost: {s['core_hours']:.3g} core-hours "
+          f"(beds <= {s['bed_particle_steps'] / tp * threads / 3600:.3g}, "
+          f"pulls {s['pull_particle_steps'] / tp * threads / 3600:.3g})")
+    packing = (f"each {threads}-thread job on {args.cores} cores, one at a time: the core-hours / {args.cores}"
+               if squeezed else f"{parallel} job(s) at a time")
+    print(f"  wall time on {args.cores} cores ({packing}): <= {hours(wall)}")
+    longest = max(plan.pulls.values(), key=lambda p: study.pull_cost(p, config))
+    print(f"  longest pull: {longest.key} ({hours(study.job_seconds(study.pull_cost(longest, config), config))})")
+    if args.by_sweep:
+        cost = defaultdict(float)
+        count = defaultdict(int)
+        for p in plan.pulls.values():
+            cost[p.sweep] += study.pull_cost(p, config)
+            count[p.sweep] += 1
+        print("  pulls by sweep (particle-steps, share of all pulls):")
+        for name, c in sorted(cost.items(), key=lambda kv: -kv[1]):
+            print(f"    {name:24s} {count[name]:5d} pulls {c:10.3g} {c / s['pull_particle_steps']:6.1%}")
+    if args.by_figure:
+        print("  runs behind each figure (beds, pulls, core-hours with their beds; a run feeding "
+              "several figures counts in each):")
+        for figs, beds, pulls, ch, names in by_figure(config):
+            label = ", ".join(f"Fig. {f}" if f[0].isdigit() else f for f in figs) or "(no figure named)"
+            print(f"    {label}: {beds} beds, {pulls} pulls, {ch:.3g} core-h ({', '.join(names)})")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

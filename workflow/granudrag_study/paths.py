@@ -1,0 +1,114 @@
+"""Names of the study's jobs: a bed and a pull as paths whose numbers are their parameters.
+
+A bed is identified by its system (box, grain count, pour settings), the intruder diameter
+D, its placement (depth h below the free surface, or height z above the wall), friction mu,
+K_n, gamma_n and the pour's seed; its path names all but the system's settings:
+
+    <results>/beds/system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.054/seed~1/bed.h5
+
+A pull is a bed and a speed, given as a Froude number (Fr~) or a speed (V~):
+
+    <results>/pulls/system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.054/seed~1/Fr~1/run.h5
+
+Numbers in paths are written by `fmt` and the jobs use exactly the numbers the path states,
+so a path is a complete, reproducible name.
+"""
+
+import math
+import re
+from dataclasses import dataclass, field
+
+from analysis.physics import froude_speed
+
+from .config import ConfigError
+
+# Wildcard patterns (regexes) of one bed and one speed in a path.
+BED_PATTERN = r"system~[^/~]+/D~[^/~]+/[hz]~[^/~]+/mu~[^/~]+/kn~[^/~]+/gn~[^/~]+/seed~[^/~]+"
+SPEED_PATTERN = r"(Fr|V)~[^/~]+"
+_BED_RE = re.compile(
+    r"^system~(?P<system>[^/~]+)/D~(?P<D>[^/~]+)/(?P<place>[hz])~(?P<pos>[^/~]+)"
+    r"/mu~(?P<mu>[^/~]+)/kn~(?P<kn>[^/~]+)/gn~(?P<gn>[^/~]+)/seed~(?P<seed>[^/~]+)$"
+)
+_SPEED_RE = re.compile(r"^(?P<kind>Fr|V)~(?P<value>[^/~]+)$")
+
+
+def fmt(x):
+    """Compact, exact-enough text of a number for paths: 2, 0.5, 2e4, 199.054."""
+    x = float(x)
+    if not math.isfinite(x):
+        raise ConfigError(f"not a finite number: {x}")
+    if x == 0:
+        return "0"
+    if abs(x) >= 1e4 or abs(x) < 1e-3:
+        mant, exp = f"{x:.7e}".split("e")
+        mant = mant.rstrip("0").rstrip(".")
+        return f"{mant}e{int(exp)}"
+    return f"{x:.8g}"
+
+
+def number(text, what="number"):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{what}: '{text}' is not a number") from None
+
+
+def parse_speed(text):
+    m = _SPEED_RE.match(text)
+    if not m:
+        raise ConfigError(f"not a speed: '{text}' (expected Fr~<number> or V~<number>)")
+    return m.group("kind"), number(m.group("value"), f"speed {text}")
+
+
+@dataclass(frozen=True)
+class Bed:
+    system: str
+    D: str
+    place: str  # "h" (depth below the surface) or "z" (height above the wall)
+    pos: str
+    mu: str
+    kn: str
+    gn: str
+    seed: str
+
+    @property
+    def key(self):
+        return (
+            f"system~{self.system}/D~{self.D}/{self.place}~{self.pos}/mu~{self.mu}"
+            f"/kn~{self.kn}/gn~{self.gn}/seed~{self.seed}"
+        )
+
+    @classmethod
+    def parse(cls, key):
+        m = _BED_RE.match(key)
+        if not m:
+            raise ConfigError(f"not a bed path: '{key}' (expected {BED_PATTERN})")
+        return cls(**m.groupdict())
+
+    def value(self, name):
+        return number(getattr(self, name), f"bed {self.key}: {name}")
+
+
+@dataclass(frozen=True)
+class Pull:
+    bed: Bed
+    speed: str  # "Fr~1" or "V~0.01"
+    settings: tuple = field(default=(), compare=False)  # sorted (key, value) pull overrides
+    sweep: str = field(default="", compare=False)
+
+    @property
+    def key(self):
+        return f"{self.bed.key}/{self.speed}"
+
+    @property
+    def V(self):
+        kind, value = parse_speed(self.speed)
+        return value if kind == "V" else froude_speed(value, self.bed.value("D"))
+
+
+def bed_file(results, key):
+    return f"{results}/beds/{key}/bed.h5"
+
+
+def run_file(results, key):
+    return f"{results}/pulls/{key}/run.h5"
