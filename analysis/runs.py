@@ -54,7 +54,7 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
                  "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "stop_reason",
-                 "active_radius", "sanity", "path"]
+                 "active_radius", "asleep", "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
@@ -165,6 +165,7 @@ def read_run(path, system=None, root=None):
         kappa_err = _kappa_error(obs, kappa, n, transient / get["speed"] if get["speed"] > 0 else 0.0)
         scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
         active_radius = _active_radius(f, path) if version >= 2 else 0.0
+        asleep = _asleep(obs, scale["grains"])
         sanity = _verdict(f, path)
     except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
         raise RunFileError(f"{path}: damaged run file: {exc}") from None
@@ -211,7 +212,7 @@ def read_run(path, system=None, root=None):
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,
-            "active_radius": active_radius, "sanity": sanity,
+            "active_radius": active_radius, "asleep": asleep, "sanity": sanity,
             "path": str(path)}
 
 
@@ -337,6 +338,15 @@ def _scale(f, path):
                                f"is not a number ({value!r})")
         out[key] = float(value)
     return out
+
+
+def _asleep(obs, grains):
+    """The mean fraction of the bed's grains asleep over the pull (the active region's saving;
+    0 without the region, NaN when the bed's grain count is not recorded)."""
+    if "sleeping_grains" not in obs:
+        return 0.0
+    counts = np.asarray(obs["sleeping_grains/value"][()], dtype=float)
+    return float(counts.mean() / grains) if counts.size and grains > 0 else math.nan
 
 
 def _active_radius(f, path):

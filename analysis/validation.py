@@ -121,6 +121,8 @@ def _difference(base, other, study, keys, ref, v):
             row |= {"drag_ref": f_ref, "drag": f, "beds": len(pairs), "paired": True,
                     "drag_err_ref": np.sqrt((pairs.drag_err_ref**2).sum()) / len(pairs),
                     "drag_err": np.sqrt((pairs.drag_err**2).sum()) / len(pairs)}
+            if "asleep" in pairs.columns:
+                row["asleep"] = pairs.asleep.mean()
             return _also(_verdict(row, diff, diff_err), pairs, study)
     f_ref, e_ref = base.drag.mean(), np.sqrt((base.drag_err**2).sum()) / len(base)
     f, e = other.drag.mean(), np.sqrt((other.drag_err**2).sum()) / len(other)
@@ -209,8 +211,12 @@ def _answer(cmp, study):
             out.append(f"D = {D:g}: " + ("none agrees" if smallest is None
                                          else f"{smallest:g} d ({smallest / D:.3g} D)"))
         judged = ", ".join(["drag"] + [c for c, _ in study.also_judged])
-        return (f"Smallest active radius at which {judged} agree with every grain integrated at every "
+        text = (f"Smallest active radius at which {judged} agree with every grain integrated at every "
                 f"point: " + ", ".join(out) + ".")
+        if "asleep" in cmp.columns:      # what each radius saves: the grains it holds asleep
+            saved = ", ".join(f"{v:g} d: {100 * g.asleep.mean():.0f} %" for v, g in cmp.groupby("variant"))
+            text += f" Mean fraction of the grains asleep over a pull: {saved}."
+        return text
     # stiffness: the drag's change per decade of K_n, at each speed (regimes differ)
     cmp = cmp.assign(_per_decade=cmp.rel_diff / np.log10(cmp.variant / cmp.reference))
     by = "Fr" if "Fr" in cmp.columns and cmp.Fr.nunique() > 1 else None

@@ -119,7 +119,7 @@ def test_scale_is_nan_when_the_file_does_not_record_it(tmp_path, version):
         del f["parameters"]
     row = read_run(p)
     assert all(np.isnan(row[k]) for k in ("lx", "ly", "grains")) and row["drag"] > 0
-    assert row["active_radius"] == 0.0      # a pull that records no region integrated every grain
+    assert row["active_radius"] == 0.0 and row["asleep"] == 0.0   # a pull that records no region
     # A bed of format version 1, or imported: the run has no /parameters/pour.
     q = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5", speed=1.5)
     with h5py.File(q, "a") as f:
@@ -209,6 +209,9 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     row = read_run(run)
     assert (row["lx"], row["ly"], row["grains"]) == (5.0, 4.5, 150.0)
     assert row["active_radius"] == 3.0       # the validation of the active region compares by it
+    with h5py.File(run) as f:
+        counts = f["observables/sleeping_grains/value"][()]
+    assert row["asleep"] == pytest.approx(counts.mean() / 150) and 0 <= row["asleep"] <= 1
     assert row["sanity"] == "clean"
     # The drag error's Student-t dof and convergence flag: a 0.5 d pull is far too short.
     assert row["drag_dof"] >= 1 and row["plateau"] is False

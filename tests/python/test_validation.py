@@ -96,7 +96,7 @@ def region_runs(shift, theta_shift=0.0, beds=2, noise=0.01, bed_scatter=0.06, se
                                      V=Fr * np.sqrt(D), seed=b, active_radius=R,
                                      drag=F * (1 + noise * rng.standard_normal()), drag_err=noise * F,
                                      theta=th + 0.005 * rng.standard_normal(), theta_err=0.005,
-                                     n_contacts=4.0 * (1 + shift[R]), Z=4.5, sanity="clean"))
+                                     n_contacts=4.0 * (1 + shift[R]), Z=4.5, asleep=R / 20, sanity="clean"))
     return pd.DataFrame(rows)
 
 
@@ -107,6 +107,7 @@ def test_active_region_names_the_smallest_radius_that_agrees_for_each_D():
     assert cmp[cmp.variant == 4].n_contacts_rel_diff.to_numpy() == pytest.approx(0.15)
     text = val.conclusion(cmp, "active_region")
     assert "D = 2: 8 d (4 D)" in text and "D = 6: 8 d (1.33 D)" in text
+    assert "asleep over a pull: 4 d: 20 %, 8 d: 40 %, 12 d: 60 %" in text
     # A radius whose drag agrees but whose theta does not is no agreement.
     cmp = val.compare(region_runs({R: 0.0 for R in (0.0, 4.0, 8.0, 12.0)}, theta_shift=0.05), "active_region")
     assert cmp[cmp.variant == 4].theta_z.abs().min() > 2 and not cmp[cmp.variant == 4].agrees.any()
