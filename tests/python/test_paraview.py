@@ -185,3 +185,24 @@ def test_paraview_plays_a_dumped_pour(tmp_path):
     assert int(seen["frames"]) == len(times) >= 7  # step 0, then every 0.5 up to t >= 3
     assert int(seen["first_points"]) == int(seen["last_points"]) == 301
     assert z[-1].mean() < z[0].mean()  # the grains fall
+
+
+def test_a_render_that_lost_its_display_is_retried_after_a_growing_pause(monkeypatch):
+    import analysis.headless as headless
+
+    outcomes = [(134, headless.LOST_DISPLAY), (134, headless.LOST_DISPLAY), (0, "")]
+    calls, pauses = [], []
+
+    def fake_run(cmd, **kw):
+        calls.append(cmd)
+        code, text = outcomes[len(calls) - 1]
+        return subprocess.CompletedProcess(cmd, code, stdout=text, stderr="")
+
+    monkeypatch.setattr(headless.subprocess, "run", fake_run)
+    monkeypatch.setattr(headless.time, "sleep", pauses.append)
+    assert headless.run_pvbatch("render.py", "x.xdmf").returncode == 0
+    assert len(calls) == 3 and pauses == [headless.PAUSE, 2 * headless.PAUSE]
+    # Any other failure is the render's own: returned at once, not retried.
+    calls.clear()
+    outcomes[:] = [(1, "vtkXdmfReader: no such file")]
+    assert headless.run_pvbatch("render.py", "x.xdmf").returncode == 1 and len(calls) == 1
