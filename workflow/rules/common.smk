@@ -140,11 +140,20 @@ def end_of_run(succeeded):
     failed = [run for run in ALL_RUNS if failures.read_failure(run) is not None]
     if failures.remove_placeholders(ALL_RUNS):
         Path(f"{RESULTS}/failed_pulls.txt").unlink(missing_ok=True)
-    if succeeded:
+    if (
+        succeeded
+    ):  # what the targets asked for made (a validation study makes no report)
         results = Path(RESULTS).resolve()
-        print(
-            f"granudrag: report at {results}/report/report.html (and report.md), table at {results}/table.csv"
-        )
+        made = [
+            f"{what} at {path}"
+            for what, path in (
+                ("report", results / "report" / "report.html"),
+                ("table", results / "table.csv"),
+            )
+            if path.is_file()
+        ]
+        if made:
+            print("granudrag: " + ", ".join(made))
     if failed:
         print(
             f"granudrag: {len(failed)} of {len(ALL_RUNS)} pulls failed, each with its reason in"
