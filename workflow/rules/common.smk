@@ -140,9 +140,8 @@ def end_of_run(succeeded):
     failed = [run for run in ALL_RUNS if failures.read_failure(run) is not None]
     if failures.remove_placeholders(ALL_RUNS):
         Path(f"{RESULTS}/failed_pulls.txt").unlink(missing_ok=True)
-    if (
-        succeeded
-    ):  # what the targets asked for made (a validation study makes no report)
+    # What the targets asked for made (a validation study makes no report).
+    if succeeded:
         results = Path(RESULTS).resolve()
         made = [
             f"{what} at {path}"
