@@ -6,7 +6,8 @@
 # UndefinedBehaviorSanitizer in build-asan/ and runs them; the Python tests: the analysis under
 # the project environment, the workflow (smoke study, incremental sweeps, snakemake --lint,
 # --report) under it with Snakemake 9 and under Debian's interpreter with Snakemake 7.21; and the
-# smoke study through both SLURM profiles on a real one-node cluster with accounting.
+# smoke study's simulations, table and fits through both SLURM profiles on a real one-node
+# cluster with accounting.
 # Prints how long each step took.
 #   tools/test.sh           every test (the README's test command, and CI's)
 #   tools/test.sh --quick   the inner loop: lint, build, the C++ unit tests and the Python unit
@@ -132,16 +133,29 @@ trap 'rm -rf "$pytmp"' EXIT
 # study draws every figure under each Snakemake generation, so the project environment's
 # matplotlib still draws them; `--quick` runs them under the project environment.
 debian_only=(tests/python/test_figures.py tests/python/test_paraview.py)
+# Workflow tests whose subject is not the Snakemake generation run in one pass only, chosen to
+# balance the two (measured 2026-11-26 under Debian's pass): the movie target (46 s: a pull with
+# frames and ParaView's drawing, plain rules the smoke study runs under both) and the bed
+# chaining test (4 s; it runs Debian's Snakemake in either pass) in Debian's; the two validation
+# studies end to end (11 s) and the measured cost estimate (2 s) in the project environment's.
+# Everything about the generations (the smoke study, faults, kill and unlock, --lint, --report,
+# --rerun-triggers, extending a grid, every validation config planned) runs in both.
+workflow_debian_only=(tests/workflow/test_smoke.py::test_the_movie_target_pulls_figure_4s_pull_again_with_frames
+  tests/workflow/test_bed_chaining.py)
+workflow_venv_only=(tests/workflow/test_validation_target.py::test_yield_speed_validation_runs_end_to_end
+  tests/workflow/test_validation_target.py::test_pull_length_validation_runs_end_to_end
+  tests/workflow/test_study.py::test_estimate_cost_measures_throughput_and_scales_the_cost)
 beside "$pytmp/debian.log" env GRANUDRAG="$PWD/build/granudrag" "$PY" -m pytest -q -p no:cacheprovider \
-  --basetemp "$pytmp/debian" tests/workflow tests/python/test_packaging.py tests/python/test_cli.py "${debian_only[@]}"
+  --basetemp "$pytmp/debian" "${workflow_venv_only[@]/#/--deselect=}" \
+  tests/workflow tests/python/test_packaging.py tests/python/test_cli.py "${debian_only[@]}"
 beside "$pytmp/venv.log" env GRANUDRAG="$PWD/build/granudrag" GRANUDRAG_SNAKEMAKE="$PWD/.venv/bin/snakemake" \
   .venv/bin/python -m pytest -q -p no:cacheprovider --basetemp "$pytmp/venv" "${debian_only[@]/#/--ignore=}" \
-  tests/python tests/workflow
+  "${workflow_debian_only[@]/#/--deselect=}" tests/python tests/workflow
 joined || { echo "test.sh: a Python pass failed (its output above)" >&2; exit 1; }
 took "Python tests: the workflow under Debian's Python + Snakemake 7.21 and everything under the project environment + Snakemake 9, side by side"
 # Both SLURM profiles on a real one-node cluster with accounting (slurmdbd, MariaDB) started
-# here (needs root or passwordless sudo): the smoke study through Snakemake 9 + the executor
-# plugin and through 7.21 + slurm-v7, and a pull killed at its time limit that resumes.
+# here (needs root or passwordless sudo): the smoke study's simulations, table and fits through
+# Snakemake 9 + the executor plugin and through 7.21 + slurm-v7, and a pull killed at its time limit that resumes.
 tests/workflow/slurm/test_slurm.sh build/granudrag
 took "SLURM tests (both profiles)"
 echo "all tests passed in $((SECONDS - start)) s"

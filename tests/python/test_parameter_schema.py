@@ -69,7 +69,7 @@ def schema():
 
 
 def deref(schema, node):
-    """The node a {"$ref": "#/definitions/x"} names, or the node itself."""
+    """The node a {"$ref": "#/$defs/x"} names, or the node itself."""
     ref = node.get("$ref")
     if ref is None:
         return node
@@ -93,7 +93,7 @@ def scalar_branches(schema, node):
 
 def config_keys(schema):
     """(label, schema node, command, option, default_rule) of every exposed config key."""
-    defs = schema["definitions"]
+    defs = schema["$defs"]
     system = schema["properties"]["systems"]["additionalProperties"]
     rows = []
     for key, option in SYSTEM_KEYS.items():
@@ -199,7 +199,7 @@ def test_schema_matches_granudrag(schema, cli):
 def test_every_exposed_key_is_compared(schema):
     """Nothing in the pour/pull blocks, the systems or the axes escapes the comparison."""
     labels = {row[0] for row in config_keys(schema)}
-    defs = schema["definitions"]
+    defs = schema["$defs"]
     for command in ("pour", "pull"):
         for key in defs[command]["properties"]:
             assert f"{command}.{key}" in labels
@@ -262,7 +262,7 @@ def test_the_config_reference_tables_are_generated_from_the_engine_and_not_stale
     assert tool.render_reference(text, BINARY) == text, \
         "config/README.md's key tables are stale: run .venv/bin/python tools/schema_blocks.py"
     with open(SCHEMA) as fh:
-        defs = yaml.safe_load(fh)["definitions"]
+        defs = yaml.safe_load(fh)["$defs"]
     for command in ("pour", "pull"):
         begin, end = tool.markers(command, "<!--")
         rows = text.split(begin, 1)[1].split(end, 1)[0].strip().splitlines()[2:]

@@ -1,12 +1,16 @@
 #!/usr/bin/env bash
 # The SLURM paths for real: starts a one-node SLURM cluster with accounting on this machine
 # (cluster.sh: slurmctld, slurmd, slurmdbd on a MariaDB server), then
-#   1. runs the smoke study through workflow/profiles/slurm with Snakemake 9 (the project
-#      environment's, .venv/bin/snakemake, and its SLURM executor plugin, which follows the jobs
-#      through sacct), and through workflow/profiles/slurm-v7 with Debian's Snakemake 7.21;
-#      checks that the beds and pulls ran as SLURM jobs that accounting (sacct) knows as
-#      COMPLETED, under the account and partition given by SBATCH_ACCOUNT/SBATCH_PARTITION, and
-#      that each table of results equals a local run's;
+#   1. runs the smoke study's simulations, table and fits (targets `table fits`) through
+#      workflow/profiles/slurm with Snakemake 9 (the project environment's, .venv/bin/snakemake,
+#      and its SLURM executor plugin, which follows the jobs through sacct), and through
+#      workflow/profiles/slurm-v7 with Debian's Snakemake 7.21; checks that the beds, pulls,
+#      table and fits ran as SLURM jobs that accounting (sacct) knows as COMPLETED, under the
+#      account and partition given by SBATCH_ACCOUNT/SBATCH_PARTITION, and that each table of
+#      results equals a local run's. The figures and the report are left out: they are rules
+#      like the table (a Python script, one thread), submitted the same way, and each is a
+#      SLURM job of 6-10 s under Snakemake 9 (its plugin starts Snakemake twice per job);
+#      the workflow tests draw them under both Snakemake generations;
 #   2. with a 1-minute time limit on the pull rule (--set-resources pull:runtime=1, as
 #      max_runtime gives on a cluster; the config's max_runtime is 10 minutes at least), runs one
 #      pull that needs longer, through each profile: SLURM kills the first job at its time limit
@@ -68,27 +72,27 @@ fast=(--slurm-init-seconds-before-status-checks 3)
 # The two generations and the local reference at once: the SLURM runs spend most of their time
 # waiting on the scheduler and accounting (193 and 131 s one after the other, for jobs of seconds).
 t=$SECONDS
-run "$work/slurm9" "$sm9" "$work/smoke.yaml" --profile "$root/workflow/profiles/slurm" --jobs 4 "${fast[@]}" &
+run "$work/slurm9" "$sm9" "$work/smoke.yaml" --profile "$root/workflow/profiles/slurm" --jobs 4 "${fast[@]}" table fits &
 pid9=$!
-run "$work/slurm7" "$sm7" "$work/smoke.yaml" --profile "$root/workflow/profiles/slurm-v7" --jobs 4 --cores 2 &
+run "$work/slurm7" "$sm7" "$work/smoke.yaml" --profile "$root/workflow/profiles/slurm-v7" --jobs 4 --cores 2 table fits &
 pid7=$!
-run "$work/local" "$sm7" "$work/smoke.yaml" --cores 2 &
+run "$work/local" "$sm7" "$work/smoke.yaml" --cores 2 table &
 pidlocal=$!
 wait $pid9 || exit 1
 wait $pid7 || exit 1
 wait $pidlocal || exit 1
-echo "the smoke study through Snakemake 9 + slurm, 7.21 + slurm-v7 and locally, side by side: $((SECONDS - t)) s"
+echo "the smoke study's simulations, table and fits through Snakemake 9 + slurm, 7.21 + slurm-v7 and locally, side by side: $((SECONDS - t)) s"
 sleep 2   # slurmctld sends the last job's end to slurmdbd asynchronously
 for gen in 9 7; do
-  # Accounting: the run's jobs (beds, pulls, and under 9 the analysis rules too) as COMPLETED
-  # under the account and partition asked for. Snakemake 9 names its jobs after the run's id,
-  # 7's profile after the rule.
+  # Accounting: the run's jobs (beds, pulls, the table and the fits) as COMPLETED under the
+  # account and partition asked for. Snakemake 9 names its jobs after the run's id, 7's profile
+  # after the rule.
   new=$(jobs_in "$work/slurm$gen")
   n=$(grep -c . <<<"$new" || true)
   done_ok=$(grep -cE '\|COMPLETED\|granudrag\|debug$' <<<"$new" || true)
   echo "Snakemake $gen through SLURM: $n jobs in accounting, $done_ok COMPLETED under account granudrag, partition debug"
-  # 5 beds + 12 pulls at least
-  [ "$done_ok" -ge 17 ] && [ "$done_ok" -eq "$n" ] || { echo "FAIL: sacct:"; echo "$new"; exit 1; }
+  # 5 beds + 12 pulls + the table and the fits at least
+  [ "$done_ok" -ge 19 ] && [ "$done_ok" -eq "$n" ] || { echo "FAIL: sacct:"; echo "$new"; exit 1; }
 done
 
 # Same results as the local run (the smoke simulations use one thread each: bitwise).
@@ -153,4 +157,4 @@ for gen in 9 7; do
   grep -qE 'resuming from .* at step [1-9]' "$log" || { echo "FAIL: the last attempt did not resume:"; tail "$log"; exit 1; }
   [ -f "$run_file" ] || { echo "FAIL: the pull did not finish"; exit 1; }
 done
-echo "PASS: the smoke study ran through SLURM with Snakemake 9 and 7.21 and matches the local run; a pull killed at its time limit resumed"
+echo "PASS: the smoke study's simulations, table and fits ran through SLURM with Snakemake 9 and 7.21 and matches the local run; a pull killed at its time limit resumed"
