@@ -1,13 +1,12 @@
 """Fits of the paper's laws, each returning values with standard errors.
 
 Where the errors come from:
-  fit_regimes             wild bootstrap refits, crossovers included (regimes.py)
-  fit_theta, fit_linear,  least-squares covariance, scaled by the reduced chi^2
-  fit_power_law,          (so per-point errors act as relative weights); NaN when
-  fit_saturation          there are no degrees of freedom left
-  fit_scaling_law         lambda and predictions: bootstrap of the regime fit on
-                          the collapsed data, alpha and phi redrawn from their
-                          errors in each refit
+  fit_regimes             bootstrap refits, crossovers included (regimes.py)
+  fit_theta, fit_linear,  least-squares covariance (with the beds' shared errors: beds.py),
+  fit_power_law,          scaled by the reduced chi^2 when above 1; NaN when there are no
+  fit_saturation          degrees of freedom left
+  fit_scaling_law         lambda and predictions: bootstrap of the regime fit on the collapsed
+                          data resampling the beds (alpha and phi refitted), beds.BedDraws
 
 Save/load: `save_fits` writes the JSON fit file read by `load_fits` and by
 `python -m analysis.predict` (format described in save_fits).
@@ -22,10 +21,20 @@ import pandas as pd
 from scipy.optimize import curve_fit
 
 from . import __version__
+from .beds import BedDraws, bed_covariance
 from .goodness import goodness
 from .regimes import RegimeFitter, fit_regimes, regime_curve
 from .result import Fit, Param
-from .table import froude, is_yield, pooled_drag_err, reference_params, select, yield_rows
+from .table import (
+    bed_labels,
+    froude,
+    is_yield,
+    observable_errors,
+    pooled_drag_err,
+    reference_params,
+    select,
+    yield_rows,
+)
 
 __all__ = ["Fit", "Param", "fit_regimes", "regime_curve", "fit_theta", "fit_kappa",
            "fit_linear", "fit_power_law", "fit_saturation", "fit_phi", "fit_alpha",
@@ -80,13 +89,17 @@ def _weights(sigma, n):
     return s if (len(s) == n and np.all(np.isfinite(s) & (s > 0))) else None
 
 
-def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf), groups=None):
-    """groups: the series of each point, for the goodness's runs test (goodness.py)."""
+def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf), groups=None,
+                    shared=None, beds=None):
+    """groups: each point's series, for the goodness's runs test (goodness.py); shared, beds: the
+    part of each point's error its bed shares, and its bed (beds.bed_covariance)."""
     x, y = np.asarray(x, float), np.asarray(y, float)
     ok = np.isfinite(x) & np.isfinite(y)
     s = _weights(None if sigma is None else np.asarray(sigma, float)[ok], ok.sum())
     x, y = x[ok], y[ok]
     groups = None if groups is None else np.asarray(groups)[ok]
+    if shared is not None:
+        shared, beds = np.asarray(shared, float)[ok], np.asarray(beds)[ok]
     if len(x) < len(names):
         raise ValueError(f"{name} fit needs at least {len(names)} points, got {len(x)}")
     # With errors: the covariance they give (absolute), scaled below; an exact fit (chi^2 = 0,
@@ -95,6 +108,8 @@ def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf
                            bounds=bounds, maxfev=20000)
     dof = len(x) - len(names)
     method = "least-squares covariance scaled by reduced chi^2"
+    if s is not None and shared is not None and np.any(shared > 0):   # the beds' shared errors
+        pcov = bed_covariance(model, x, popt, s, shared, beds)
     if s is not None and dof > 0:
         # With measurement errors, scale only up (the PDG convention): a few points that happen
         # to lie on the curve (chi^2/dof << 1; 3 yield forces, 2 parameters) would otherwise
@@ -108,6 +123,7 @@ def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf
                method=method + ("" if s is not None else " (unweighted: no per-point errors)"),
                n_points=len(x), x_range=(float(x.min()), float(x.max())),
                meta={"at_bounds": _at_bounds(names, popt, bounds), "weighted": s is not None,
+                     "errors_from": "points" if s is not None and dof > 0 and chi2 <= 1 else "residuals",
                      "goodness": goodness(x, y, model(x, *popt), len(names), s, groups)})
 
 
@@ -146,12 +162,13 @@ def theta_start(Fr, theta, sigma=None):
 THETA_MIN_POINTS = 3   # Eq. 7 has three parameters
 
 
-def fit_theta(Fr, theta, sigma=None, groups=None):
+def fit_theta(Fr, theta, sigma=None, groups=None, shared=None, beds=None):
     """theta(Fr) = U1 Fr^U2 + pi/U3 (paper Eq. 7; paper: -0.15, 0.38, 2.45), weighted by
     the per-point errors sigma when given. Started from theta_start (the data's own
     best grid point), not from the paper's numbers; bounds U2 in [1e-3, 5] and
     U3 in [0.1, 100] are reported in meta["at_bounds"] when reached. groups: each point's series
-    (its D), for the goodness's runs test."""
+    (its D), for the goodness's runs test. shared, beds: the part of each point's error its bed
+    shares and the beds (beds.bed_covariance; table.observable_errors)."""
     Fr, theta = np.asarray(Fr, float), np.asarray(theta, float)
     ok = np.isfinite(Fr) & np.isfinite(theta) & (Fr > 0)
     s = _weights(None if sigma is None else np.asarray(sigma, float)[ok], ok.sum())
@@ -160,21 +177,26 @@ def fit_theta(Fr, theta, sigma=None, groups=None):
     p0 = theta_start(Fr[ok], theta[ok], s)
     lo, hi = [-np.inf, 1e-3, 0.1], [np.inf, 5.0, 100.0]
     p0 = list(np.clip(p0, np.array(lo) + 1e-9, np.array(hi) - 1e-9))
+    sub = lambda v: None if v is None else np.asarray(v)[ok]   # noqa: E731
     return _covariance_fit(theta_curve, "theta", Fr[ok], theta[ok], s, p0, ["U1", "U2", "U3"],
-                           bounds=(lo, hi), groups=None if groups is None else np.asarray(groups)[ok])
+                           bounds=(lo, hi), groups=sub(groups), shared=sub(shared), beds=sub(beds))
 
 
-def fit_linear(x, y, sigma=None, groups=None):
+def fit_linear(x, y, sigma=None, groups=None, shared=None, beds=None):
     """y = k0 + k1 x."""
-    return _covariance_fit(linear_curve, "linear", x, y, sigma, [0.0, 1.0], ["k0", "k1"], groups=groups)
+    return _covariance_fit(linear_curve, "linear", x, y, sigma, [0.0, 1.0], ["k0", "k1"], groups=groups,
+                           shared=shared, beds=beds)
 
 
-def fit_kappa(df):
+def fit_kappa(df, pool=None):
     """kappa(Fr) = k0 + k1 Fr over all rows with kappa (paper: 0.887 + 0.185 Fr), weighted
     by the per-point errors (column kappa_err) when the table has them for every row. The
-    residuals' runs are counted per series (series_labels: D, and depth when D has several)."""
-    sigma = df["kappa_err"] if "kappa_err" in df.columns else None
-    return fit_linear(df.Fr, df.kappa, sigma, groups=series_labels(df))
+    residuals' runs are counted per series (series_labels: D, and depth when D has several). The
+    beds' part of the errors, pooled over `pool`, is shared (table.observable_errors)."""
+    if "kappa_err" not in df.columns:
+        return fit_linear(df.Fr, df.kappa, None, groups=series_labels(df))
+    sigma, shared = observable_errors(df, "kappa", pool)
+    return fit_linear(df.Fr, df.kappa, sigma, groups=series_labels(df), shared=shared, beds=bed_labels(df))
 
 
 def series_labels(df):
@@ -341,9 +363,9 @@ def fit_scaling_law(df, phi, alpha, *, mu, kn=None, gamman=None, h_min=None,
     Regime I is a0 + b0 Fr^c0 for mu = 0 (Eq. 10), a constant otherwise.
     h_min drops shallow pulls, which the paper finds do not collapse (Fig. 19).
 
-    Errors: each bootstrap refit draws alpha and phi from normal distributions
-    with their fitted errors, collapses wild-bootstrap drag with them and
-    refits, so the lambdas' errors include the exponents' uncertainty.
+    Errors: bootstrap refits. A point table (drag_err_within) is resampled by bed, phi and alpha
+    refitted from the yield pulls in each (beds.BedDraws); else each refit draws alpha and phi
+    from their errors and collapses wild-bootstrap drag with them. Weighted by pooled_drag_err.
     """
     if kn is None or gamman is None:
         kn, gamman = reference_params(df)
@@ -363,7 +385,7 @@ def fit_scaling_law(df, phi, alpha, *, mu, kn=None, gamman=None, h_min=None,
                          + f", has {moving.Fr.round(6).nunique()}")
     rows = moving.sort_values("Fr", kind="stable")
     lnh, lnD = np.log(rows.h.to_numpy()), np.log(rows.D.to_numpy() + 1.0)
-    drag, err = rows.drag.to_numpy(), rows.drag_err.to_numpy()
+    drag, err = rows.drag.to_numpy(), pooled_drag_err(rows).to_numpy(float)
 
     fitter = RegimeFitter("power" if mu == 0 else "constant")
     scale = np.exp(a.alpha * lnh + p.phi * lnD)
@@ -373,18 +395,24 @@ def fit_scaling_law(df, phi, alpha, *, mu, kn=None, gamman=None, h_min=None,
     resid = scale * fitter.noise_residuals(x, y, w, best)
     rng = np.random.default_rng(seed)
     sd = [e if np.isfinite(e) else 0.0 for e in (a.alpha_err, p.phi_err)]
+    series = [f"D = {D:g}, h = {h:.1f}" for D, h in zip(rows.D, rows.h)]   # the goodness's series
+    beds = BedDraws.of(df, rows, (mu, kn, gamman), (p, a), fitter, x, y, w, best) if n_boot > 0 else None
     reps, expo = [], []
     for _ in range(n_boot):
-        ab, pb = a.alpha + sd[0] * rng.standard_normal(), p.phi + sd[1] * rng.standard_normal()
+        if beds is None:
+            ab, pb = a.alpha + sd[0] * rng.standard_normal(), p.phi + sd[1] * rng.standard_normal()
+            dragb = fitted + resid * rng.choice([-1.0, 1.0], size=len(x))
+        else:
+            dev, pb, ab = beds.draw(rng)
+            dragb = fitted * np.exp(dev)
         sb = np.exp(ab * lnh + pb * lnD)
-        dragb = fitted + resid * rng.choice([-1.0, 1.0], size=len(x))
         reps.append(fitter.fit(x, dragb / sb, w * (sb / scale) ** 2))
         expo.append((ab, pb))
-    series = [f"D = {D:g}, h = {h:.1f}" for D, h in zip(rows.D, rows.h)]   # the goodness's series
-    reg = fitter.result(x, best, reps, f"{n_boot} wild-bootstrap refits with alpha, phi "
-                                       f"drawn from their errors (seed {seed})", y, w,
-                        series if len(series) == len(x) else None)
-    reg.meta.update(collapsed=True, mu=mu, h_min=float(h_min or 0.0))
+    how = (f"{n_boot} refits resampling the beds (a shared factor per bed; the yield pulls' phi, alpha refitted)"
+           if beds is not None else f"{n_boot} wild-bootstrap refits with alpha, phi drawn from their errors")
+    reg = fitter.result(x, best, reps, how + f" (seed {seed})", y, w, series if len(series) == len(x) else None)
+    reg.meta.update(collapsed=True, mu=mu, h_min=float(h_min or 0.0),
+                    errors_from="points" if beds is not None and not beds.scaled else "residuals")
     keep = [r is not None for r in reps]
     ranges = {"D": [float(p.D_min), float(p.D_max)], "h": [max(float(a.h_min), float(h_min or 0.0)), float(a.h_max)],
               "Fr": [float(rows.Fr.min()), float(rows.Fr.max())]}

@@ -30,7 +30,17 @@ from .fits import (
     sum_rule,
 )
 from .goodness import describe
-from .table import is_yield, pooled_drag_err, reference_params, select, validate_table, yield_rows
+from .table import (
+    bed_labels,
+    is_yield,
+    observable_errors,
+    pooled_bed_r2,
+    pooled_drag_err,
+    reference_params,
+    select,
+    validate_table,
+    yield_rows,
+)
 
 
 @dataclass
@@ -95,9 +105,9 @@ def _yield_beside(g):
 
 
 def point_bed_scatter(points):
-    """The pooled relative between-bed standard deviation of the drag, sqrt(mean(sigma_B^2 /
-    drag^2)) over the points with two or more beds, from a point table (sigma_B^2 = n_beds
-    drag_err_between^2; analysis.table.combine_beds); when no point has replicate beds, the
+    """The pooled relative between-bed standard deviation of the drag, sqrt(r2) over the points
+    with two or more beds, from a point table (r2: table.pooled_bed_r2, as pooled_drag_err's
+    weights take it); when no point has replicate beds, the
     prior the points poured once took (column bed_scatter_r of the points whose
     bed_scatter_source is "prior": the config's table.bed_scatter); else 0 (the scatter is then
     not measured, and the fits say so)."""
@@ -110,8 +120,7 @@ def point_bed_scatter(points):
             if len(prior) and np.isfinite(prior).all():
                 return float(prior.max())
         return 0.0
-    r2 = rep.n_beds.astype(float) * rep.drag_err_between.astype(float) ** 2 / rep.drag.astype(float) ** 2
-    return float(np.sqrt(np.nanmean(r2)))
+    return float(np.sqrt(pooled_bed_r2(rep)))
 
 
 def run_fits(df, n_boot=200, seed=0, options=None):
@@ -139,17 +148,13 @@ def run_fits(df, n_boot=200, seed=0, options=None):
                 fit = _try(r, f"regimes at mu={mu:g}, {by}={key:g}", fit_regimes, moving.Fr,
                            moving.drag, pooled_drag_err(moving), regime1="power" if mu == 0 else "constant",
                            n_boot=n_boot, seed=seed, bed_scatter=bed_scatter,
-                           beds=int(moving["n_beds"].min()) if "n_beds" in moving.columns else 1)
+                           beds=int(moving["n_beds"].min()) if "n_beds" in moving.columns else 1,
+                           noise=moving["drag_err_within"] if "drag_err_within" in moving.columns else None)
                 if fit is not None:
                     fit.meta["yield_pull"] = _yield_beside(g)
                     fit.meta["replicate_beds"] = _beds(moving)
                     r.regimes[(label, mu, key)] = fit
-    obs = select(ref, mu=0.5, system="I")
-    th = obs.dropna(subset=["theta"])
-    th_err = th["theta_err"] if "theta_err" in th.columns else None
-    r.theta = _try(r, "theta(Fr)", fit_theta, th.Fr, th.theta, th_err, series_labels(th)) if len(th) else None
-    ka = obs.dropna(subset=["kappa"])
-    r.kappa = _try(r, "kappa(Fr)", fit_kappa, ka) if len(ka) else None
+    fit_observables(r, select(ref, mu=0.5, system="I"), ref)
     r.phi, r.alpha = fit_phi(df), fit_alpha(df)
     r.sums = sum_rule(r.phi, r.alpha)
     r.alpha_drag, r.alpha_speeds = fit_alpha_drag(df, speeds=opt.alpha_speeds)
@@ -169,6 +174,19 @@ def run_fits(df, n_boot=200, seed=0, options=None):
         if law is not None:
             r.laws.append(law)
     return r
+
+
+def fit_observables(r, obs, pool=None):
+    """θ(Fr) (Eq. 7) and κ(Fr) (Fig. 8) of the rows obs (system I at mu = 0.5, the reference
+    contact law) into the Results r, weighted by their errors (table.observable_errors: with
+    replicate beds the between-bed part pooled over `pool`, which each bed shares, enters the
+    covariance)."""
+    th = obs.dropna(subset=["theta"])
+    th_err, th_shared = observable_errors(th, "theta", pool) if "theta_err" in th.columns else (None, None)
+    r.theta = _try(r, "theta(Fr)", fit_theta, th.Fr, th.theta, th_err, series_labels(th), th_shared,
+                   bed_labels(th)) if len(th) else None
+    ka = obs.dropna(subset=["kappa"])
+    r.kappa = _try(r, "kappa(Fr)", fit_kappa, ka, pool) if len(ka) else None
 
 
 def _shallow_pulls_note(df, h_min):

@@ -32,6 +32,15 @@ first points past a crossover, which fix where it lies, keep much less of
 their noise than the rest. A single n/(n - p) rescaling left exactly those
 points too quiet in the refits and the crossover errors ~30 % too small on
 a 14-point series like the pull table's (tests/python/calibrate_regimes.py).
+
+A point table knows each point's own error (drag_err_within: the within-run part, which no other
+point shares), and then the refits draw Gaussian noise of that size instead, scaled up by
+sqrt(chi^2/dof) of the fit against it when above 1 (noise=). Residuals of a 13-point series rest
+on ~7 dof, and a crossover's flipped-residual spread followed them: on synthetic tables with
+two beds per point (tests/python/test_calibration.py) the crossovers' RMS of z was 1.6-1.7 and
+their 95 % intervals held the truth 88-90 % of the time; with the points' own errors, 0.9-1.0
+and 96-97 %. meta["errors_from"] says which ("points": unscaled errors, the report's interval
+takes the normal quantile; "residuals": the fit's Student-t).
 """
 import numpy as np
 
@@ -72,7 +81,7 @@ def regime_curve(Fr, a0, a1, b1, a2, b2, Fr1, Fr2, b0=0.0, c0=1.0):
 
 
 def fit_regimes(Fr, drag, sigma=None, *, regime1="constant", continuous=True,
-                n_boot=200, seed=0, grid=40, bed_scatter=0.0, beds=1):
+                n_boot=200, seed=0, grid=40, bed_scatter=0.0, beds=1, noise=None):
     """Fit the three-regime law; return a Fit with params (a0, [b0, c0,] a1, b1,
     a2, b2, Fr1, Fr2), each with a bootstrap standard error (NaN if n_boot=0).
 
@@ -80,6 +89,11 @@ def fit_regimes(Fr, drag, sigma=None, *, regime1="constant", continuous=True,
     when all are finite and positive; otherwise the points weigh equally.
     bed_scatter, beds: the relative between-bed scatter and the beds each point averages
     (module docstring); 0: the points' errors are independent.
+    noise: each point's own error, independent of the others' (the within-run part of a point
+    table's drag, drag_err_within: the bed's shared part moves no crossover). Given (all finite
+    and positive), the refits draw Gaussian noise of this size, scaled up by sqrt(chi^2/dof)
+    of the fit against it when above 1, instead of flipping the residuals' signs (module
+    docstring).
     """
     fitter = RegimeFitter(regime1, continuous, grid)
     x, y, w = fitter.prepare(Fr, drag, sigma)
@@ -88,17 +102,28 @@ def fit_regimes(Fr, drag, sigma=None, *, regime1="constant", continuous=True,
     if n_boot > 0:
         rng = np.random.default_rng(seed)
         fitted = regime_curve(x, **best)
-        resid = fitter.noise_residuals(x, y, w, best)
+        own = fitter.noise_scale(x, y, noise, best)
+        resid = fitter.noise_residuals(x, y, w, best) if own is None else None
         shift = float(bed_scatter) / np.sqrt(max(1, beds)) if np.isfinite(bed_scatter) else 0.0
         reps = []
         for _ in range(n_boot):
-            flips = rng.choice([-1.0, 1.0], size=len(x))
+            if own is None:
+                dev = resid * rng.choice([-1.0, 1.0], size=len(x))
+            else:
+                dev = own * rng.standard_normal(len(x))
             scale = 1.0 + shift * rng.standard_normal() if shift > 0 else 1.0
-            reps.append(fitter.fit(x, (fitted + resid * flips) * scale, w))
-    how = f"{n_boot} wild-bootstrap refits (seed {seed})"
+            reps.append(fitter.fit(x, (fitted + dev) * scale, w))
+    points = n_boot > 0 and own is not None
+    how = (f"{n_boot} refits with Gaussian noise of each point's own error"
+           + (" scaled by sqrt(chi^2/dof)" if points and fitter.scaled else "")
+           if points else f"{n_boot} wild-bootstrap refits") + f" (seed {seed})"
     if bed_scatter and np.isfinite(bed_scatter) and bed_scatter > 0:
         how += f", each scaled by a shared bed factor ({100 * bed_scatter:.3g} % between beds, {beds} per point)"
-    return fitter.result(x, best, reps, how, y, w)
+    fit = fitter.result(x, best, reps, how, y, w)
+    # The errors' source (report.errors_from_points): the points' own errors unscaled, or the
+    # fit's residuals (flipped, or scaling the errors up), which rest on the fit's few dof.
+    fit.meta["errors_from"] = "points" if points and not fitter.scaled else "residuals"
+    return fit
 
 
 def profile_fr2(Fr, drag, sigma=None, fr2_values=None, *, regime1="constant", continuous=True, grid=40):
@@ -149,6 +174,7 @@ class RegimeFitter:
         self.power, self.continuous, self.grid = regime1 == "power", continuous, grid
         self.min_points = dict(MIN_POINTS)
         self.weighted = False   # set by prepare: the points had usable errors
+        self.scaled = False     # set by noise_scale: the points' errors scaled up by chi^2/dof
 
     def prepare(self, Fr, drag, sigma=None):
         """Finite points sorted by Fr, with weights; raise if too few."""
@@ -161,6 +187,7 @@ class RegimeFitter:
                 w = 1.0 / s ** 2
                 self.weighted = True
         order = np.argsort(x[ok], kind="stable")
+        self._order = np.flatnonzero(ok)[order]   # the input rows, in fitting order
         x, y, w = x[ok][order], y[ok][order], w[ok][order]
         need = self.min_total()
         if len(x) < need:
@@ -172,6 +199,23 @@ class RegimeFitter:
         if best is None:
             raise ValueError("no crossover pair leaves enough points in every regime")
         return best
+
+    def noise_scale(self, x, y, noise, best):
+        """Each point's noise for a parametric refit: its own error (noise, in the order of
+        prepare's input), times sqrt(chi^2/dof) of the fit against it when that exceeds 1
+        (scatter beyond the errors); None without usable errors."""
+        if noise is None:
+            return None
+        e = np.asarray(noise, float)
+        if len(e) != len(self._order):
+            return None
+        e = e[self._order]
+        if not np.all(np.isfinite(e) & (e > 0)):
+            return None
+        dof = len(x) - self.n_free(x, best)
+        chi2 = float(np.sum(((y - regime_curve(x, **best)) / e) ** 2))
+        self.scaled = dof > 0 and chi2 > dof
+        return e * (np.sqrt(chi2 / dof) if self.scaled else 1.0)
 
     def noise_residuals(self, x, y, w, best):
         """Residuals of the best fit scaled up to the size of the noise they

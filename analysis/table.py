@@ -295,13 +295,16 @@ def combine_beds(runs, r2=None, prior=None):
         drag = mean(y_b),  W = mean(e_b^2)  (within-run variance of one bed's drag),
         s^2 = var(y_b) (k >= 2, ddof 1), sigma_B^2 = max(0, s^2 - W)  (between-bed variance),
         drag_err^2 = (sigma_B^2 + W)/k = max(s^2, W)/k,
-    with drag_err_within = sqrt(W/k), drag_err_between = sqrt(sigma_B^2/k). A point with one
+    with drag_err_within = sqrt(W/k), drag_err_between = sqrt(sigma_B^2/k) and drag_var_excess =
+    (s^2 - W)/k (k >= 2; not held at 0: pooled over points, unbiased where max(0, ...) is not,
+    shared_bed_variance). A point with one
     bed cannot measure sigma_B; it takes sigma_B^2 = r2 drag^2, r2 by `single_bed_scatter`: the
     pooled relative scatter of the study's replicated points, else the `prior` (the config's
     table.bed_scatter), else none; or the r2 given (counted as pooled). drag_dof: k - 1
     when the bed scatter dominates (s^2 > W), else the within-run dof combined (Satterthwaite,
     with the pooled or prior r2's dof for one bed);
     n_beds: k; plateau: every bed's error converged; seeds: the beds' seeds, ';'-joined;
+    theta_err_within, _between, _var_excess and kappa's likewise split their errors;
     bed_scatter_source: where the point's bed scatter came from (BED_SCATTER_SOURCES: replicates,
     pooled, prior, none), bed_scatter_r and bed_scatter_dof: sqrt(r2) and its dof for a point
     poured once (NaN otherwise), bed_scatter_study: the prior's source (empty otherwise).
@@ -331,6 +334,7 @@ def combine_beds(runs, r2=None, prior=None):
     out["drag_err"] = np.sqrt((np.nan_to_num(sb2) + W) / k)
     out["drag_err_within"] = np.sqrt(W / k)
     out["drag_err_between"] = np.sqrt(sb2 / k)
+    out["drag_var_excess"] = np.where(rep, (s2 - W) / k, np.nan)
     out["drag_dof"] = dof
     out["n_beds"] = k
     known = np.isfinite(r2) and single != "none"
@@ -355,6 +359,9 @@ def combine_beds(runs, r2=None, prior=None):
         if f"{c}_err" in runs:
             _, s2c, Wc = _moments(codes, k, runs[c].to_numpy(float), runs[f"{c}_err"].to_numpy(float))
             out[f"{c}_err"] = np.sqrt(np.maximum(np.nan_to_num(s2c), Wc) / k)
+            out[f"{c}_err_within"] = np.sqrt(Wc / k)
+            out[f"{c}_err_between"] = np.sqrt(np.maximum(0.0, np.nan_to_num(s2c) - Wc) / k)
+            out[f"{c}_var_excess"] = np.where(k >= 2, (s2c - Wc) / k, np.nan)
     out = out.drop(columns=["_point", "_series"])
     return out.astype({"system": object, "run": object})
 
@@ -366,16 +373,87 @@ def pooled_drag_err(points):
     A point's own between-bed variance rests on n_beds - 1 degrees of freedom (1 or 2 in a
     study): right on average, but as weights such noisy errors favour the points whose beds
     happened to agree, and a fit's intervals then cover the truth less often than they say
-    (tests/python/test_beds.py). The point table's drag_err if it has no replicated point."""
+    (tests/python/test_beds.py). The point table's drag_err if it has no replicated point.
+    r2 is pooled_bed_r2's: unbiased, where a mean of each point's max(0, ...) counts the beds'
+    scatter about twice over when it is small against the within-run noise."""
     if not {"n_beds", "drag_err_within", "drag_err_between"} <= set(points.columns):
         return points["drag_err"]
     k = points["n_beds"].astype(float)
-    rep = k >= 2
-    if not rep.any():
+    if not (k >= 2).any():
         return points["drag_err"]
-    r2 = np.nanmean((k * points["drag_err_between"].astype(float) ** 2 / points["drag"].astype(float) ** 2)[rep])
+    r2 = pooled_bed_r2(points)
     within = points["drag_err_within"].astype(float)
     return np.sqrt(within ** 2 + r2 * points["drag"].astype(float) ** 2 / k)
+
+
+def pooled_bed_r2(points):
+    """The relative between-bed variance of the drag pooled over the point table's replicated
+    points: the mean of n_beds drag_var_excess / drag^2 (each point's excess of its beds'
+    scatter over its within-run variance, unbiased, negative when they happen to agree), held
+    at 0 once pooled; for a table without drag_var_excess, the mean of n_beds
+    drag_err_between^2 / drag^2 (each held at 0, biased up: at 1.5 % between beds and 3 % within
+    each pull, two beds, 2.8 times the variance). NaN without a replicated point."""
+    k = points["n_beds"].astype(float)
+    rep = k >= 2
+    if not rep.any():
+        return np.nan
+    y2 = points["drag"].astype(float) ** 2
+    if "drag_var_excess" in points.columns:
+        return max(0.0, float(np.nanmean((k * points["drag_var_excess"].astype(float) / y2)[rep])))
+    return float(np.nanmean((k * points["drag_err_between"].astype(float) ** 2 / y2)[rep]))
+
+
+def observable_errors(points, column, pool=None):
+    """(errors, shared) of θ or κ (`column`) for a fit across the point table's points. A point
+    with replicate beds takes its within-run error and the between-bed variance pooled over the
+    replicated points of `pool` (default: points; absolute, as one bed's offset of θ or κ does
+    not grow with it; the mean excess of the beds' scatter over the within-run variance, held at
+    0 only once pooled, as shared_bed_variance's), `shared` being that pooled part's standard
+    deviation, which every pull of a bed shares; a point poured once keeps its own error (θ and
+    κ take no pooled or prior scatter there) and shares nothing. Without the split columns:
+    (the column's errors, zeros). Pooled over a fit's own points alone, which share a handful
+    of beds, the variance rested on as many degrees of freedom as beds: κ's intercept's z had an
+    RMS of 1.3 (tests/python/test_calibration.py)."""
+    err = points[f"{column}_err"].astype(float)
+    zero = pd.Series(0.0, index=points.index)
+    pool = points if pool is None else pool
+    need = {"n_beds", f"{column}_err_within", f"{column}_var_excess"}
+    if not (need <= set(points.columns) and need <= set(pool.columns)):
+        return err, zero
+    k = points["n_beds"].astype(float)
+    rep = k >= 2
+    kp = pool["n_beds"].astype(float)
+    excess = (kp * pool[f"{column}_var_excess"].astype(float))[kp >= 2]
+    if not rep.any() or not excess.notna().any():
+        return err, zero
+    r2 = max(0.0, float(np.nanmean(excess)))
+    shared = np.sqrt(r2 / k).where(rep, 0.0)
+    within = points[f"{column}_err_within"].astype(float)
+    return np.sqrt(within ** 2 + shared ** 2).where(rep, err), shared
+
+
+def shared_bed_variance(points):
+    """Each point's relative between-bed variance, as pooled_drag_err counts it: the part of its
+    error a bed shares with every other pull in it (r2 / n_beds for a replicated point, the
+    pooled or prior r2 for one poured once), 0 where the table says nothing of its beds (no
+    drag_err_within)."""
+    if "drag_err_within" not in points.columns:
+        return pd.Series(0.0, index=points.index)
+    total = pooled_drag_err(points).astype(float) ** 2
+    within = points["drag_err_within"].astype(float) ** 2
+    return ((total - within).clip(lower=0.0) / points["drag"].astype(float) ** 2).fillna(0.0)
+
+
+def bed_labels(points):
+    """The beds each point was pulled in, named by its series (the run directory without its seed
+    and its last part, _point_and_series; combine_beds names a replicated point by its directory
+    without the seed), as a Series of labels; a run outside the workflow's layout, or a row
+    without a run, is its own bed."""
+    if "run" not in points.columns:
+        return pd.Series([f"row {i}" for i in range(len(points))], index=points.index)
+    k = points["n_beds"].to_numpy(float) if "n_beds" in points.columns else np.ones(len(points))
+    return pd.Series([str(Path(str(r)).parent) if n >= 2 else _point_and_series(r)[1]
+                      for r, n in zip(points["run"], k)], index=points.index)
 
 
 def bed_bootstrap(runs, n_boot, seed=0, prior=None):
