@@ -306,9 +306,11 @@ class RegimeFitter:
 
     @staticmethod
     def _regime_counts(x, best):
-        n1 = int(np.sum(x < best["Fr1"]))
-        n2 = int(np.sum(x < best["Fr2"])) - n1
-        return {"I": n1, "II": n2, "III": len(x) - n1 - n2}
+        """The distinct Froude numbers in each regime (_counts_ok)."""
+        ux = np.unique(x)
+        n1 = int(np.sum(ux < best["Fr1"]))
+        n2 = int(np.sum(ux < best["Fr2"])) - n1
+        return {"I": n1, "II": n2, "III": len(ux) - n1 - n2}
 
     def min_total(self):
         m = self.min_points
@@ -351,6 +353,11 @@ class RegimeFitter:
                                 np.tile(c0, len(f1))])
 
     def _counts_ok(self, x, f1, f2):
+        """Whether each regime holds its MIN_POINTS distinct Froude numbers: Eq. 12's collapse
+        has several series at each Fr, and a regime II of six points all at Fr = 4.5 fixed no
+        line (a mu = 0 law took one, Fr1 = 4.4 +- 0.2 against the truth 1: 16 errors away;
+        tests/python/calibration.py)."""
+        x = np.unique(x)
         n1 = np.searchsorted(x, f1, side="left")
         n2 = np.searchsorted(x, f2, side="left")
         m = self.min_points

@@ -68,12 +68,12 @@ def test_crossover_errors_per_series(bootstrapped, kind):
 @pytest.mark.parametrize("kind", ["law lambda", "law Fr1", "law Fr2"])
 def test_eq12_law_errors(bootstrapped, kind):
     # Eq. 12's bootstrap resamples the beds: a factor per bed shared by its yield pulls (phi and
-    # alpha refitted) and its pulls at speed. Here: lambdas RMS of z 1.00, coverage 93.6 %; the
-    # law's Fr1, Fr2 0.85, 0.94. Mutations tried: the beds' shared factor dropped (BedDraws with
-    # bed_sd 0): lambdas RMS 1.39, coverage 85.5 %, fails; the old bootstrap (alpha, phi drawn
-    # independently, wild signs; weighted by the pooled errors as now): lambdas pass (0.89,
+    # alpha refitted) and its pulls at speed. Here: lambdas RMS of z 1.02, coverage 93.3 %; the
+    # law's Fr1, Fr2 0.91, 0.96. Mutations tried: the beds' shared factor dropped (BedDraws with
+    # bed_sd 0): lambdas RMS 1.42, coverage 84.5 %, fails; the old bootstrap (alpha, phi drawn
+    # independently, wild signs; weighted by the pooled errors as now): lambdas pass (0.90,
     # 93.9 %: its too-independent draws and its missing bed factor cancel here), the law's Fr1
-    # fails (RMS 0.58).
+    # fails (RMS 0.62).
     assert_calibrated(kind, bootstrapped[kind])
 
 
