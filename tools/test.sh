@@ -6,8 +6,8 @@
 # UndefinedBehaviorSanitizer in build-asan/ and runs them; the Python tests: the analysis under
 # the project environment, the workflow (smoke study, incremental sweeps, snakemake --lint,
 # --report) under it with Snakemake 9 and under Debian's interpreter with Snakemake 7.21; and the
-# smoke study's simulations, table and fits through both SLURM profiles on a real one-node
-# cluster with accounting.
+# smoke study's beds, pulls, table and fits (two of its sweeps) through both SLURM profiles on
+# a real one-node cluster with accounting.
 # Prints how long each step took.
 #   tools/test.sh           every test (the README's test command, and CI's)
 #   tools/test.sh --quick   the inner loop: lint, build, the C++ unit tests and the Python unit
@@ -160,8 +160,9 @@ beside "$pytmp/venv.log" env GRANUDRAG="$PWD/build/granudrag" GRANUDRAG_SNAKEMAK
 joined || { echo "test.sh: a Python pass failed (its output above)" >&2; exit 1; }
 took "Python tests: the workflow under Debian's Python + Snakemake 7.21 and everything under the project environment + Snakemake 9, side by side"
 # Both SLURM profiles on a real one-node cluster with accounting (slurmdbd, MariaDB) started
-# here (needs root or passwordless sudo): the smoke study's simulations, table and fits through
-# Snakemake 9 + the executor plugin and through 7.21 + slurm-v7, and a pull killed at its time limit that resumes.
+# here (needs root or passwordless sudo): two of the smoke study's sweeps to their table and fits
+# through Snakemake 9 + the executor plugin and through 7.21 + slurm-v7, and a pull killed at its
+# time limit that resumes.
 tests/workflow/slurm/test_slurm.sh build/granudrag
 took "SLURM tests (both profiles)"
 echo "all tests passed in $((SECONDS - start)) s"
