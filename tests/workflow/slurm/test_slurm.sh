@@ -124,17 +124,20 @@ PY
 # A pull longer than the time limit: killed (TIMEOUT), resumed by the next attempt. Its length
 # is sized from a pull timed here, through the same bed (the smoke study's D = 2 bed, which the
 # long sweep shares), so that neither a faster engine nor a slower machine changes the test:
-# 90 s of this machine's pulling, against a 1-minute limit per attempt of which the job's start
-# takes some seconds. The first attempt is killed past halfway (checkpoints every tenth), the
-# second finishes; 3 retries leave room for the machine to be 1.5x slower than when the probe
-# ran, and one 1.5x faster still needs the second attempt.
+# 120 s of this machine's pulling, against a 1-minute limit on the first attempt. SLURM enforces
+# a limit up to half a minute late (first attempts here were killed 1.14 to 1.77 million steps
+# in, 60 to 90 s of pulling; at 90 s the pull was 97 % done), so the first attempt never
+# finishes it; it is killed past halfway (checkpoints every tenth), and later attempts finish
+# the rest (under 7.21 --set-resources holds every attempt to 1 minute, so a third may be
+# needed: 257 s for this step then, against 140-194 s with 90 s of pulling, which a late kill
+# could let the first attempt finish). 3 retries leave room for a slower machine.
 bed=$(find "$work/local/results" -path '*system~I/D~2/*' -name bed.h5 | head -1)
 [ -f "$bed" ] || { echo "FAIL: no D = 2 bed of system I in the local smoke run"; exit 1; }
 probe=20
 t=$EPOCHREALTIME
 OMP_NUM_THREADS=1 "$gd" pull --bed "$bed" --output "$work/probe.h5" --froude 0.5 --distance $probe --quiet >/dev/null
 read -r secs distance < <(/usr/bin/python3 -c "import sys; s = float(sys.argv[2]) - float(sys.argv[1]); \
-print(f'{s:.1f}', max(20, round(90 * $probe / s)))" "$t" "$EPOCHREALTIME")
+print(f'{s:.1f}', max(20, round(120 * $probe / s)))" "$t" "$EPOCHREALTIME")
 echo "a $probe d pull took $secs s here: the time-limit pull is $distance d"
 /usr/bin/python3 - "$work" "$distance" <<'PY'
 import sys, yaml
