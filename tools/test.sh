@@ -58,6 +58,9 @@ took "format and lint checks"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DGRANUDRAG_TESTS=ON >/dev/null
 cmake --build build -j "$jobs"
 took "build"
+# The analysis tests that take most of the analysis tests' time (ParaView's, the figures', the
+# fits' calibration): a process of their own, beside the others, in --quick and in the full run.
+slow_python=(tests/python/test_paraview.py tests/python/test_figures.py tests/python/test_calibration.py)
 # Side by side: each test declares its cores (PROCESSORS 2 for the two-thread tests, one
 # thread for the others; see CMakeLists.txt), so ctest never oversubscribes the machine.
 if $quick; then
@@ -66,13 +69,12 @@ if $quick; then
   # Two processes side by side: ParaView's, the figures' and the calibration's tests, and the
   # others; one process took 208 s (fresh clone of 3482489, 2026-11-26), ParaView's and the
   # figures' against the rest 105 and 153 s.
-  slow=(tests/python/test_paraview.py tests/python/test_figures.py tests/python/test_calibration.py)
   qtmp=$(mktemp -d)
   trap 'rm -rf "$qtmp"' EXIT
   beside "$qtmp/drawing.log" env GRANUDRAG="$PWD/build/granudrag" .venv/bin/python -m pytest -q \
-    -p no:cacheprovider --basetemp "$qtmp/drawing" "${slow[@]}"
+    -p no:cacheprovider --basetemp "$qtmp/drawing" "${slow_python[@]}"
   beside "$qtmp/rest.log" env GRANUDRAG="$PWD/build/granudrag" .venv/bin/python -m pytest -q \
-    -p no:cacheprovider --basetemp "$qtmp/rest" "${slow[@]/#/--ignore=}" tests/python
+    -p no:cacheprovider --basetemp "$qtmp/rest" "${slow_python[@]/#/--ignore=}" tests/python
   joined || { echo "test.sh: Python unit tests failed (their output above)" >&2; exit 1; }
   took "Python unit tests (two processes)"
   echo "quick tests passed in $((SECONDS - start)) s (every test: tools/test.sh)"
@@ -144,13 +146,12 @@ took "unit tests under AddressSanitizer + UndefinedBehaviorSanitizer (two proces
 # Python and Snakemake 7.21; venv.log: the project environment and Snakemake 9).
 pytmp=$(mktemp -d)
 trap 'rm -rf "$pytmp"' EXIT
-# The figures' and ParaView's unit tests (110 s of the analysis tests' 250) run in Debian's pass
+# The figures' and ParaView's unit tests (slow_python, above; 110 s of the analysis tests' 250) run in Debian's pass
 # only, which balances the two (they took 268 and 491 s with both there, 2026-11-26): the smoke
 # study draws every figure under each Snakemake generation, so the project environment's
 # matplotlib still draws them; `--quick` runs them under the project environment. So does the
 # fits' calibration on synthetic studies (33 s; the passes took 291 and 337 s with it in the
 # project environment's, 2026-11-26), whose figures are the same on Debian's packages.
-debian_only=(tests/python/test_figures.py tests/python/test_paraview.py tests/python/test_calibration.py)
 # Workflow tests whose subject is not the Snakemake generation run in one pass only, chosen to
 # balance the two (measured 2026-11-26 under Debian's pass): the movie target (46 s: a pull with
 # frames and ParaView's drawing, plain rules the smoke study runs under both) and the bed
@@ -165,9 +166,9 @@ workflow_venv_only=(tests/workflow/test_validation_target.py::test_yield_speed_v
   tests/workflow/test_study.py::test_estimate_cost_measures_throughput_and_scales_the_cost)
 beside "$pytmp/debian.log" env GRANUDRAG="$PWD/build/granudrag" "$PY" -m pytest -q -p no:cacheprovider \
   --basetemp "$pytmp/debian" "${workflow_venv_only[@]/#/--deselect=}" \
-  tests/workflow tests/python/test_packaging.py tests/python/test_cli.py "${debian_only[@]}"
+  tests/workflow tests/python/test_packaging.py tests/python/test_cli.py "${slow_python[@]}"
 beside "$pytmp/venv.log" env GRANUDRAG="$PWD/build/granudrag" GRANUDRAG_SNAKEMAKE="$PWD/.venv/bin/snakemake" \
-  .venv/bin/python -m pytest -q -p no:cacheprovider --basetemp "$pytmp/venv" "${debian_only[@]/#/--ignore=}" \
+  .venv/bin/python -m pytest -q -p no:cacheprovider --basetemp "$pytmp/venv" "${slow_python[@]/#/--ignore=}" \
   "${workflow_debian_only[@]/#/--deselect=}" tests/python tests/workflow
 joined || { echo "test.sh: a Python pass failed (its output above)" >&2; exit 1; }
 took "Python tests: the workflow under Debian's Python + Snakemake 7.21 and everything under the project environment + Snakemake 9, side by side"

@@ -30,7 +30,7 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from analysis.table import between_bed_scatter, combine_beds
+from analysis.table import between_bed_scatter, combine_beds, froude
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "yield_pulls_D2.h5"
 
@@ -45,7 +45,7 @@ def run_table(df):
     """The pulls as analysis.table's run table: one point per friction and speed, the seed its bed."""
     out = df.copy()
     out["system"], out["D"], out["h"], out["kn"], out["gamman"] = "I", 2.0, 4.0, 2e4, 199.0
-    out["Fr"] = out.V / np.sqrt(2.0)
+    out["Fr"] = froude(out.V, out.D)
     for col, val in (("n_contacts", 9.0), ("theta", 1.5), ("Z", 3.5), ("kappa", 1.0), ("theta_err", 0.01),
                      ("kappa_err", 0.01)):
         out[col] = val
@@ -68,14 +68,6 @@ def leave_one_out(values):
     sq = (values ** 2).sum() - values ** 2
     var = (sq - (n - 1) * mean ** 2) / (n - 2)
     return mean, np.sqrt(var / (n - 1))
-
-
-def single_bed_coverage(df):
-    hits = []
-    for _, g in df.groupby(["mu", "V"]):
-        truth, se = leave_one_out(g.drag.to_numpy())
-        hits.append(covered(g.drag.to_numpy(), g.drag_err.to_numpy(), g.drag_dof.to_numpy(), truth, se))
-    return np.concatenate(hits)
 
 
 def points(df, point_of):
@@ -136,7 +128,7 @@ def test_the_recorded_set_is_what_the_script_makes(df):
 
 
 def test_one_beds_time_averaging_error_alone_does_not_hold_the_protocols_drag(df):
-    hit = single_bed_coverage(df)
+    hit = coverage_of_points(df)   # each pull its own point: its bed alone
     by = df.groupby(["mu", "V"])
     scatter = by.drag.std() / by.drag_err.apply(lambda e: np.sqrt(np.mean(e ** 2)))
     print(f"\none bed, its own error: {hit.mean():.1%} of {len(hit)}; bed scatter / mean error per point:"
