@@ -37,11 +37,12 @@ def fig12_yield_vs_mu(df, outdir, saturation=None):
     rows = _yield_I(df)
     fig, ax = _subplots(figsize=(5, 3.8))
     for i, (D, g) in enumerate(rows.groupby("D")):
-        color = _errorbars(ax, g.mu, g.drag, g.drag_err, i, f"$D = {D:g}d$")
+        err = np.asarray(pooled_drag_err(g, rows), float)   # as fitset.run_fits weighs them
+        color = _errorbars(ax, g.mu, g.drag, err, i, f"$D = {D:g}d$")
         fit = (saturation or {}).get(D)
         if fit is None and g.mu.nunique() >= 4:
             try:
-                fit = fit_saturation(g.mu, g.drag, g.drag_err)   # weighted as fitset.run_fits
+                fit = fit_saturation(g.mu, g.drag, err)
             except (ValueError, RuntimeError):
                 fit = None
         if fit is not None:

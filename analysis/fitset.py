@@ -93,12 +93,14 @@ def _try(results, what, fn, *args, **kw):
         return None
 
 
-def _yield_beside(g):
-    """The series' yield pull(s) (V = 0.01), reported beside its drag-vs-Fr fit, not in it."""
+def _yield_beside(g, pool):
+    """The series' yield pull(s) (V = 0.01), reported beside its drag-vs-Fr fit, not in it;
+    its error with the between-bed scatter pooled over the yield pulls `pool`
+    (table.pooled_drag_err)."""
     y = yield_rows(g)
     if y.empty:
         return None
-    err = y.drag_err.to_numpy(float)
+    err = np.asarray(pooled_drag_err(y, pool), float)
     return {"drag": float(y.drag.mean()),
             "drag_err": float(np.sqrt(np.sum(err ** 2)) / len(err)) if np.all(np.isfinite(err)) else None,
             "Fr": float(y.Fr.mean()), "n": int(len(y))}
@@ -151,7 +153,7 @@ def run_fits(df, n_boot=200, seed=0, options=None):
                            beds=int(moving["n_beds"].min()) if "n_beds" in moving.columns else 1,
                            noise=moving["drag_err_within"] if "drag_err_within" in moving.columns else None)
                 if fit is not None:
-                    fit.meta["yield_pull"] = _yield_beside(g)
+                    fit.meta["yield_pull"] = _yield_beside(g, yield_rows(ref))
                     fit.meta["replicate_beds"] = _beds(moving)
                     r.regimes[(label, mu, key)] = fit
     fit_observables(r, select(ref, mu=0.5, system="I"), ref)
@@ -159,9 +161,13 @@ def run_fits(df, n_boot=200, seed=0, options=None):
     r.sums = sum_rule(r.phi, r.alpha)
     r.alpha_drag, r.alpha_speeds = fit_alpha_drag(df, speeds=opt.alpha_speeds)
     r.sums_drag = sum_rule(r.phi, r.alpha_drag)
-    for D, g in yield_rows(ref).query("system == 'I'").groupby("D"):
+    # Weighted by the yield forces' own within-run errors and their bed scatter pooled over
+    # every yield pull of system I: a point's own two beds give its scatter at 1 dof.
+    yields = yield_rows(ref).query("system == 'I'")
+    for D, g in yields.groupby("D"):
         if g.mu.nunique() >= 4:
-            fit = _try(r, f"F_Y(mu) saturation at D={D:g}", fit_saturation, g.mu, g.drag, g.drag_err)
+            fit = _try(r, f"F_Y(mu) saturation at D={D:g}", fit_saturation, g.mu, g.drag,
+                       pooled_drag_err(g, yields))
             if fit is not None:
                 r.saturation[D] = fit
     shallow_in = _shallow_pulls_note(df, opt.h_min)

@@ -274,6 +274,7 @@ class RegimeFitter:
                           f"deviation of {how}",
                    n_points=len(x), x_range=(float(x[0]), float(x[-1])),
                    meta={"regime1": self.regime1, "continuous": self.continuous,
+                         "n_free": self.n_free(x, best),
                          "at_bounds": [] if y is None else self.at_bounds(x, y, w, best),
                          "violations": violations(best, errs),
                          **({} if y is None else {"goodness": goodness(

@@ -85,8 +85,10 @@ def within_quantile(dof=None):
 
 
 def fit_dof(fit):
-    """Points minus parameters of a fit (None without a fit)."""
-    return None if fit is None else fit.n_points - len(fit.params)
+    """Points minus free parameters of a fit (None without a fit): its meta n_free when it says
+    (a continuous regime fit lists b1 and b2 but derives them from continuity), else every
+    parameter it lists."""
+    return None if fit is None else fit.n_points - fit.meta.get("n_free", len(fit.params))
 
 
 def errors_from_points(fit=None, goodness=None):
@@ -217,12 +219,14 @@ def comparisons(r, df=None):
                          Param(t.alpha, t.alpha_err), paper.ALPHA_0, f"≈ {paper.ALPHA_0:g}",
                          rows=None if df is None else _moving(select(df, mu=0.0, kn=t.kn, gamman=t.gamman,
                                                                       system="II"))))
-    for tab, how, alphas in ((r.sums, "α_μ from the yield force", r.alpha),
-                             (r.sums_drag, "α_μ from the drag, averaged over speeds", r.alpha_speeds)):
+    for tab, how, alphas, fitted in ((r.sums, "α_μ from the yield force", r.alpha, r.alpha),
+                                     (r.sums_drag, "α_μ from the drag, averaged over speeds",
+                                      r.alpha_speeds, None)):
         for _, t in (tab.iterrows() if tab is not None else []):
+            g = _sum_goodness(t, r.phi, alphas)
             rows.append(entry(f"α_μ + φ_μ ({how}; μ = {t.mu:g}, K_n = {t.kn:.3g})",
-                             Param(t["sum"], t["sum_err"]), paper.SUM_RULE, "≈ 3", dof=_table_dof(t, "n_min"),
-                             goodness=_sum_goodness(t, r.phi, alphas)))
+                             Param(t["sum"], t["sum_err"]), paper.SUM_RULE, "≈ 3",
+                             dof=_sum_dof(t, r.phi, fitted), goodness=g))
     for D, fit in sorted(r.saturation.items()):
         rows.append(_saturation_row(D, fit))
     return rows
@@ -249,6 +253,36 @@ def _sum_goodness(t, phi, alphas):
         for _, h in (hit.iterrows() if len(hit) else []):
             parts.append((f"{name} at V = {h.V:.3g}" if "V" in h else name, _table_goodness(h)))
     return inherited(parts)
+
+
+def _component_dof(t, tab, col):
+    """The dof of a fitted table row's exponent at t's mu, K_n, gamma_n: infinite when its error is
+    its points' errors unscaled (chi^2/dof <= 1: errors_from_points), else its points minus 2;
+    infinite without a row (the alpha averaged over speeds takes the normal quantile)."""
+    hit = [] if tab is None or not len(tab) else tab[np.isclose(tab.mu, t.mu) & np.isclose(tab.kn, t.kn)
+                                                    & np.isclose(tab.gamman, t.gamman)]
+    if not len(hit):
+        return math.inf
+    h = hit.iloc[0]
+    if errors_from_points(goodness=_table_goodness(h)):
+        return math.inf
+    n = _table_dof(h, "n")
+    return math.inf if n is None else n
+
+
+def _sum_dof(t, phi, alpha):
+    """The sum rule's dof: Welch-Satterthwaite's for phi_err^2 + alpha_err^2, each part's dof by
+    _component_dof (alpha: the fitted table, None for the average over speeds); None (the normal
+    quantile) when both rest on their points' errors. Was the fewer points' minus 2, which took
+    Student's t at 2-3 dof for a sum whose parts' errors were not from their residuals."""
+    a = float(t["phi_err"]) ** 2, float(t["alpha_err"]) ** 2
+    nu = _component_dof(t, phi, "phi"), _component_dof(t, alpha, "alpha")
+    if not all(math.isfinite(x) for x in a):
+        return _table_dof(t, "n_min")
+    if any(x < 1 for x in nu):
+        return min(nu)
+    den = sum(v * v / n for v, n in zip(a, nu) if math.isfinite(n))
+    return None if den == 0 else sum(a) ** 2 / den
 
 
 def _table_dof(t, column):

@@ -366,22 +366,29 @@ def combine_beds(runs, r2=None, prior=None):
     return out.astype({"system": object, "run": object})
 
 
-def pooled_drag_err(points):
+def pooled_drag_err(points, pool=None):
     """Errors of the point table's drags for weighting a fit across points: the within-run
-    part of each point plus the between-bed variance pooled over the replicated points,
-    sqrt(drag_err_within^2 + r2 drag^2 / n_beds), r2 the mean relative between-bed variance.
+    part of each point plus the between-bed variance pooled over the replicated points of
+    `pool` (default: points; pool with points of the same kind: a yield force's beds scatter
+    by ~14 %, a drag's at speed by ~5 %), sqrt(drag_err_within^2 + r2 drag^2 / n_beds), r2 the
+    mean relative between-bed variance.
     A point's own between-bed variance rests on n_beds - 1 degrees of freedom (1 or 2 in a
     study): right on average, but as weights such noisy errors favour the points whose beds
     happened to agree, and a fit's intervals then cover the truth less often than they say
-    (tests/python/test_beds.py). The point table's drag_err if it has no replicated point.
+    (tests/python/test_beds.py): two beds' own 95 % intervals of a yield force cover it, but
+    only through Student's t at 1 dof, with a median half-width of the whole force, where the
+    pooled ones are 0.3 of it (tests/python/test_yield_errors.py). The point table's drag_err
+    if neither it nor `pool` has a replicated point.
     r2 is pooled_bed_r2's: unbiased, where a mean of each point's max(0, ...) counts the beds'
     scatter about twice over when it is small against the within-run noise."""
-    if not {"n_beds", "drag_err_within", "drag_err_between"} <= set(points.columns):
+    pool = points if pool is None else pool
+    need = {"n_beds", "drag_err_within", "drag_err_between"}
+    if not (need <= set(points.columns) and need <= set(pool.columns)):
         return points["drag_err"]
     k = points["n_beds"].astype(float)
-    if not (k >= 2).any():
+    if not (pool["n_beds"].astype(float) >= 2).any():
         return points["drag_err"]
-    r2 = pooled_bed_r2(points)
+    r2 = pooled_bed_r2(pool)
     within = points["drag_err_within"].astype(float)
     return np.sqrt(within ** 2 + r2 * points["drag"].astype(float) ** 2 / k)
 

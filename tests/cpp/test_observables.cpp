@@ -144,7 +144,7 @@ TEST(Observables, NinetyFivePercentIntervalsCoverRealForceSeries) {
   // put it back on the window mean's own scale (without it, 1,024 samples would cover ~1 %
   // too often).
   const std::string path =
-      std::string(__FILE__).substr(0, std::string(__FILE__).rfind('/')) + "/../data/drag_series_D2_V1.h5";
+      std::string(__FILE__).substr(0, std::string(__FILE__).rfind('/')) + "/../data/drag_series_D2_V1_mu0.5.h5";
   const h5::File file = h5::File::open(path);
   const std::vector<double> all = file.read_doubles("/drag");
   const long length = file.get_attr_int64("/drag", "series_length");

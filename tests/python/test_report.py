@@ -205,3 +205,31 @@ def test_a_sum_rule_built_on_a_rejected_fit_is_inconclusive(table):
     rows = sums()
     assert all(x.rejected.startswith("model rejected (α_μ fit at V = ") for x in drag_sum(rows))
     assert not any(x.rejected for x in yield_sum(rows))
+
+
+def test_a_continuous_regime_fits_dof_counts_its_free_parameters():
+    # The continuous law lists b1 and b2 but derives them from continuity at Fr1 and Fr2: its
+    # dof is 2 more than points minus listed parameters (which took Student's t at 4 dof for 6).
+    from analysis.regimes import fit_regimes
+    from analysis.report import fit_dof
+    Fr = np.array([0.25, 0.5, 0.75, 1, 1.5, 2.5, 3.5, 4.5, 6, 8, 10.0])
+    drag = 100 + np.where(Fr > 1, 20 * (Fr - 1), 0) + np.where(Fr > 5, 30 * (Fr - 5), 0)
+    for continuous, free in ((True, 5), (False, 7)):
+        fit = fit_regimes(Fr, drag * (1 + 0.01 * np.sin(7 * Fr)), 0.02 * drag, n_boot=0, continuous=continuous)
+        assert len(fit.params) == 7 and fit_dof(fit) == len(Fr) - free
+
+
+def test_the_sum_rules_dof_is_welch_satterthwaites_of_its_parts():
+    import pandas as pd
+    from analysis.report import _sum_dof
+    key = dict(mu=0.5, kn=2e4, gamman=199.0)
+    t = pd.Series({**key, "phi_err": 0.3, "alpha_err": 0.4, "n_min": 4})
+    part = lambda chi2, n: pd.DataFrame([{**key, "n": n, "chi2_dof": chi2, "trend_p": 0.5, "rejected": 0.0}])
+    # Both errors their points' own, unscaled (chi^2/dof <= 1): the normal quantile (was t at 2 dof).
+    assert _sum_dof(t, part(0.8, 4), part(0.5, 5)) is None
+    # Both scaled by their residuals: 0.09 and 0.16 at 2 and 3 dof -> 0.25^2 / (0.09^2/2 + 0.16^2/3).
+    assert math.isclose(_sum_dof(t, part(2.0, 4), part(3.0, 5)), 0.0625 / (0.0081 / 2 + 0.0256 / 3))
+    # Only phi scaled: its 2 dof alone, weighted by its share of the variance.
+    assert math.isclose(_sum_dof(t, part(2.0, 4), part(0.5, 5)), 0.0625 / (0.0081 / 2))
+    # The alpha averaged over speeds (no fitted row) rests on its points: the normal quantile.
+    assert _sum_dof(t, part(0.5, 4), None) is None
