@@ -134,7 +134,7 @@ def run_fits(df, n_boot=200, seed=0, options=None):
     r = Results(options=opt)
     kn, gn = reference_params(df)
     ref = select(df, kn=kn, gamman=gn)
-    bed_scatter = point_bed_scatter(df)
+    bed_scatter = point_bed_scatter(df[~is_yield(df)])   # the regime fits' points are at speed
     r.bed_scatter = bed_scatter
     # Every friction with a drag-vs-Fr series, not only the paper's figures' (mu = 0.5 and 0),
     # so that "the crossovers do not depend on mu" can be tested; a series with too few speeds

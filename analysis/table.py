@@ -197,6 +197,11 @@ def select(df, *, atol=1e-9, **equal):
 # or, in a study without any, a prior the config declares (table.bed_scatter: measured by a
 # named study, with its degrees of freedom); each point says which (column bed_scatter_source).
 
+# A point's kind for pooling and for priors: a yield force's beds scatter about five times as much
+# as a drag's at speed (the default study, results/reproduction/config: 18.8 % against 3.7 %
+# between beds), so pooling them together gives neither its own.
+BED_SCATTER_KINDS = ("drag", "yield")
+
 BED_SCATTER_SOURCES = {   # the point table's bed_scatter_source -> the report's words
     "replicates": "replicate beds",
     "pooled": "pooled from this study's replicated points",
@@ -225,6 +230,27 @@ class BedScatterPrior:
         if value is None or isinstance(value, cls):
             return value
         return cls(float(value["relative"]), int(value["dof"]), str(value["source"]))
+
+
+def bed_scatter_priors(value):
+    """{kind: BedScatterPrior or None} (BED_SCATTER_KINDS) from the config's table.bed_scatter:
+    {drag: {relative, dof, source}, yield: {...}} gives each kind its own (a kind left out has
+    none); a flat {relative, dof, source} (or an instance) applies to both; None to neither."""
+    if isinstance(value, dict) and set(value) & set(BED_SCATTER_KINDS):
+        unknown = sorted(set(value) - set(BED_SCATTER_KINDS))
+        if unknown:
+            raise ValueError(f"table.bed_scatter: unknown kind(s) {unknown}; a prior per kind is "
+                             f"keyed {' and '.join(BED_SCATTER_KINDS)}")
+        return {k: BedScatterPrior.of(value.get(k)) for k in BED_SCATTER_KINDS}
+    prior = BedScatterPrior.of(value)
+    return {k: prior for k in BED_SCATTER_KINDS}
+
+
+def scatter_kind(runs):
+    """Each row's kind for its bed scatter: "yield" for a yield pull (is_yield), else "drag"."""
+    if not len(runs):
+        return np.array([], dtype=object)
+    return np.where(is_yield(runs), "yield", "drag")
 
 
 def _point_and_series(run):
@@ -289,7 +315,23 @@ def single_bed_scatter(runs, prior=None):
 
 
 def combine_beds(runs, r2=None, prior=None):
-    """The point table: one row per point of a run table, combining its replicate beds.
+    """The point table: one row per point of a run table, combining its replicate beds; yield
+    pulls and pulls at speed apart (scatter_kind: each pools its own scatter and takes its own
+    prior, bed_scatter_priors; r2 may be a {kind: r2} too), rows in the runs' order of points.
+    """
+    priors = bed_scatter_priors(prior)
+    kind = scatter_kind(runs)
+    runs = runs.assign(_pos=np.arange(len(runs)))
+    parts = [_combine_kind(runs[kind == k], r2.get(k) if isinstance(r2, dict) else r2, priors[k])
+             for k in BED_SCATTER_KINDS if (kind == k).any()]
+    if not parts:
+        return _combine_kind(runs, None, None).drop(columns="_pos")
+    out = pd.concat(parts, ignore_index=True).sort_values("_pos", kind="stable")
+    return out.drop(columns="_pos").reset_index(drop=True).astype({"system": object, "run": object})
+
+
+def _combine_kind(runs, r2=None, prior=None):
+    """combine_beds on runs of one kind.
 
     For a point with beds b = 1..k, drags y_b and within-run standard errors e_b:
         drag = mean(y_b),  W = mean(e_b^2)  (within-run variance of one bed's drag),
@@ -471,14 +513,20 @@ def bed_bootstrap(runs, n_boot, seed=0, prior=None):
     of their pulls (so a bed's points move together); a series with one bed keeps it and is
     perturbed parametrically: drag_i + e_i z_i + sqrt(r2) drag_i z (z_i, z standard normal,
     z shared by the series' points: a bed shifts every point it carries), r2 the pooled
-    between-bed scatter, else the prior's (single_bed_scatter; 0 with neither). The resamples'
+    between-bed scatter of the point's kind, else its prior's (single_bed_scatter on each
+    scatter_kind; 0 with neither). The resamples'
     spread of any fitted quantity is then its error including bed-to-bed scatter and its
     correlations.
     """
     rng = np.random.default_rng(seed)
-    r2, _, single = single_bed_scatter(runs, prior)
-    r = float(np.sqrt(r2)) if np.isfinite(r2) else 0.0
+    priors, kind = bed_scatter_priors(prior), scatter_kind(runs)
+    pooled, r_of = {}, {}
+    for k in BED_SCATTER_KINDS:       # each kind its own scatter (combine_beds)
+        r2, _, single = single_bed_scatter(runs[kind == k], priors[k])
+        r_of[k] = float(np.sqrt(r2)) if np.isfinite(r2) else 0.0
+        pooled[k] = r2 if single == "pooled" else None
     runs = _with_ids(runs).reset_index(drop=True)
+    runs["_r"] = [r_of[k] for k in kind]
     series = list(runs.groupby("_series", sort=False))
     for _ in range(n_boot):
         parts = []
@@ -494,7 +542,7 @@ def bed_bootstrap(runs, n_boot, seed=0, prior=None):
             else:
                 part = g.copy()
                 y, e = part.drag.to_numpy(float), part.drag_err.to_numpy(float)
-                part["drag"] = y + e * rng.standard_normal(len(y)) + r * y * rng.standard_normal()
+                part["drag"] = y + e * rng.standard_normal(len(y)) + part["_r"] * y * rng.standard_normal()
                 parts.append(part)
-        sample = pd.concat(parts, ignore_index=True).drop(columns=["_point", "_series"])
-        yield combine_beds(sample, r2=r2 if single == "pooled" else None, prior=prior)
+        sample = pd.concat(parts, ignore_index=True).drop(columns=["_point", "_series", "_r"])
+        yield combine_beds(sample, r2=pooled, prior=prior)

@@ -9,7 +9,8 @@ import synth
 from analysis.fitset import point_bed_scatter, run_fits
 from analysis.report import comparisons
 from analysis.report_notes import bed_scatter_sentence
-from analysis.table import BedScatterPrior, bed_bootstrap, between_bed_scatter, combine_beds, froude, save_csv
+from analysis.table import (BedScatterPrior, bed_bootstrap, between_bed_scatter, combine_beds, froude, save_csv,
+                            scatter_kind)
 
 FR = np.array([0.5, 1.0, 2.0, 4.0, 8.0])
 PRIOR = {"relative": 0.05, "dof": 14, "source": "results/reproduction/some-rung"}
@@ -136,11 +137,12 @@ def test_with_mixed_sources_each_number_names_its_own(fits):
     # Mutation tried: comparisons stating the bed scatter beside no number (bed_scatter=False
     # always): the per-row assertions fail.
     pts = _point_table(prior=PRIOR, replicated_D=2.0)
-    r2 = pts[pts.n_beds == 1].bed_scatter_r.iloc[0] ** 2
+    single_drag = pts[(pts.n_beds == 1) & (scatter_kind(pts) == "drag")]
+    r2 = single_drag.bed_scatter_r.iloc[0] ** 2
     assert set(pts.bed_scatter_source) == {"replicates", "pooled"}
     rows = {x.quantity: x for x in comparisons(fits, pts)}
     assert "bed scatter: replicate beds" in rows["Fr_1 (μ = 0.5, D = 2)"].notes
-    dof = int(pts.bed_scatter_dof.dropna().iloc[0])
+    dof = int(single_drag.bed_scatter_dof.iloc[0])
     assert (f"bed scatter: pooled from this study's replicated points (r = {np.sqrt(r2):.3g}, dof {dof})"
             in rows["Fr_1 (μ = 0.5, D = 4)"].notes)
     assert "Each number's notes say which" in bed_scatter_sentence(pts)
@@ -158,3 +160,50 @@ def test_the_ladder_refit_takes_the_rungs_prior(tmp_path):
     assert (refit_table(tmp_path).bed_scatter_source == "prior").all()
     (tmp_path / "config.yaml").write_text("table: {allow_failed: false}\n")
     assert (refit_table(tmp_path).bed_scatter_source == "none").all()
+
+
+def _with_yield_pulls(df, rng, rel_bed, seeds):
+    """df plus, for each D, a yield pull (V = 0.01) in every bed of seeds[D], scattering rel_bed
+    between beds."""
+    rows = []
+    for D, ss in seeds.items():
+        for s in ss:
+            y = 60.0 * D * (1 + rel_bed * rng.standard_normal())
+            rows.append({**df.iloc[0].to_dict(), "D": D, "V": 0.01, "Fr": float(froude(0.01, D)),
+                         "drag": y, "drag_err": 0.02 * y, "seed": float(s),
+                         "run": f"pulls/system~I/D~{D:g}/h~6.5/mu~0.5/seed~{s}/V~0.01"})
+    return pd.concat([df, pd.DataFrame(rows)], ignore_index=True)
+
+
+def test_yield_forces_and_drags_at_speed_pool_their_own_scatter_and_take_their_own_prior():
+    # A yield force's beds scatter ~5 times a drag's at speed (the default study: 18.8 % and
+    # 3.7 %). Mutation tried: combine_beds pooling both kinds together (scatter_kind returning
+    # "drag" for every row): the single-bed yield point takes the mixed r and the first
+    # assertion fails; the prior per kind ignored (the flat prior for both): the second.
+    rng = np.random.default_rng(7)
+    df = runs({2.0: [1, 2, 3, 4], 3.0: [1]}, rng, rel_bed=0.03, rel_run=0.005)
+    df = _with_yield_pulls(df, rng, 0.20, {2.0: [1, 2, 3, 4], 3.0: [1]})
+    pts = combine_beds(df)
+    kind = scatter_kind(pts)
+    one = pts[pts.n_beds == 1]
+    r_yield = one[kind[pts.n_beds == 1] == "yield"].bed_scatter_r
+    r_drag = one[kind[pts.n_beds == 1] == "drag"].bed_scatter_r
+    assert len(r_yield) == 1 and len(r_drag) == len(FR)
+    assert np.sqrt(between_bed_scatter(df[scatter_kind(df) == "yield"])[0]) == pytest.approx(r_yield.iloc[0])
+    assert r_yield.iloc[0] > 3 * r_drag.iloc[0]
+    assert (one.bed_scatter_dof[kind[pts.n_beds == 1] == "yield"] == 3).all()
+    # The point table keeps the runs' order of points whatever their kind.
+    assert list(pts.run) == list(dict.fromkeys(r.replace("/seed~1/", "/").replace("/seed~2/", "/")
+                                               .replace("/seed~3/", "/").replace("/seed~4/", "/")
+                                               if d == 2.0 else r for r, d in zip(df.run, df.D)))
+    # In a study poured once, each kind takes its own prior; a kind without one has none.
+    single = _with_yield_pulls(runs({2.0: [1]}, rng), rng, 0.2, {2.0: [1]})
+    per_kind = {"drag": PRIOR, "yield": {**PRIOR, "relative": 0.19, "source": "results/reproduction/config"}}
+    pts = combine_beds(single, prior=per_kind)
+    kind = scatter_kind(pts)
+    assert (pts.bed_scatter_r[kind == "yield"] == 0.19).all() and (pts.bed_scatter_r[kind == "drag"] == 0.05).all()
+    assert (pts.bed_scatter_study[kind == "yield"] == "results/reproduction/config").all()
+    pts = combine_beds(single, prior={"drag": PRIOR})
+    assert (pts.bed_scatter_source[scatter_kind(pts) == "yield"] == "none").all()
+    with pytest.raises(ValueError, match="table.bed_scatter: unknown kind"):
+        combine_beds(single, prior={"drag": PRIOR, "yeild": PRIOR})
