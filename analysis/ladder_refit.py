@@ -24,13 +24,27 @@ from .ladder_claims import LadderError
 __all__ = ["refit_table", "refit_fits", "rewrite_report", "refit_rung", "main"]
 
 
-def _bed_scatter_prior(rung_dir):
-    """The table.bed_scatter prior of the config the rung was run with (its config.yaml), or None."""
+def _bed_scatter_prior(rung_dir, root=Path(".")):
+    """The table.bed_scatter prior of the config the rung was run with (its config.yaml); when
+    that has none, the one its config declares now (run.json's `config`, relative to `root`, the
+    repository): a prior is the table stage's, which a refit does again with today's analysis,
+    not the simulations'. None if neither has one."""
     import yaml
 
-    path = Path(rung_dir) / "config.yaml"
-    config = yaml.safe_load(path.read_text()) if path.is_file() else None
-    return ((config or {}).get("table") or {}).get("bed_scatter")
+    def prior_of(path):
+        config = yaml.safe_load(path.read_text()) if path.is_file() else None
+        return ((config or {}).get("table") or {}).get("bed_scatter")
+
+    d = Path(rung_dir)
+    prior = prior_of(d / "config.yaml")
+    if prior is None and (d / "run.json").is_file():
+        name = json.loads((d / "run.json").read_text()).get("config")
+        if name and (Path(root) / name).is_file():
+            prior = prior_of(Path(root) / name)
+            if prior is not None:
+                print(f"ladder refit: {d.name}: the bed-scatter prior of {name} (its run's config had none)",
+                      file=sys.stderr)
+    return prior
 
 
 def refit_table(rung_dir):

@@ -9,8 +9,8 @@ import synth
 from analysis.fitset import point_bed_scatter, run_fits
 from analysis.report import comparisons
 from analysis.report_notes import bed_scatter_sentence
-from analysis.table import (BedScatterPrior, bed_bootstrap, between_bed_scatter, combine_beds, froude, save_csv,
-                            scatter_kind)
+from analysis.table import (BedScatterPrior, bed_bootstrap, between_bed_scatter, combine_beds, froude, load_csv,
+                            save_csv, scatter_kind)
 
 FR = np.array([0.5, 1.0, 2.0, 4.0, 8.0])
 PRIOR = {"relative": 0.05, "dof": 14, "source": "results/reproduction/some-rung"}
@@ -207,3 +207,27 @@ def test_yield_forces_and_drags_at_speed_pool_their_own_scatter_and_take_their_o
     assert (pts.bed_scatter_source[scatter_kind(pts) == "yield"] == "none").all()
     with pytest.raises(ValueError, match="table.bed_scatter: unknown kind"):
         combine_beds(single, prior={"drag": PRIOR, "yeild": PRIOR})
+
+
+def test_the_ladder_refit_takes_the_prior_the_rungs_config_declares_now(tmp_path):
+    # A rung run before its config declared a prior: the refit (the table stage, redone with
+    # today's analysis) takes the prior of the config named in its run.json. Mutation tried:
+    # reading the recorded config.yaml only: the points read "none" and this test fails.
+    import json
+    from analysis.ladder_refit import refit_table
+    rung = tmp_path / "results" / "rung"
+    rung.mkdir(parents=True)
+    save_csv(_with_yield_pulls(runs({2.0: [1]}, np.random.default_rng(8)), np.random.default_rng(9), 0.2,
+                               {2.0: [1]}), rung / "runs.csv")
+    (rung / "config.yaml").write_text("table: {allow_failed: false}\n")
+    (rung / "run.json").write_text(json.dumps({"rung": "rung", "config": "config/ladder/rung.yaml"}))
+    (tmp_path / "config" / "ladder").mkdir(parents=True)
+    (tmp_path / "config" / "ladder" / "rung.yaml").write_text(
+        "table:\n  bed_scatter:\n    drag: {relative: 0.04, dof: 158, source: results/reproduction/config}\n"
+        "    yield: {relative: 0.19, dof: 26, source: results/reproduction/config}\n")
+    import analysis.ladder_refit as lr
+    pts = combine_beds(load_csv(rung / "runs.csv"), prior=lr._bed_scatter_prior(rung, root=tmp_path))
+    kind = scatter_kind(pts)
+    assert (pts.bed_scatter_source == "prior").all()
+    assert (pts.bed_scatter_r[kind == "yield"] == 0.19).all() and (pts.bed_scatter_r[kind == "drag"] == 0.04).all()
+    assert (refit_table(rung).bed_scatter_source == "none").all()   # root "." has no such config
