@@ -23,7 +23,7 @@ COLUMNS = {
     "Fr": ("number", "Froude number, paper Eq. 4"),
     "drag": ("number", "time-averaged drag <F_x> [rho d^3 g]"),
     "drag_err": ("number", "standard error of the drag: the engine's, from the integrated autocorrelation "
-                 "time (Wolff's window, N/6 fallback; src/protocol/observables.cpp)"),
+                 "time (Wolff's window, N/5 fallback; src/protocol/observables.cpp)"),
     "n_contacts": ("number", "mean intruder coordination number n"),
     "theta": ("number", "mean contact angle at contact formation, Eq. 6 [rad]"),
     "Z": ("number", "mean bulk coordination number near the intruder"),

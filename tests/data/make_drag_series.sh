@@ -10,12 +10,14 @@
 # series after the transient (3 d) is kept, cut to the shortest one's length.
 # Writes tests/data/drag_series_D<D>_V<V>_mu<MU>.h5: dataset `drag`, the series one after another
 # (-F_x per sample interval, rho d^3 g, float32), and its attribute `series_length`.
-# The two recorded sets:
+# The three recorded sets (tests/cpp/test_observables.cpp):
 #   defaults (build/granudrag 48 2 1 0.5 203 2): D = 2, V = 1, mu = 0.5, 203 d; about a minute
 #     per series, two at a time on 2 cores (25 min for 48). The drag error's window was chosen on
 #     this set.
-#   build/granudrag 40 3 0.5 0 79 1: D = 3, V = 0.5, mu = 0, 79 d; held out (used to choose
-#     nothing), about 45 s per series on one core (30 min for 40).
+#   build/granudrag 40 3 0.5 0 79 1: D = 3, V = 0.5, mu = 0, 79 d; about 25 s per series on one
+#     core. Recorded to hold out the N/6 fallback window, which failed on it at 64 samples; the
+#     N/5 window was then chosen on both sets.
+#   build/granudrag 40 1 2 0.25 303 2: D = 1, V = 2, mu = 0.25, 303 d; held out from N/5's choice.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 gd=$(realpath "${1:-build/granudrag}")
