@@ -29,7 +29,6 @@ from functools import partial
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
 
 from . import paper
 from .claims import CLAIMS, claim_of
@@ -37,7 +36,7 @@ from .figure_list import FIGURES, NAMES, Inputs, draw
 from .figures import not_drawn_reason
 from .fits import write_text_atomic
 from .fitset import Results, load_results, named_fits, run_fits, save_results
-from .goodness import TREND_ALPHA, describe, inherited, rejection_text
+from .goodness import describe, rejection_text
 from .report_notes import (
     PLATEAU_COLUMN,
     SEED_COLUMN,
@@ -49,13 +48,23 @@ from .report_notes import (
 from .report_render import SYMBOLS, markdown, to_html
 from .result import Param, format_pm
 from .table import is_yield, reference_params, select, yield_rows
+from .verdicts import (  # noqa: F401  (re-exported: the report's verdict rules)
+    COVERAGE,
+    INCONCLUSIVE,
+    REL_TOL,
+    VERDICTS,
+    errors_from_points,
+    fit_dof,
+    sum_dof,
+    sum_goodness,
+    table_dof,
+    table_goodness,
+    verdict,
+    within_quantile,
+)
 
 __all__ = ["PLATEAU_COLUMN", "SEED_COLUMN", "Results", "build_report", "comparisons", "run_fits", "shared_caveats",
            "verdict", "write_report"]
-
-COVERAGE, REL_TOL = 0.95, 0.25   # the within-error interval's coverage; "qualitatively"
-INCONCLUSIVE = 0.30        # relative error above which a number cannot confirm anything
-VERDICTS = ("reproduced within error bars", "reproduced qualitatively", "not reproduced", "inconclusive")
 
 
 # --- comparisons ---------------------------------------------------------
@@ -74,66 +83,6 @@ class Row:
     def shown(self):
         """The fitted cell of the report's table: the number, or why it is not a finding."""
         return self.rejected or self.fitted
-
-
-def within_quantile(dof=None):
-    """How many standard errors the within-error interval spans: the two-sided COVERAGE
-    quantile of Student's t at `dof` degrees of freedom, or of the normal law without one."""
-    if dof is None or not math.isfinite(dof):
-        return float(stats.norm.ppf(0.5 + COVERAGE / 2))
-    return float(stats.t.ppf(0.5 + COVERAGE / 2, dof))
-
-
-def fit_dof(fit):
-    """Points minus free parameters of a fit (None without a fit): its meta n_free when it says
-    (a continuous regime fit lists b1 and b2 but derives them from continuity), else every
-    parameter it lists."""
-    return None if fit is None else fit.n_points - fit.meta.get("n_free", len(fit.params))
-
-
-def errors_from_points(fit=None, goodness=None):
-    """Whether a number's error is its points' errors carried through its fit unscaled (the fit's
-    meta errors_from, else, for a fitted table's row, its weighted fit's chi^2/dof <= 1): it then
-    rests on those errors' many degrees of freedom, not on the fit's residuals, and its interval
-    takes the normal quantile. With the fit's Student-t at a few dof, 95 % intervals held the
-    truth 99.8 % of the time (alpha from the yield force, tests/python/test_calibration.py)."""
-    src = (fit.meta if fit is not None else {}).get("errors_from")
-    if src is not None:
-        return src == "points"
-    c = (goodness or {}).get("chi2_dof")
-    return c is not None and math.isfinite(c) and c <= 1.0
-
-
-def verdict(p, published, violations=(), at_bounds=(), dof=None, rejected="", from_points=False):
-    """Verdict and its reason for Param p against a published number; violations: what
-    the fit breaks of its model (regimes.violations), at_bounds: parameters that ended on a
-    bound, rejected: "model rejected (...)" when the data reject the model (goodness.py), any
-    of which makes it inconclusive; dof: the fit's degrees of freedom, those of its error
-    unless from_points (errors_from_points: the normal quantile)."""
-    if p is None or not math.isfinite(p.value):
-        return "not reproduced", "no fit"
-    if violations:
-        return "inconclusive", "the fit breaks its model: " + "; ".join(violations)
-    if rejected:
-        return "inconclusive", "the data reject the model: " + rejected.removeprefix("model rejected (").rstrip(")")
-    if at_bounds:
-        return "inconclusive", "the fit ended on a bound: " + "; ".join(at_bounds)
-    if not (math.isfinite(p.err) and p.err > 0):
-        return "inconclusive", "no error bar"
-    if dof is not None and dof < 1:
-        return "inconclusive", f"the fit has {dof} degrees of freedom: its error means nothing"
-    if p.err > INCONCLUSIVE * abs(p.value):
-        return "inconclusive", f"error {p.err / abs(p.value):.0%} of the value, above {INCONCLUSIVE:.0%}"
-    d = abs(p.value - published)
-    q = within_quantile(None if from_points else dof)
-    test = (f"Student-t at {dof:g} dof" if dof is not None and math.isfinite(dof) and not from_points
-            else "normal")
-    if d <= q * p.err:
-        return "reproduced within error bars", f"{d / p.err:.1f} standard errors away, within {q:.2f} ({test})"
-    if d <= REL_TOL * abs(published):
-        return ("reproduced qualitatively",
-                f"within {REL_TOL:.0%} but {d / p.err:.1f} standard errors, beyond {q:.2f} ({test})")
-    return "not reproduced", f"off by {d / abs(published):.0%}" if published else "off"
 
 
 def _row(quantity, p, published, shown=None, fit=None, rows=None, extra="", dof=None, goodness=None,
@@ -212,7 +161,7 @@ def comparisons(r, df=None):
         for _, t in (tab[np.isclose(tab.mu, 0.0)].iterrows() if tab is not None else []):
             basis = None if yl is None else select(yl, mu=0.0, kn=t.kn, gamman=t.gamman, system=system)
             rows.append(entry(f"{name} (K_n = {t.kn:.3g})", Param(t[col], t[col + "_err"]), pub,
-                             f"≈ {pub:g}", rows=basis, dof=_table_dof(t, "n"), goodness=_table_goodness(t)))
+                             f"≈ {pub:g}", rows=basis, dof=table_dof(t, "n"), goodness=table_goodness(t)))
     ad = r.alpha_drag if r.alpha_drag is not None else []
     for _, t in (ad[np.isclose(ad.mu, 0.0)].iterrows() if len(ad) else []):
         rows.append(entry(f"α_0 (drag, averaged over speeds {t.speeds}; K_n = {t.kn:.3g})",
@@ -223,73 +172,13 @@ def comparisons(r, df=None):
                                      (r.sums_drag, "α_μ from the drag, averaged over speeds",
                                       r.alpha_speeds, None)):
         for _, t in (tab.iterrows() if tab is not None else []):
-            g = _sum_goodness(t, r.phi, alphas)
+            g = sum_goodness(t, r.phi, alphas)
             rows.append(entry(f"α_μ + φ_μ ({how}; μ = {t.mu:g}, K_n = {t.kn:.3g})",
                              Param(t["sum"], t["sum_err"]), paper.SUM_RULE, "≈ 3",
-                             dof=_sum_dof(t, r.phi, fitted), goodness=g))
+                             dof=sum_dof(t, r.phi, fitted), goodness=g))
     for D, fit in sorted(r.saturation.items()):
         rows.append(_saturation_row(D, fit))
     return rows
-
-
-def _table_goodness(t):
-    """The goodness of a fitted table row (fits.GOODNESS_COLUMNS), as the report reads a fit's;
-    {} for tables written before the columns."""
-    num = lambda c: float(t[c]) if c in t and math.isfinite(float(t[c])) else None
-    if num("rejected") is None:
-        return {}
-    p = num("trend_p")
-    return {"chi2_dof": num("chi2_dof"), "dof": None if num("n") is None else num("n") - 2, "trend_p": p,
-            "trend": p is not None and p < TREND_ALPHA, "rejected": bool(num("rejected"))}
-
-
-def _sum_goodness(t, phi, alphas):
-    """The sum rule's goodness: rejected when the data reject the φ_μ fit or an α_μ fit it adds
-    (goodness.inherited; the averaged α_μ: any of its speeds' fits), at the sum's μ, K_n, γ_n."""
-    parts = []
-    for name, tab in (("φ_μ fit", phi), ("α_μ fit", alphas)):
-        hit = [] if tab is None or not len(tab) else tab[np.isclose(tab.mu, t.mu) & np.isclose(tab.kn, t.kn)
-                                                        & np.isclose(tab.gamman, t.gamman)]
-        for _, h in (hit.iterrows() if len(hit) else []):
-            parts.append((f"{name} at V = {h.V:.3g}" if "V" in h else name, _table_goodness(h)))
-    return inherited(parts)
-
-
-def _component_dof(t, tab, col):
-    """The dof of a fitted table row's exponent at t's mu, K_n, gamma_n: infinite when its error is
-    its points' errors unscaled (chi^2/dof <= 1: errors_from_points), else its points minus 2;
-    infinite without a row (the alpha averaged over speeds takes the normal quantile)."""
-    hit = [] if tab is None or not len(tab) else tab[np.isclose(tab.mu, t.mu) & np.isclose(tab.kn, t.kn)
-                                                    & np.isclose(tab.gamman, t.gamman)]
-    if not len(hit):
-        return math.inf
-    h = hit.iloc[0]
-    if errors_from_points(goodness=_table_goodness(h)):
-        return math.inf
-    n = _table_dof(h, "n")
-    return math.inf if n is None else n
-
-
-def _sum_dof(t, phi, alpha):
-    """The sum rule's dof: Welch-Satterthwaite's for phi_err^2 + alpha_err^2, each part's dof by
-    _component_dof (alpha: the fitted table, None for the average over speeds); None (the normal
-    quantile) when both rest on their points' errors. Was the fewer points' minus 2, which took
-    Student's t at 2-3 dof for a sum whose parts' errors were not from their residuals."""
-    a = float(t["phi_err"]) ** 2, float(t["alpha_err"]) ** 2
-    nu = _component_dof(t, phi, "phi"), _component_dof(t, alpha, "alpha")
-    if not all(math.isfinite(x) for x in a):
-        return _table_dof(t, "n_min")
-    if any(x < 1 for x in nu):
-        return min(nu)
-    den = sum(v * v / n for v, n in zip(a, nu) if math.isfinite(n))
-    return None if den == 0 else sum(a) ** 2 / den
-
-
-def _table_dof(t, column):
-    """A fitted table row's dof: its fit's points (`column`) minus the power law's 2 parameters;
-    None for tables written before the column."""
-    n = t.get(column) if hasattr(t, "get") else None
-    return None if n is None or not math.isfinite(float(n)) else float(n) - 2
 
 
 def headline(rows):
@@ -409,7 +298,7 @@ def _goodness_blocks(r):
     fits = [(name, f.meta.get("goodness")) for name, f in named_fits(r).items()]
     for tab, what in ((r.phi, "phi"), (r.alpha, "alpha")):
         for _, t in (tab.iterrows() if tab is not None else []):
-            fits.append((f"{what}_mu{t.mu:g}_kn{t.kn:.3g}", _table_goodness(t)))
+            fits.append((f"{what}_mu{t.mu:g}_kn{t.kn:.3g}", table_goodness(t)))
     rows = [[name, "rejected" if g and g.get("rejected") else "not rejected" if g else "-",
              describe(g) if g else "not recorded"] for name, g in fits]
     return [("h2", "Goodness of the fits"),

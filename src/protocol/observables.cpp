@@ -50,9 +50,9 @@ double mean(const std::vector<double>& x) {
 // 256, 1024 (the old block-averaging estimate with 1.96: 67 %, 77 %, 87 %, 95 %); of 48 recorded
 // drag series (independent pulls), disjoint windows cover their pull's mean in 93.5 %, 98.4 %,
 // 95.6 %, 98.6 % (7,440 to 432 repeats), of the 40 at D = 3 in 90.5-96.8 %, and of 40 held out
-// from every choice here (D = 1, V = 2, mu = 0.25) in 96.9 %, 98.2 %, 96.8 %, 96.1 %. At 128 and 1,024 samples the error is conservative: 128 samples hold
-// 1.3 periods, too few for the lobe of (5) to show within N/3, and at 1,024 the Bartlett window
-// weighs the lobe down by its taper.
+// from every choice here (D = 1, V = 2, mu = 0.25) in 96.9 %, 98.2 %, 96.8 %, 96.1 %. At 128 and 1,024
+// samples the error is conservative: 128 samples hold 1.3 periods, too few for the lobe of (5) to show within
+// N/3, and at 1,024 the Bartlett window weighs the lobe down by its taper.
 namespace {
 
 struct WindowSum {

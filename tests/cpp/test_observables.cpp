@@ -142,7 +142,8 @@ TEST(Observables, NinetyFivePercentIntervalsCoverAr1AtShortLengths) {
 // synthetic tests, widened by twice the sampling error a coverage on the band's edge would have
 // over the repeats (binomial): a coverage beyond that is off the band, not unlucky.
 void expect_recorded_coverage(const std::string& name, long min_length, long min_series, long min_repeats) {
-  const std::string path = std::string(__FILE__).substr(0, std::string(__FILE__).rfind('/')) + "/../data/" + name;
+  const std::string path =
+      std::string(__FILE__).substr(0, std::string(__FILE__).rfind('/')) + "/../data/" + name;
   const h5::File file = h5::File::open(path);
   const std::vector<double> all = file.read_doubles("/drag");
   const long length = file.get_attr_int64("/drag", "series_length");
@@ -164,8 +165,8 @@ void expect_recorded_coverage(const std::string& name, long min_length, long min
     const double c = static_cast<double>(hit) / static_cast<double>(repeats);
     const double k = static_cast<double>(repeats);
     const double low = 0.90 - 2 * std::sqrt(0.90 * 0.10 / k), high = 0.98 + 2 * std::sqrt(0.98 * 0.02 / k);
-    std::printf("%s, %ld samples: coverage %.3f of %ld repeats (band %.3f-%.3f)\n", name.c_str(), n, c, repeats,
-                low, high);
+    std::printf("%s, %ld samples: coverage %.3f of %ld repeats (band %.3f-%.3f)\n", name.c_str(), n, c,
+                repeats, low, high);
     EXPECT_GE(repeats, min_repeats) << n << " samples";
     EXPECT_GE(c, low) << n << " samples";
     EXPECT_LE(c, high) << n << " samples";

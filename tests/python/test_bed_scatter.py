@@ -9,8 +9,16 @@ import synth
 from analysis.fitset import point_bed_scatter, run_fits
 from analysis.report import comparisons
 from analysis.report_notes import bed_scatter_sentence
-from analysis.table import (BedScatterPrior, bed_bootstrap, between_bed_scatter, combine_beds, froude, load_csv,
-                            save_csv, scatter_kind)
+from analysis.table import (
+    BedScatterPrior,
+    bed_bootstrap,
+    between_bed_scatter,
+    combine_beds,
+    froude,
+    load_csv,
+    save_csv,
+    scatter_kind,
+)
 
 FR = np.array([0.5, 1.0, 2.0, 4.0, 8.0])
 PRIOR = {"relative": 0.05, "dof": 14, "source": "results/reproduction/some-rung"}
@@ -214,6 +222,7 @@ def test_the_ladder_refit_takes_the_prior_the_rungs_config_declares_now(tmp_path
     # today's analysis) takes the prior of the config named in its run.json. Mutation tried:
     # reading the recorded config.yaml only: the points read "none" and this test fails.
     import json
+
     from analysis.ladder_refit import refit_table
     rung = tmp_path / "results" / "rung"
     rung.mkdir(parents=True)

@@ -221,7 +221,8 @@ def test_a_continuous_regime_fits_dof_counts_its_free_parameters():
 
 def test_the_sum_rules_dof_is_welch_satterthwaites_of_its_parts():
     import pandas as pd
-    from analysis.report import _sum_dof
+
+    from analysis.verdicts import sum_dof as _sum_dof
     key = dict(mu=0.5, kn=2e4, gamman=199.0)
     t = pd.Series({**key, "phi_err": 0.3, "alpha_err": 0.4, "n_min": 4})
     part = lambda chi2, n: pd.DataFrame([{**key, "n": n, "chi2_dof": chi2, "trend_p": 0.5, "rejected": 0.0}])
