@@ -27,8 +27,14 @@ bool touching(const Particles& p, const Box& box, int i, int j, ContactGeometry&
 
 bool BruteForceContacts::update_lists(Particles&, const Box&, Timers*, double) { return false; }
 
-void BruteForceContacts::accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
-                                    bool update_history) {
+void BruteForceContacts::accumulate_in_team(Particles& p, const Box& box, const ContactParams& c, double dt,
+                                            bool update_history) {
+#pragma omp single nowait
+  accumulate_serial(p, box, c, dt, update_history);
+}
+
+void BruteForceContacts::accumulate_serial(Particles& p, const Box& box, const ContactParams& c, double dt,
+                                           bool update_history) {
   const int n = static_cast<int>(p.size());
   formed_.clear();
   for (int i = 0; i < n; ++i) {

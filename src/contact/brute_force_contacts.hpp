@@ -14,8 +14,10 @@ namespace granudrag {
 class BruteForceContacts : public ContactLoop {
  public:
   bool update_lists(Particles& p, const Box& box, Timers* timers, double max_drift_sq) override;
-  void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
-                  bool update_history) override;
+  bool rebuild_due(std::size_t, double) const override { return false; }
+  // One thread of the team runs the serial loop; the others go on to the barrier.
+  void accumulate_in_team(Particles& p, const Box& box, const ContactParams& c, double dt,
+                          bool update_history) override;
   double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const override;
   int contacts_of(int body) const override;
   long contact_count() const override;
@@ -30,6 +32,8 @@ class BruteForceContacts : public ContactLoop {
                         std::vector<Vec3>& force) const override;
 
  private:
+  void accumulate_serial(Particles& p, const Box& box, const ContactParams& c, double dt,
+                         bool update_history);
   std::map<std::pair<int, int>, Vec3> history_;
   std::vector<std::pair<int, int>> formed_;  // pairs that began touching in the last step
 };

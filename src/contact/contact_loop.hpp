@@ -32,9 +32,22 @@ class ContactLoop {
   // into the box). With `timers`, a rebuild charges the list build to Phase::Neighbor and the
   // carry-over of the springs to Phase::History.
   virtual bool update_lists(Particles& p, const Box& box, Timers* timers, double max_drift_sq) = 0;
-  // Adds the forces and torques of all body-body contacts to p.f and p.torque.
-  virtual void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
-                          bool update_history) = 0;
+  // Whether update_lists() would rebuild, asked by every thread of a team (it changes nothing).
+  virtual bool rebuild_due(std::size_t bodies, double max_drift_sq) const = 0;
+  // Adds the forces and torques of all body-body contacts to p.f and p.torque, in a parallel
+  // region of its own: the three calls below.
+  void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt, bool update_history);
+  // accumulate() in phases, for a caller that runs them inside its own parallel region
+  // (Simulation::step runs a step in one, a fork and a join fewer each pass over the bodies):
+  // prepare_accumulate() before the region, accumulate_in_team() by every thread of the team
+  // (it ends without a barrier), and once the team has passed a barrier, finish_accumulate() by
+  // each thread on bodies first .. last - 1, its own, adding what was held back for them (sums
+  // of private arrays, intruder pairs) in a fixed order per body: the bits of the forces do not
+  // depend on how the bodies are split between the threads.
+  virtual void prepare_accumulate() {}
+  virtual void accumulate_in_team(Particles& p, const Box& box, const ContactParams& c, double dt,
+                                  bool update_history) = 0;
+  virtual void finish_accumulate(Particles& /*p*/, long /*first*/, long /*last*/) {}
   // Energy stored in the normal springs of all touching pairs.
   virtual double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const = 0;
   // Number of bodies touching particle `body` (an intruder) at the last force evaluation.

@@ -219,97 +219,107 @@ void VerletContacts::scan_rows(const Particles& p, const Box& box, const Contact
   evaluate_batch(p, c, dt, update_history, b, f, tq);
 }
 
-void VerletContacts::accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
-                                bool update_history) {
-  const long n = static_cast<long>(p.size());
-  const int max_threads = omp_get_max_threads();
-  if (static_cast<int>(thread_force_.size()) < max_threads) {
-    thread_force_.resize(max_threads);
-    thread_torque_.resize(max_threads);
+void VerletContacts::prepare_accumulate() {
+  planned_threads_ = omp_get_max_threads();
+  if (static_cast<int>(thread_force_.size()) < planned_threads_) {
+    thread_force_.resize(planned_threads_);
+    thread_torque_.resize(planned_threads_);
   }
-  while (static_cast<int>(batches_.size()) < max_threads)
+  while (static_cast<int>(batches_.size()) < planned_threads_)
     batches_.push_back(std::make_unique<ContactBatch>());
-  if (static_cast<int>(row_split_.size()) != 2 * max_threads + 1) balance_rows(max_threads);
+  if (static_cast<int>(row_split_.size()) != 2 * planned_threads_ + 1) balance_rows(planned_threads_);
+}
 
-#pragma omp parallel
-  {
-    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-    ContactBatch& b = *batches_[t];
-    if (colored_ && nt == max_threads) {
-      // Even blocks, then odd ones: no two blocks that run together write the same body, so
-      // every thread adds into the particles' arrays, and no reduction follows.
-      scan_rows(p, box, c, dt, update_history, row_split_[2 * t], row_split_[2 * t + 1], b, p.f.data(),
-                p.torque.data());
+void VerletContacts::accumulate_in_team(Particles& p, const Box& box, const ContactParams& c, double dt,
+                                        bool update_history) {
+  const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+  ContactBatch& b = *batches_[t];
+  if (two_colours(nt)) {
+    // Even blocks, then odd ones: no two blocks that run together write the same body, so
+    // every thread adds into the particles' arrays, and nothing is left to sum.
+    scan_rows(p, box, c, dt, update_history, row_split_[2 * t], row_split_[2 * t + 1], b, p.f.data(),
+              p.torque.data());
 #pragma omp barrier
-      scan_rows(p, box, c, dt, update_history, row_split_[2 * t + 1], row_split_[2 * t + 2], b, p.f.data(),
-                p.torque.data());
-    } else {
-      // Balanced for max_threads; a smaller team (nested or limited) takes whole blocks.
-      // Thread 0 adds into the particles' arrays, the others into private copies summed in
-      // thread order afterwards.
-      const long blocks = static_cast<long>(row_split_.size()) - 1;
-      auto first_row = [&](int s) { return row_split_[blocks * s / nt]; };
-      const long i0 = first_row(t), i1 = first_row(t + 1);
-      Vec3* f = p.f.data();
-      Vec3* tq = p.torque.data();
-      if (t > 0) {
-        // Partners j > i >= i0: the private arrays need only that range.
-        thread_force_[t].resize(n);
-        thread_torque_[t].resize(n);
-        std::fill(thread_force_[t].begin() + i0, thread_force_[t].end(), Vec3::Zero());
-        std::fill(thread_torque_[t].begin() + i0, thread_torque_[t].end(), Vec3::Zero());
-        f = thread_force_[t].data();
-        tq = thread_torque_[t].data();
-      }
-      scan_rows(p, box, c, dt, update_history, i0, i1, b, f, tq);
-#pragma omp barrier
-      if (nt > 1) {
-#pragma omp for schedule(static)
-        for (long k = 0; k < n; ++k) {
-          for (int s = 1; s < nt; ++s) {
-            if (k < first_row(s)) break;
-            p.f[k] += thread_force_[s][k];
-            p.torque[k] += thread_torque_[s][k];
-          }
-        }
-      }
+    scan_rows(p, box, c, dt, update_history, row_split_[2 * t + 1], row_split_[2 * t + 2], b, p.f.data(),
+              p.torque.data());
+  } else {
+    // Balanced for planned_threads_; a smaller team (nested or limited) takes whole blocks.
+    // Thread 0 adds into the particles' arrays, the others into private copies, which
+    // finish_accumulate() adds in thread order.
+    const long n = static_cast<long>(p.size());
+    const long blocks = static_cast<long>(row_split_.size()) - 1;
+    const long i0 = row_split_[blocks * t / nt], i1 = row_split_[blocks * (t + 1) / nt];
+    Vec3* f = p.f.data();
+    Vec3* tq = p.torque.data();
+    if (t > 0) {
+      // Partners j > i >= i0: the private arrays need only that range.
+      thread_force_[t].resize(n);
+      thread_torque_[t].resize(n);
+      std::fill(thread_force_[t].begin() + i0, thread_force_[t].end(), Vec3::Zero());
+      std::fill(thread_torque_[t].begin() + i0, thread_torque_[t].end(), Vec3::Zero());
+      f = thread_force_[t].data();
+      tq = thread_torque_[t].data();
     }
-
-    // Intruder pairs: evaluated in parallel into per-entry buffers, summed serially below.
-    const PairList& intruders = list_.intruder_pairs();
-    const std::vector<int>& bodies = list_.intruder_bodies();
-    for (std::size_t b = 0; b < bodies.size(); ++b) {
-      const int i = bodies[b];
-#pragma omp for schedule(static)
-      for (int e = intruders.begin(b); e < intruders.end(b); ++e) {
-        ContactGeometry g;
-        if (!pair_geometry(p, box, i, intruders.partner[e], g)) {
-          intruder_history_.shear[e].setZero();
-          intruder_history_.touching[e] = 0;
-          intruder_new_[e] = 0;
-          intruder_force_[e].setZero();
-          intruder_torque_[e].setZero();
-          continue;
-        }
-        intruder_new_[e] = !intruder_history_.touching[e];
-        intruder_history_.touching[e] = 1;
-        const PairForce cf = hertz_history(c, g, dt, intruder_history_.shear[e], update_history);
-        intruder_force_[e] = cf.force;
-        intruder_torque_[e] = cf.torque;
-      }
-    }
+    scan_rows(p, box, c, dt, update_history, i0, i1, b, f, tq);
   }
 
+  // Intruder pairs, into per-entry buffers that finish_accumulate() adds. They read no force,
+  // so they need no barrier before them, and the one after the team's last scans covers them.
   const PairList& intruders = list_.intruder_pairs();
   const std::vector<int>& bodies = list_.intruder_bodies();
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const int i = bodies[b];
+#pragma omp for schedule(static) nowait
+    for (int e = intruders.begin(b); e < intruders.end(b); ++e) {
+      ContactGeometry g;
+      if (!pair_geometry(p, box, i, intruders.partner[e], g)) {
+        intruder_history_.shear[e].setZero();
+        intruder_history_.touching[e] = 0;
+        intruder_new_[e] = 0;
+        intruder_force_[e].setZero();
+        intruder_torque_[e].setZero();
+        continue;
+      }
+      intruder_new_[e] = !intruder_history_.touching[e];
+      intruder_history_.touching[e] = 1;
+      const PairForce cf = hertz_history(c, g, dt, intruder_history_.shear[e], update_history);
+      intruder_force_[e] = cf.force;
+      intruder_torque_[e] = cf.torque;
+    }
+  }
+}
+
+void VerletContacts::finish_accumulate(Particles& p, long first, long last) {
+  const int nt = omp_get_num_threads();
+  if (!two_colours(nt) && nt > 1) {
+    // The private arrays, in thread order; thread s wrote nothing below its first row.
+    const long blocks = static_cast<long>(row_split_.size()) - 1;
+    for (long k = first; k < last; ++k) {
+      for (int s = 1; s < nt; ++s) {
+        if (k < row_split_[blocks * s / nt]) break;
+        p.f[k] += thread_force_[s][k];
+        p.torque[k] += thread_torque_[s][k];
+      }
+    }
+  }
+  // Then the intruder pairs, in list order: each thread walks them all and adds the share of
+  // its own bodies, so every body receives its terms in the order a serial sum gives them.
+  const PairList& intruders = list_.intruder_pairs();
+  const std::vector<int>& bodies = list_.intruder_bodies();
+  auto mine = [&](int k) { return first <= k && k < last; };
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const int i = bodies[b];
+    const bool own_intruder = mine(i);
     for (int e = intruders.begin(b); e < intruders.end(b); ++e) {
       const int j = intruders.partner[e];
-      p.f[i] += intruder_force_[e];
-      p.torque[i] -= p.radius[i] * intruder_torque_[e];
-      p.f[j] -= intruder_force_[e];
-      p.torque[j] -= p.radius[j] * intruder_torque_[e];
+      if (own_intruder) {
+        p.f[i] += intruder_force_[e];
+        p.torque[i] -= p.radius[i] * intruder_torque_[e];
+      }
+      if (mine(j)) {
+        p.f[j] -= intruder_force_[e];
+        p.torque[j] -= p.radius[j] * intruder_torque_[e];
+      }
     }
   }
 }

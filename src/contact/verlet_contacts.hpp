@@ -25,8 +25,13 @@ class VerletContacts : public ContactLoop {
   explicit VerletContacts(double skin) : list_(skin), simd_(best_simd_level()) {}
   const std::vector<Vec3>* build_positions() const override { return &list_.build_positions(); }
   bool update_lists(Particles& p, const Box& box, Timers* timers, double max_drift_sq) override;
-  void accumulate(Particles& p, const Box& box, const ContactParams& c, double dt,
-                  bool update_history) override;
+  bool rebuild_due(std::size_t bodies, double max_drift_sq) const override {
+    return list_.rebuild_due(bodies, max_drift_sq);
+  }
+  void prepare_accumulate() override;
+  void accumulate_in_team(Particles& p, const Box& box, const ContactParams& c, double dt,
+                          bool update_history) override;
+  void finish_accumulate(Particles& p, long first, long last) override;
   double elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const override;
   int contacts_of(int body) const override;
   long contact_count() const override;
@@ -49,6 +54,8 @@ class VerletContacts : public ContactLoop {
   SimdLevel simd_;  // chosen once, outside any parallel region: a bad GRANUDRAG_SIMD fails here
   ContactHistory grain_history_, intruder_history_;
   void balance_rows(int threads);
+  // Whether a team of nt threads runs the two colours: the team the rows were balanced for.
+  bool two_colours(int nt) const { return colored_ && nt == planned_threads_; }
   void after_build();
   double largest_overlap(const Particles& p, const Box& box, bool touching_only) const;
   // With bodies held (the active region): per row, what the scan computes (RowMode).
@@ -66,6 +73,7 @@ class VerletContacts : public ContactLoop {
   std::vector<std::unique_ptr<ContactBatch>> batches_;           // one per thread
   std::vector<long> row_split_;  // block b is rows row_split_[b] .. row_split_[b+1]; thread t has 2t, 2t+1
   bool colored_ = false;         // blocks of one colour never write the same body
+  int planned_threads_ = 1;      // the team prepare_accumulate() made ready (omp_get_max_threads())
   std::vector<Vec3> intruder_force_, intruder_torque_;  // per intruder-list entry
   std::vector<std::uint8_t> intruder_new_;              // per intruder-list entry: touched first now
 };

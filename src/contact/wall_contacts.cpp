@@ -1,5 +1,7 @@
 #include "contact/wall_contacts.hpp"
 
+#include <algorithm>
+
 #include "contact/contact_law.hpp"
 #include "core/ordered_sum.hpp"
 
@@ -15,16 +17,31 @@ void WallContacts::select(const Particles& p, double skin) {
   selected_ = true;
 }
 
-void WallContacts::accumulate(Particles& p, const ContactParams& c, double dt, bool update_history) {
+void WallContacts::prepare(const Particles& p) {
   if (shear_.size() != p.size()) {
     shear_.resize(p.size(), Vec3::Zero());
     selected_ = false;
   }
+}
+
+void WallContacts::accumulate(Particles& p, const ContactParams& c, double dt, bool update_history) {
+  prepare(p);
   // Grains that were not selected stay out of reach, and their springs at zero, until the
   // next selection: a whole pass over the bodies each step would cost more than the contacts.
   const long n = selected_ ? static_cast<long>(near_.size()) : static_cast<long>(p.size());
 #pragma omp parallel for schedule(static) if (n > 4096)
   for (long k = 0; k < n; ++k) evaluate(p, selected_ ? near_[k] : k, c, dt, update_history);
+}
+
+void WallContacts::accumulate_range(Particles& p, const ContactParams& c, double dt, bool update_history,
+                                    long first, long last) {
+  if (!selected_) {
+    for (long i = first; i < last; ++i) evaluate(p, i, c, dt, update_history);
+    return;
+  }
+  // near_ is in index order (select).
+  for (auto k = std::lower_bound(near_.begin(), near_.end(), first); k != near_.end() && *k < last; ++k)
+    evaluate(p, *k, c, dt, update_history);
 }
 
 void WallContacts::evaluate(Particles& p, long i, const ContactParams& c, double dt, bool update_history) {

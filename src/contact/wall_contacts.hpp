@@ -17,6 +17,12 @@ class WallContacts {
   // they are rebuilt, and so does this). Until it is called, every grain is checked.
   void select(const Particles& p, double skin);
   void accumulate(Particles& p, const ContactParams& c, double dt, bool update_history);
+  // accumulate() inside the caller's parallel region: prepare() before it, then each thread
+  // evaluates the grains among bodies first .. last - 1 (a grain's wall force touches that
+  // grain alone: any split gives the same bits).
+  void prepare(const Particles& p);
+  void accumulate_range(Particles& p, const ContactParams& c, double dt, bool update_history, long first,
+                        long last);
   double elastic_energy(const Particles& p, const ContactParams& c) const;
   const std::vector<Vec3>& shear() const { return shear_; }
   void restore_shear(std::vector<Vec3> shear) { shear_ = std::move(shear); }

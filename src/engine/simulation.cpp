@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -57,23 +58,71 @@ void Simulation::setup() {
   ready_ = true;
 }
 
+// One parallel region per step: a fork and a join, and a barrier wherever the data need one
+// (positions before forces, the colours of the contact loop, forces before the second kick).
+// Each costs when a core is shared, where a thread that is switched out holds up the team
+// (issue 29). The lists' rebuild, every few tens of steps, runs parallel regions of its own;
+// on those steps the region ends at the rebuild decision and a second one computes the forces.
 void Simulation::step() {
   if (!ready_) setup();
   timers_.start();
-  const double max_drift_sq = initial_integrate();
-  timers_.stamp(Phase::Integrate);
-  // Stamps Neighbor and History when it rebuilds.
-  if (contacts_->update_lists(p_, box_, &timers_, max_drift_sq)) lists_rebuilt();
-  timers_.stamp(Phase::Neighbor);
-  contact_forces(true);
-  timers_.stamp(Phase::Force);
-  final_integrate();
+  ensure_body_split();
+  contacts_->prepare_accumulate();
+  if (box_.wall) wall_.prepare(p_);
+  thread_drift_.assign(omp_get_max_threads(), 0.0);
+  double max_drift_sq = 0;
+  bool rebuild = false;
+#pragma omp parallel
+  {
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const auto [first, last] = body_range(t, nt);
+    thread_drift_[t] = initial_integrate(first, last);
+#pragma omp barrier
+    // Every thread reads the same drifts, so all take the same decision.
+    const double drift = *std::max_element(thread_drift_.begin(), thread_drift_.begin() + nt);
+    const bool due = contacts_->rebuild_due(p_.size(), drift);
+#pragma omp masked
+    {
+      timers_.stamp(Phase::Integrate);
+      if (due) {
+        max_drift_sq = drift;
+        rebuild = true;
+      } else {
+        timers_.stamp(Phase::Neighbor);
+      }
+    }
+    if (!due) forces_and_final_kick(first, last);
+  }
+  if (rebuild) {
+    // Stamps Neighbor and History.
+    if (contacts_->update_lists(p_, box_, &timers_, max_drift_sq)) lists_rebuilt();
+    timers_.stamp(Phase::Neighbor);
+    contacts_->prepare_accumulate();
+#pragma omp parallel
+    {
+      const auto [first, last] = body_range(omp_get_thread_num(), omp_get_num_threads());
+      forces_and_final_kick(first, last);
+    }
+  }
   ++steps_;
   if (region_ && region_->after_step(p_, box_, steps_, settings_.gravity.norm())) {
     contacts_->held_changed();
     contacts_->held_pair_forces(p_, box_, contact_, region_->held_forces());
   }
   timers_.stamp(Phase::Integrate);
+}
+
+// By every thread of the step's team, on its bodies first .. last - 1.
+void Simulation::forces_and_final_kick(long first, long last) {
+  contacts_->accumulate_in_team(p_, box_, contact_, dt_, true);
+  // Pairs write the forces of bodies other threads own: all of them are in before any thread
+  // completes its bodies' totals and kicks them.
+#pragma omp barrier
+  contacts_->finish_accumulate(p_, first, last);
+  if (box_.wall) wall_.accumulate_range(p_, contact_, dt_, true, first, last);
+#pragma omp masked
+  timers_.stamp(Phase::Force);
+  final_integrate(first, last);
 }
 
 void Simulation::run(long steps, bool show_progress) {
@@ -90,7 +139,7 @@ void Simulation::run(long steps, bool show_progress) {
 // the second adds gravity before it kicks, so a step reads the arrays twice, not four times.
 // Components one by one rather than Vec3 expressions: Eigen packs x, y into one register and z
 // into another, and on these short loops the shuffles cost more than the arithmetic.
-double Simulation::initial_integrate() {
+double Simulation::initial_integrate(long first, long last) {
   const double dt = dt_;
   double* x = p_.x.data()->data();
   double* v = p_.v.data()->data();
@@ -103,30 +152,25 @@ double Simulation::initial_integrate() {
   const double* x0 = measure ? reference->data()->data() : nullptr;
   double max_drift_sq = measure ? 0.0 : HUGE_VAL;
   const std::uint8_t* held = region_ ? region_->held().data() : nullptr;  // asleep: not moved
-  ensure_body_split();
-#pragma omp parallel reduction(max : max_drift_sq)
-  {
-    const auto [first, last] = body_range(omp_get_thread_num(), omp_get_num_threads());
-    for (long i = first; i < last; ++i) {
-      const Species kind = p_.species[i];
-      if (kind == Species::Mobile && !(held && held[i])) {
-        const double kick_v = kick_v_[i], kick_w = kick_w_[i];
-        for (int d = 0; d < 3; ++d) {
-          v[3 * i + d] += kick_v * f[3 * i + d];
-          x[3 * i + d] += dt * v[3 * i + d];
-          w[3 * i + d] += kick_w * tq[3 * i + d];
-        }
-      } else if (kind == Species::Intruder) {  // prescribed velocity
-        for (int d = 0; d < 3; ++d) x[3 * i + d] += dt * v[3 * i + d];
+  for (long i = first; i < last; ++i) {
+    const Species kind = p_.species[i];
+    if (kind == Species::Mobile && !(held && held[i])) {
+      const double kick_v = kick_v_[i], kick_w = kick_w_[i];
+      for (int d = 0; d < 3; ++d) {
+        v[3 * i + d] += kick_v * f[3 * i + d];
+        x[3 * i + d] += dt * v[3 * i + d];
+        w[3 * i + d] += kick_w * tq[3 * i + d];
       }
-      for (int d = 0; d < 3; ++d) f[3 * i + d] = tq[3 * i + d] = 0.0;
-      if (!measure) continue;
-      const double dx = x[3 * i] - x0[3 * i], dy = x[3 * i + 1] - x0[3 * i + 1],
-                   dz = x[3 * i + 2] - x0[3 * i + 2];
-      const double d2 = dx * dx + dy * dy + dz * dz;
-      // Written so that a NaN displacement wins: the rebuild it forces reports it.
-      if (!(d2 <= max_drift_sq)) max_drift_sq = std::isnan(d2) ? HUGE_VAL : d2;
+    } else if (kind == Species::Intruder) {  // prescribed velocity
+      for (int d = 0; d < 3; ++d) x[3 * i + d] += dt * v[3 * i + d];
     }
+    for (int d = 0; d < 3; ++d) f[3 * i + d] = tq[3 * i + d] = 0.0;
+    if (!measure) continue;
+    const double dx = x[3 * i] - x0[3 * i], dy = x[3 * i + 1] - x0[3 * i + 1],
+                 dz = x[3 * i + 2] - x0[3 * i + 2];
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    // Written so that a NaN displacement wins: the rebuild it forces reports it.
+    if (!(d2 <= max_drift_sq)) max_drift_sq = std::isnan(d2) ? HUGE_VAL : d2;
   }
   return max_drift_sq;
 }
@@ -156,28 +200,23 @@ inline void Simulation::add_body_force(long i) {
   }
 }
 
-void Simulation::final_integrate() {
+void Simulation::final_integrate(long first, long last) {
   double* v = p_.v.data()->data();
   double* w = p_.omega.data()->data();
   const double* f = p_.f.data()->data();
   const double* tq = p_.torque.data()->data();
   const std::uint8_t* held = region_ ? region_->held().data() : nullptr;
-  ensure_body_split();
-#pragma omp parallel
-  {
-    const auto [first, last] = body_range(omp_get_thread_num(), omp_get_num_threads());
-    for (long i = first; i < last; ++i) {
-      add_body_force(i);
-      if (p_.species[i] != Species::Mobile) continue;
-      if (held && held[i]) {  // asleep: its force is summed for the wake test, not integrated
-        region_->add_force(i, p_.f[i]);
-        continue;
-      }
-      const double kick_v = kick_v_[i], kick_w = kick_w_[i];
-      for (int d = 0; d < 3; ++d) {
-        v[3 * i + d] += kick_v * f[3 * i + d];
-        w[3 * i + d] += kick_w * tq[3 * i + d];
-      }
+  for (long i = first; i < last; ++i) {
+    add_body_force(i);
+    if (p_.species[i] != Species::Mobile) continue;
+    if (held && held[i]) {  // asleep: its force is summed for the wake test, not integrated
+      region_->add_force(i, p_.f[i]);
+      continue;
+    }
+    const double kick_v = kick_v_[i], kick_w = kick_w_[i];
+    for (int d = 0; d < 3; ++d) {
+      v[3 * i + d] += kick_v * f[3 * i + d];
+      w[3 * i + d] += kick_w * tq[3 * i + d];
     }
   }
 }

@@ -76,15 +76,18 @@ class Simulation {
   WallContacts& wall() { return wall_; }
 
  private:
+  // The integrator's passes over bodies first .. last - 1, one thread's share of the step.
   // First half-kick and drift; clears the forces for the next evaluation. Returns the largest
-  // squared displacement of a body since the last list build (HUGE_VAL if not measurable).
-  double initial_integrate();
+  // squared displacement of these bodies since the last list build (HUGE_VAL if not measurable).
+  double initial_integrate(long first, long last);
+  // By every thread of the team: the contact forces, then its bodies' totals and second kick.
+  void forces_and_final_kick(long first, long last);
+  void final_integrate(long first, long last);  // add_body_force, then the second half-kick
   void clear_forces();
   void contact_forces(bool update_history);  // body-body and wall contacts, added to f and torque
   // Gravity on a mobile grain; nothing on a frozen one. Inlined: a call per body cost 1 % of a pull.
   [[gnu::always_inline]] inline void add_body_force(long i);
-  void final_integrate();  // add_body_force, then the second half-kick
-  void lists_rebuilt();    // the wall's candidates and the integrator's split follow the lists
+  void lists_rebuilt();  // the wall's candidates and the integrator's split follow the lists
   // The integrator's bodies are split into one contiguous range per thread of about equal cost.
   void balance_bodies(int threads);
   void ensure_body_split();  // balances if the thread count or the number of bodies changed
@@ -100,6 +103,7 @@ class Simulation {
   WallContacts wall_;
   std::vector<long> body_split_;         // thread t integrates bodies body_split_[t] .. body_split_[t+1]
   std::vector<double> kick_v_, kick_w_;  // per body: dt / 2m and dt / 2I
+  std::vector<double> thread_drift_;     // per thread: the largest squared drift of its bodies
   Timers timers_;
   long steps_ = 0;
   bool ready_ = false;
