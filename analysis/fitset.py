@@ -107,14 +107,17 @@ def _yield_beside(g, pool):
 
 
 def point_bed_scatter(points):
-    """The pooled relative between-bed standard deviation of the drag, sqrt(r2) over the points
-    with two or more beds, from a point table (r2: table.pooled_bed_r2, as pooled_drag_err's
-    weights take it); when no point has replicate beds, the
+    """The pooled relative between-bed standard deviation of the drag at speed (the regime fits'
+    bootstrap: yield pulls, which scatter five times as much, left out, table.scatter_kind),
+    sqrt(r2) over the points with two or more beds, from a point table (r2:
+    table.pooled_bed_r2, as pooled_drag_err's weights take it); when no point has replicate
+    beds, the
     prior the points poured once took (column bed_scatter_r of the points whose
     bed_scatter_source is "prior": the config's table.bed_scatter); else 0 (the scatter is then
     not measured, and the fits say so)."""
     if not {"n_beds", "drag_err_between"} <= set(points.columns):
         return 0.0
+    points = points[~is_yield(points)]
     rep = points[points.n_beds.astype(float) >= 2]
     if rep.empty:
         if {"bed_scatter_source", "bed_scatter_r"} <= set(points.columns):
@@ -134,7 +137,8 @@ def run_fits(df, n_boot=200, seed=0, options=None):
     r = Results(options=opt)
     kn, gn = reference_params(df)
     ref = select(df, kn=kn, gamman=gn)
-    bed_scatter = point_bed_scatter(df[~is_yield(df)])   # the regime fits' points are at speed
+    bed_scatter = point_bed_scatter(df)
+    ref_yields = yield_rows(ref)   # the pool of a yield pull's error beside a regime fit
     r.bed_scatter = bed_scatter
     # Every friction with a drag-vs-Fr series, not only the paper's figures' (mu = 0.5 and 0),
     # so that "the crossovers do not depend on mu" can be tested; a series with too few speeds
@@ -153,7 +157,7 @@ def run_fits(df, n_boot=200, seed=0, options=None):
                            beds=int(moving["n_beds"].min()) if "n_beds" in moving.columns else 1,
                            noise=moving["drag_err_within"] if "drag_err_within" in moving.columns else None)
                 if fit is not None:
-                    fit.meta["yield_pull"] = _yield_beside(g, yield_rows(ref))
+                    fit.meta["yield_pull"] = _yield_beside(g, ref_yields)
                     fit.meta["replicate_beds"] = _beds(moving)
                     r.regimes[(label, mu, key)] = fit
     fit_observables(r, select(ref, mu=0.5, system="I"), ref)
@@ -163,7 +167,7 @@ def run_fits(df, n_boot=200, seed=0, options=None):
     r.sums_drag = sum_rule(r.phi, r.alpha_drag)
     # Weighted by the yield forces' own within-run errors and their bed scatter pooled over
     # every yield pull of system I: a point's own two beds give its scatter at 1 dof.
-    yields = yield_rows(ref).query("system == 'I'")
+    yields = ref_yields.query("system == 'I'")
     for D, g in yields.groupby("D"):
         if g.mu.nunique() >= 4:
             fit = _try(r, f"F_Y(mu) saturation at D={D:g}", fit_saturation, g.mu, g.drag,

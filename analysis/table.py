@@ -333,7 +333,7 @@ def combine_beds(runs, r2=None, prior=None):
     if not parts:
         return _combine_kind(runs, None, None).drop(columns="_pos")
     out = pd.concat(parts, ignore_index=True).sort_values("_pos", kind="stable")
-    return out.drop(columns="_pos").reset_index(drop=True).astype({"system": object, "run": object})
+    return out.drop(columns="_pos").reset_index(drop=True)
 
 
 def _combine_kind(runs, r2=None, prior=None):

@@ -96,27 +96,30 @@ def table_goodness(t):
             "trend": p is not None and p < TREND_ALPHA, "rejected": bool(num("rejected"))}
 
 
+def _rows_at(tab, t):
+    """The rows of a fitted table (phi, alpha, alpha_speeds; None allowed) at t's mu, K_n, gamma_n."""
+    if tab is None or not len(tab):
+        return []
+    return [h for _, h in tab[np.isclose(tab.mu, t.mu) & np.isclose(tab.kn, t.kn)
+                              & np.isclose(tab.gamman, t.gamman)].iterrows()]
+
+
 def sum_goodness(t, phi, alphas):
     """The sum rule's goodness: rejected when the data reject the φ_μ fit or an α_μ fit it adds
     (goodness.inherited; the averaged α_μ: any of its speeds' fits), at the sum's μ, K_n, γ_n."""
-    parts = []
-    for name, tab in (("φ_μ fit", phi), ("α_μ fit", alphas)):
-        hit = [] if tab is None or not len(tab) else tab[np.isclose(tab.mu, t.mu) & np.isclose(tab.kn, t.kn)
-                                                        & np.isclose(tab.gamman, t.gamman)]
-        for _, h in (hit.iterrows() if len(hit) else []):
-            parts.append((f"{name} at V = {h.V:.3g}" if "V" in h else name, table_goodness(h)))
+    parts = [(f"{name} at V = {h.V:.3g}" if "V" in h else name, table_goodness(h))
+             for name, tab in (("φ_μ fit", phi), ("α_μ fit", alphas)) for h in _rows_at(tab, t)]
     return inherited(parts)
 
 
-def component_dof(t, tab, col):
+def component_dof(t, tab):
     """The dof of a fitted table row's exponent at t's mu, K_n, gamma_n: infinite when its error is
     its points' errors unscaled (chi^2/dof <= 1: errors_from_points), else its points minus 2;
     infinite without a row (the alpha averaged over speeds takes the normal quantile)."""
-    hit = [] if tab is None or not len(tab) else tab[np.isclose(tab.mu, t.mu) & np.isclose(tab.kn, t.kn)
-                                                    & np.isclose(tab.gamman, t.gamman)]
-    if not len(hit):
+    hit = _rows_at(tab, t)
+    if not hit:
         return math.inf
-    h = hit.iloc[0]
+    h = hit[0]
     if errors_from_points(goodness=table_goodness(h)):
         return math.inf
     n = table_dof(h, "n")
@@ -125,11 +128,11 @@ def component_dof(t, tab, col):
 
 def sum_dof(t, phi, alpha):
     """The sum rule's dof: Welch-Satterthwaite's for phi_err^2 + alpha_err^2, each part's dof by
-    _component_dof (alpha: the fitted table, None for the average over speeds); None (the normal
+    component_dof (alpha: the fitted table, None for the average over speeds); None (the normal
     quantile) when both rest on their points' errors. Was the fewer points' minus 2, which took
     Student's t at 2-3 dof for a sum whose parts' errors were not from their residuals."""
     a = float(t["phi_err"]) ** 2, float(t["alpha_err"]) ** 2
-    nu = component_dof(t, phi, "phi"), component_dof(t, alpha, "alpha")
+    nu = component_dof(t, phi), component_dof(t, alpha)
     if not all(math.isfinite(x) for x in a):
         return table_dof(t, "n_min")
     if any(x < 1 for x in nu):
