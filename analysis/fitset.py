@@ -107,17 +107,14 @@ def _yield_beside(g, pool):
 
 
 def point_bed_scatter(points):
-    """The pooled relative between-bed standard deviation of the drag at speed (the regime fits'
-    bootstrap: yield pulls, which scatter five times as much, left out, table.scatter_kind),
-    sqrt(r2) over the points with two or more beds, from a point table (r2:
-    table.pooled_bed_r2, as pooled_drag_err's weights take it); when no point has replicate
-    beds, the
+    """The pooled relative between-bed standard deviation of the drag, sqrt(r2) over the points
+    with two or more beds, from a point table (r2: table.pooled_bed_r2, as pooled_drag_err's
+    weights take it); when no point has replicate beds, the
     prior the points poured once took (column bed_scatter_r of the points whose
     bed_scatter_source is "prior": the config's table.bed_scatter); else 0 (the scatter is then
     not measured, and the fits say so)."""
     if not {"n_beds", "drag_err_between"} <= set(points.columns):
         return 0.0
-    points = points[~is_yield(points)]
     rep = points[points.n_beds.astype(float) >= 2]
     if rep.empty:
         if {"bed_scatter_source", "bed_scatter_r"} <= set(points.columns):
@@ -137,7 +134,7 @@ def run_fits(df, n_boot=200, seed=0, options=None):
     r = Results(options=opt)
     kn, gn = reference_params(df)
     ref = select(df, kn=kn, gamman=gn)
-    bed_scatter = point_bed_scatter(df)
+    bed_scatter = point_bed_scatter(df[~is_yield(df)])   # the regime fits' points are at speed
     ref_yields = yield_rows(ref)   # the pool of a yield pull's error beside a regime fit
     r.bed_scatter = bed_scatter
     # Every friction with a drag-vs-Fr series, not only the paper's figures' (mu = 0.5 and 0),

@@ -136,7 +136,7 @@ def _drag_series(table):
     law, yield pulls out) and the table's bed scatter."""
     kn, gn = reference_params(table)
     series = select(select(table, kn=kn, gamman=gn), mu=0.5, system="I")
-    return series[~is_yield(series)], point_bed_scatter(table), kn
+    return series[~is_yield(series)], point_bed_scatter(table[~is_yield(table)]), kn
 
 
 def _crossover_fit(fr, drag, err, continuous, *, bed_scatter, beds, n_boot, seed):
