@@ -4,6 +4,7 @@
 #
 #   bench/compare_lammps.sh [--size quick|7.7k|30k|70k] [--bed BED.h5] [--steps N] [--pairs P]
 #                           [--cores "1 2"] [--every K] [--binary build/granudrag]
+#                           [--speed V] [--active_radius R]
 #
 # 1. Pours the bed with `granudrag pour` (grains 0.9-1.1 d, frozen base, a D = 2 intruder at
 #    depth 9 d, K_n = 2e5 with the paper's ratios, dt = 5e-4), cached in bench/out/, or takes --bed.
@@ -23,10 +24,16 @@
 # steps on the 7.7k bed), where `granudrag pull`'s default for these short distances would
 # write ten. OMP_WAIT_POLICY is passed through unchanged (libgomp's default: spin, then sleep);
 # on a machine shared with other jobs OMP_WAIT_POLICY=passive gives steadier figures.
+# --speed V pulls at V (sqrt(g d); default 1), e.g. 0.03 for a yield pull. --active_radius R adds
+# a third command to each round, the same granudrag pull with `--active_radius R` (grains
+# farther than R d from the intruder may fall asleep; they need sleep_time, 1 sqrt(d/g) = 2,000
+# steps here, at rest first, so give --steps well past that), and prints its loop time against
+# the pull without the region and against LAMMPS, with the mean and final fraction of the
+# bodies asleep (the run file's /observables/sleeping_grains).
 # Needs: apt-get install lammps openmpi-bin.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-size=7.7k bed="" steps="" pairs=3 cores="1 2" every="" gd=build/granudrag
+size=7.7k bed="" steps="" pairs=3 cores="1 2" every="" gd=build/granudrag speed=1 radius=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --size) size=$2; shift 2 ;;
@@ -36,7 +43,9 @@ while [ $# -gt 0 ]; do
     --cores) cores=$2; shift 2 ;;
     --every) every=$2; shift 2 ;;
     --binary) gd=$2; shift 2 ;;
-    -h | --help) sed -n '2,26p' "$0"; exit 0 ;;
+    --speed) speed=$2; shift 2 ;;
+    --active_radius) radius=$2; shift 2 ;;
+    -h | --help) sed -n '2,33p' "$0"; exit 0 ;;
     *) echo "compare_lammps.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -71,19 +80,22 @@ if [ -z "$every" ]; then
 fi
 run=$out/run-$size
 rm -rf "$run" && mkdir -p "$run"
-"$gd" export-lammps --bed "$bed" --output "$run/pull" --speed 1 --steps "$steps" --every "$every" >/dev/null
+"$gd" export-lammps --bed "$bed" --output "$run/pull" --speed "$speed" --steps "$steps" --every "$every" >/dev/null
 # A distance half a step short of `steps` steps: granudrag rounds it up to exactly `steps`.
-distance=$(/usr/bin/python3 -c "print(repr(($steps - 0.5) * $dt))")
+distance=$(/usr/bin/python3 -c "print(repr(($steps - 0.5) * $dt * $speed))")
 interval=$(/usr/bin/python3 -c "print(repr($every * $dt))")
 checkpoint=$(/usr/bin/python3 -c "print(repr(($steps // 2) * $dt))")
 mpi_root=""
 [ "$(id -u)" -eq 0 ] && mpi_root="--allow-run-as-root"
 
-run_gd() {  # threads tag
-  OMP_NUM_THREADS=$1 /usr/bin/time -f "%e %M" -o "$run/gd$2.time" "$gd" pull --bed "$bed" \
-    --output "$run/gd$2.h5" --speed 1 --fresh_start --distance "$distance" --sample_interval "$interval" \
-    --checkpoint_interval "$checkpoint" --snapshots 0 --threads "$1" --quiet >"$run/gd$2.txt"
-  rm -f "$run/gd$2.h5"
+run_gd() {  # threads tag [extra pull options]: the run file is kept only with extra options
+  local threads=$1 tag=$2
+  shift 2
+  OMP_NUM_THREADS=$threads /usr/bin/time -f "%e %M" -o "$run/gd$tag.time" "$gd" pull --bed "$bed" \
+    --output "$run/gd$tag.h5" --speed "$speed" --fresh_start --distance "$distance" \
+    --sample_interval "$interval" --checkpoint_interval "$checkpoint" --snapshots 0 \
+    --threads "$threads" --quiet "$@" >"$run/gd$tag.txt"
+  [ $# -gt 0 ] || rm -f "$run/gd$tag.h5"
 }
 run_lmp() {  # ranks tag
   (cd "$run" && OMP_NUM_THREADS=1 /usr/bin/time -f "%e %M" -o "lmp$2.time" \
@@ -93,11 +105,12 @@ for c in $cores; do
   for k in $(seq "$pairs"); do
     echo "pair $k of $pairs on $c core(s) ..." >&2
     run_gd "$c" "$c-$k"
+    [ -z "$radius" ] || run_gd "$c" "R$c-$k" --active_radius "$radius"
     run_lmp "$c" "$c-$k"
   done
 done
 
-/usr/bin/python3 - "$run" "$grains" "$steps" "$pairs" "$cores" "$size" <<'PYEOF'
+/usr/bin/python3 - "$run" "$grains" "$steps" "$pairs" "$cores" "$size" "$speed" "$radius" <<'PYEOF'
 import re
 import statistics as st
 import sys
@@ -105,6 +118,7 @@ from pathlib import Path
 
 run, steps, pairs = Path(sys.argv[1]), int(sys.argv[3]), int(sys.argv[4])
 cores, size = [int(c) for c in sys.argv[5].split()], sys.argv[6]
+speed, radius = sys.argv[7], sys.argv[8]
 gd_txt = (run / f"gd{cores[0]}-1.txt").read_text()
 n = int(re.search(r"loop [\d.e+-]+ s for (\d+) steps", gd_txt).group(1))
 natoms = int(re.search(r"^\s*(\d+) atoms", (run / "pull.data").read_text(), re.M).group(1))
@@ -123,7 +137,7 @@ def lmp_loop(path):
     return float(re.search(r"^Loop time of ([\d.e+-]+)", path.read_text(), re.M).group(1))
 
 ps = natoms * n
-print(f"# pull of a D = 2 intruder at V = 1 through the {size} bed: {natoms} bodies, {n} steps, "
+print(f"# pull of a D = 2 intruder at V = {speed} through the {size} bed: {natoms} bodies, {n} steps, "
       f"median of {pairs} interleaved pairs")
 print("| code | cores | loop [s] | loop particle-steps/s | whole process [s] | peak RSS [MB] | bytes/particle |"
       " granudrag / LAMMPS (loop) | (whole) |")
@@ -145,6 +159,20 @@ for c in cores:
           f"{rss_g / 2**20:.0f} | {rss_g / natoms:.0f} | **{ratio_loop:.2f}×** | {ratio_whole:.2f}× |")
     print(f"| LAMMPS ({'serial' if c == 1 else 'MPI'}) | {c} | {st.median(ll):.3f} | {ps / st.median(ll):.3g} | "
           f"{st.median(x[0] for x in lw):.2f} | {rss_l / 2**20:.0f} | {rss_l / natoms:.0f} | | |")
+    if radius:
+        import h5py
+        rl = [gd_loop(run / f"gdR{c}-{k}.txt")[0] for k in range(1, pairs + 1)]
+        rw = [whole(run / f"gdR{c}-{k}.time") for k in range(1, pairs + 1)]
+        with h5py.File(run / f"gdR{c}-1.h5", "r") as f:
+            asleep = f["/observables/sleeping_grains/value"][()] / natoms
+        saving = st.median(x[0] / r for x, r in zip(g, rl))
+        print(f"| granudrag, active radius {radius} d | {c} | {st.median(rl):.3f} | "
+              f"{ps / st.median(rl):.3g} | {st.median(x[0] for x in rw):.2f} | "
+              f"{max(x[1] for x in rw) / 2**20:.0f} | | **{st.median(l / r for l, r in zip(ll, rl)):.2f}×** | "
+              f"{st.median(l[0] / r[0] for l, r in zip(lw, rw)):.2f}× |")
+        print(f"#   active radius {radius} d on {c} thread(s): {saving:.2f}x faster than without it "
+              f"(loop, median of the per-round ratios); bodies asleep: {asleep.mean():.1%} on "
+              f"average over the pull, {asleep[-1]:.1%} at its end")
     split = {k: st.median(x[1][k] for x in g) for k in g[0][1]}
     tot = sum(split.values())
     print(f"#   granudrag {c} thread(s), loop split: " +

@@ -5,6 +5,7 @@ Snakemake, so it is tested on its own (tests/workflow/test_study.py).
     paths     a bed and a pull as paths whose numbers are their parameters (Bed, Pull, fmt)
     plan      every bed and pull of the config's sweeps; the pulls of Figs. 4 and 9
     cost      estimated particle-steps and wall time of each job, scheduler resources
+    region_cost  what the active region saves a pull: sleeping fractions measured, a model
     commands  `granudrag pour` / `granudrag pull` arguments of a job
     estimate  the job count and cost of a config (command line)
     script    the common start of the workflow's scripts (logging to the rule's log)
@@ -19,6 +20,7 @@ from .cost import (
     bed_cost,
     bed_dt,
     bed_retries,
+    expected_pull_cost,
     job_attempts,
     job_resources,
     job_seconds,
@@ -73,6 +75,7 @@ __all__ = [
     "pull_args",
     "movie_pull_args",
     "pull_cost",
+    "expected_pull_cost",
     "pull_distance",
     "pull_retries",
     "reference_law",

@@ -10,6 +10,8 @@ import math
 
 from analysis.physics import default_dt, froude
 
+from .region_cost import SLEEPING_COST, asleep_fraction
+
 # Sequential stopping (a pull's `target_error`): the drag's relative standard error after L d of
 # travel past the transient is about c(Fr) / sqrt(L), and the stopping rule wants at least
 # STOP_MIN_DOF effective samples, one per STOP_CORRELATION_LENGTH of travel. Measured on the
@@ -66,6 +68,13 @@ def pull_cost(pull, config):
     return grains * pull_distance(pull, config) / (pull.V * bed_dt(pull.bed, config))
 
 
+def expected_pull_cost(pull, config):
+    """Particle-steps a pull is expected to cost: pull_cost less what the active region saves
+    (region_cost), the cost of a study's estimate; the scheduler's limits take pull_cost."""
+    asleep = asleep_fraction(pull, config, pull_distance(pull, config))
+    return pull_cost(pull, config) * (1.0 - (1.0 - SLEEPING_COST) * asleep)
+
+
 def job_seconds(particle_steps, config):
     """Estimated wall time of one job on config['threads'] threads."""
     return particle_steps / float(config["throughput"])
@@ -118,10 +127,12 @@ def bed_retries(plan_):
 
 
 def summary(plan_):
-    """Numbers of jobs and estimated particle-steps and core-hours."""
+    """Numbers of jobs and estimated particle-steps and core-hours (the pulls' expected cost; their
+    whole cost, without the active region's saving, as pull_particle_steps_whole)."""
     config = plan_.config
     bed_ps = sum(bed_cost(b, config) for b in plan_.beds.values())
-    pull_ps = sum(pull_cost(p, config) for p in plan_.pulls.values())
+    pull_ps = sum(expected_pull_cost(p, config) for p in plan_.pulls.values())
+    whole = sum(pull_cost(p, config) for p in plan_.pulls.values())
     threads = int(config["threads"])
     core_h = (bed_ps + pull_ps) / float(config["throughput"]) * threads / 3600.0
     return {
@@ -129,6 +140,7 @@ def summary(plan_):
         "pulls": len(plan_.pulls),
         "bed_particle_steps": bed_ps,
         "pull_particle_steps": pull_ps,
+        "pull_particle_steps_whole": whole,
         "core_hours": core_h,
         "threads": threads,
     }

@@ -117,6 +117,22 @@ def hours(seconds):
     return f"{h:.3g} h" if h >= 1 else f"{seconds / 60.0:.3g} min"
 
 
+def _use_measured_shares(path):
+    """Price with the sleeping shares measured in the runs.csv at `path` (region_cost.measured_shares)."""
+    import pandas as pd
+
+    from . import region_cost
+
+    try:
+        shares = region_cost.measured_shares(pd.read_csv(path))
+    except (OSError, ValueError, AttributeError, KeyError) as exc:
+        sys.exit(f"estimate_cost: --asleep-from {path}: {exc} (give a study's runs.csv with pulls "
+                 f"that had an active region, e.g. results/validate/active_region/runs.csv)")
+    print("  sleeping share of the grains outside the region, measured in "
+          f"{path}: " + ", ".join(f"Fr {fr:g}: {share:.3g}" for fr, share in shares))
+    region_cost.ASLEEP_SHARE = shares
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("config", help="study config (YAML)")
@@ -128,11 +144,25 @@ def main(argv=None):
                     help="the cost of the runs behind each figure (the sweeps' `figures` keys)")
     ap.add_argument("--measure", action="store_true",
                     help="measure the throughput here: a pull through a bed poured here (under a minute)")
+    ap.add_argument("--active_radius", type=float, metavar="R",
+                    help="price the pulls as if every system's pull settings had active_radius R (d; "
+                         "a system's own setting stays)")
+    ap.add_argument("--asleep-from", metavar="RUNS_CSV",
+                    help="print the sleeping shares measured in a study's runs.csv (pulls with the "
+                         "active region), the model's ASLEEP_SHARE, and price with them")
     ap.add_argument("--grains", type=int, help="grains of the --measure bed (default: smallest system's, <= 70000)")
     ap.add_argument("--binary", help="granudrag for --measure (default: the config's `granudrag`)")
     args = ap.parse_args(argv)
     with open(args.config) as fh:
         config = yaml.safe_load(fh)
+    if args.active_radius is not None:
+        if args.active_radius < 0:
+            sys.exit(f"estimate_cost: --active_radius {args.active_radius}: give a radius >= 0 (d)")
+        for sysc in (config.get("systems") or {}).values():
+            if isinstance(sysc, dict):
+                sysc["pull"] = {"active_radius": args.active_radius, **(sysc.get("pull") or {})}
+    if args.asleep_from:
+        _use_measured_shares(args.asleep_from)
     try:
         study.validate_config(config)
         config.setdefault("threads", 2)
@@ -162,13 +192,20 @@ def main(argv=None):
     packing = (f"each {threads}-thread job on {args.cores} cores, one at a time: the core-hours / {args.cores}"
                if squeezed else f"{parallel} job(s) at a time")
     print(f"  wall time on {args.cores} cores ({packing}): <= {hours(wall)}")
-    longest = max(plan.pulls.values(), key=lambda p: study.pull_cost(p, config))
-    print(f"  longest pull: {longest.key} ({hours(study.job_seconds(study.pull_cost(longest, config), config))})")
+    if s["pull_particle_steps"] < s["pull_particle_steps_whole"]:
+        region = [p for p in plan.pulls.values() if study.expected_pull_cost(p, config) < study.pull_cost(p, config)]
+        print(f"  active region: {len(region)} of {s['pulls']} pulls sleep, expected to save "
+              f"{1 - s['pull_particle_steps'] / s['pull_particle_steps_whole']:.0%} of the pulls' particle-steps "
+              f"(whole cost {s['pull_particle_steps_whole']:.3g}; model and its measurements: "
+              f"workflow/granudrag_study/region_cost.py; the scheduler's limits keep the whole cost)")
+    longest = max(plan.pulls.values(), key=lambda p: study.expected_pull_cost(p, config))
+    print(f"  longest pull: {longest.key} "
+          f"({hours(study.job_seconds(study.expected_pull_cost(longest, config), config))})")
     if args.by_sweep:
         cost = defaultdict(float)
         count = defaultdict(int)
         for p in plan.pulls.values():
-            cost[p.sweep] += study.pull_cost(p, config)
+            cost[p.sweep] += study.expected_pull_cost(p, config)
             count[p.sweep] += 1
         print("  pulls by sweep (particle-steps, share of all pulls):")
         for name, c in sorted(cost.items(), key=lambda kv: -kv[1]):

@@ -1,0 +1,151 @@
+"""granudrag_study.region_cost: what the active region is expected to save a study's pulls."""
+import copy
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+import granudrag_study as study
+from analysis import physics
+from granudrag_study import region_cost
+
+ROOT = Path(__file__).resolve().parents[2]
+
+CONFIG = {
+    "threads": 1, "throughput": 1e7,
+    "defaults": {"kn": 2e4, "mu": 0.5, "seed": 1},
+    "systems": {
+        "I": {"lx": 20, "ly": 20, "grains": 6400, "pull": {"distance": 3}},
+        "R": {"beds_from": "I", "pull": {"active_radius": 6}},
+    },
+    "sweeps": [
+        {"name": "ref", "system": "I", "D": 2, "depth": 7, "Fr": [1, 5]},
+        {"name": "ref_yield", "system": "I", "D": 2, "depth": 7, "V": 0.03},
+        {"name": "region", "system": "R", "D": 2, "depth": 7, "Fr": [1, 5]},
+        {"name": "region_yield", "system": "R", "D": 2, "depth": 7, "V": 0.03},
+    ],
+}
+
+
+def monte_carlo_outside(radius, lx, ly, grains, depth, n=400_000, seed=1):
+    """The fraction of points of the bed's box farther than radius from the intruder, sampled."""
+    height = region_cost.bed_height(grains, lx, ly)
+    rng = np.random.default_rng(seed)
+    pts = rng.random((n, 3)) * [lx, ly, height]
+    centre = np.array([lx / 2, ly / 2, height - depth])
+    return float(np.mean(np.linalg.norm(pts - centre, axis=1) > radius))
+
+
+@pytest.mark.parametrize("radius, depth", [(4, 7), (6, 7), (8, 7), (6, 3), (10, 12), (3, 1)])
+def test_the_grains_outside_the_region_match_a_sampled_bed(radius, depth):
+    # Independent of the caps' formula: points drawn in the bed, the sphere cut by the surface
+    # and the base where it reaches them (R > depth, R > height - depth); 400k points: +-0.002.
+    want = monte_carlo_outside(radius, 20, 20, 6400, depth)
+    assert region_cost.outside_fraction(radius, 20, 20, 6400, depth) == pytest.approx(want, abs=0.004)
+
+
+def test_the_share_is_the_table_at_its_points_log_linear_between_and_flat_beyond():
+    table = ((0.1, 0.6), (10.0, 0.2))
+    assert region_cost.asleep_share(0.1, table) == pytest.approx(0.6)
+    assert region_cost.asleep_share(1.0, table) == pytest.approx(0.4)   # half-way in log Fr
+    assert region_cost.asleep_share(0.001, table) == pytest.approx(0.6)
+    assert region_cost.asleep_share(100.0, table) == pytest.approx(0.2)
+
+
+def pulls(config):
+    plan = study.plan(copy.deepcopy(config))
+    return plan, {(p.bed.system, p.speed): p for p in plan.pulls.values()}
+
+
+def test_a_pull_with_the_region_costs_the_model_s_fraction_and_without_it_all():
+    plan, by = pulls(CONFIG)
+    config = plan.config
+    for speed in ("Fr~1", "Fr~5", "V~0.03"):
+        ref, region = by[("I", speed)], by[("R", speed)]
+        assert study.expected_pull_cost(ref, config) == study.pull_cost(ref, config)
+        # the scheduler's limits keep the whole cost
+        assert study.pull_cost(region, config) == study.pull_cost(ref, config)
+        V = region.V
+        Fr = float(physics.froude(V, 2))
+        by_hand = (region_cost.asleep_share(Fr) * region_cost.outside_fraction(6, 20, 20, 6400, 7)
+                   * (1 - region_cost.SLEEP_TIME_DEFAULT * V / 3))
+        factor = 1 - (1 - region_cost.SLEEPING_COST) * max(by_hand, 0.0)
+        assert study.expected_pull_cost(region, config) == pytest.approx(
+            factor * study.pull_cost(region, config), rel=1e-12)
+    # the yield pull sleeps most, the fast one least
+    saving = {s: 1 - study.expected_pull_cost(by[("R", s)], config) / study.pull_cost(by[("R", s)], config)
+              for s in ("V~0.03", "Fr~1", "Fr~5")}
+    assert saving["V~0.03"] > saving["Fr~1"] > saving["Fr~5"] >= 0
+    s = study.summary(plan)
+    assert s["pull_particle_steps"] < s["pull_particle_steps_whole"]
+
+
+def test_a_pull_shorter_than_the_rest_saves_nothing():
+    config = copy.deepcopy(CONFIG)
+    config["systems"]["I"]["pull"] = {"distance": 0.5}   # at Fr = 5 (V = 3.2): 0.16 time units
+    plan, by = pulls(config)
+    fast = by[("R", "Fr~5")]
+    assert study.expected_pull_cost(fast, plan.config) == study.pull_cost(fast, plan.config)
+
+
+def test_the_shares_measured_from_runs_are_recovered():
+    # Runs made to sleep at shares 0.6 (yield) and 0.2 (Fr = 1) of what their geometry allows.
+    rows = []
+    for radius in (4, 6, 8):
+        for Fr, V, share in ((0.04, 0.03, 0.6), (1.0, 0.75, 0.2)):
+            allowed = region_cost.outside_fraction(radius, 20, 20, 6400, 7.1) * (1 - V / 3.0)
+            rows.append(dict(active_radius=radius, asleep=share * allowed, lx=20, ly=20, grains=6400,
+                             h=7.1, distance=3.0, V=V, Fr=Fr, D=2))
+    rows.append(dict(active_radius=0, asleep=0.0, lx=20, ly=20, grains=6400, h=7.1, distance=3.0,
+                     V=0.03, Fr=0.04, D=2))
+    shares = region_cost.measured_shares(pd.DataFrame(rows))
+    assert [fr for fr, _ in shares] == [0.04, 1.0]
+    assert [s for _, s in shares] == pytest.approx([0.6, 0.2], rel=1e-12)
+    with pytest.raises(ValueError, match="active region"):
+        region_cost.measured_shares(pd.DataFrame(rows[-1:]))
+
+
+def run_estimate(path, *args):
+    return subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"), str(path), *args],
+                          capture_output=True, text=True)
+
+
+def core_hours(out):
+    line = next(ln for ln in out.splitlines() if ln.strip().startswith("cost:"))
+    return float(line.split("cost:")[1].split()[0])
+
+
+def test_estimate_cost_prices_a_config_as_if_it_had_the_region(tmp_path):
+    config = copy.deepcopy(CONFIG)
+    del config["systems"]["R"]
+    config["sweeps"] = config["sweeps"][:2]
+    path = tmp_path / "c.yaml"
+    path.write_text(yaml.safe_dump(config))
+    plain, region = run_estimate(path), run_estimate(path, "--active_radius", "6")
+    assert plain.returncode == 0 and region.returncode == 0, plain.stderr + region.stderr
+    assert "active region" not in plain.stdout
+    assert "active region: 2 of 3 pulls" in region.stdout  # Fr = 5: 3 d last less than sleep_time
+    assert core_hours(region.stdout) < core_hours(plain.stdout)
+    # the shares of a runs.csv replace the built-in ones: all asleep that can be, a larger saving
+    runs = tmp_path / "runs.csv"
+    pd.DataFrame([dict(active_radius=6, asleep=0.99, lx=20, ly=20, grains=6400, h=7, distance=3.0,
+                       V=v, Fr=fr, D=2) for fr, v in ((0.04, 0.03), (1.0, 0.75), (5.0, 3.75))]).to_csv(runs)
+    measured = run_estimate(path, "--active_radius", "6", "--asleep-from", str(runs))
+    assert measured.returncode == 0, measured.stderr
+    assert "Fr 0.04: 1" in measured.stdout
+    assert core_hours(measured.stdout) < core_hours(region.stdout)
+
+
+@pytest.mark.parametrize("args, message", [
+    (("--active_radius", "-2"), "--active_radius -2.0: give a radius >= 0"),
+    (("--asleep-from", "/no/such/runs.csv"), "--asleep-from /no/such/runs.csv"),
+])
+def test_estimate_cost_refuses_bad_region_options(tmp_path, args, message):
+    path = tmp_path / "c.yaml"
+    path.write_text(yaml.safe_dump(CONFIG))
+    out = run_estimate(path, *args)
+    assert out.returncode != 0 and message in out.stderr
+    assert "Traceback" not in out.stderr

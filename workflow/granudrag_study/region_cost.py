@@ -1,0 +1,112 @@
+"""What the active region saves a pull (`granudrag pull --active_radius R`): a cost model from
+measured sleeping fractions.
+
+A pull with the region integrates every grain within R of the intruder and every grain that has
+not come to rest; a grain asleep still costs a little (its contacts with awake grains, the
+lists, the checks). A pull's expected cost is then its particle-steps (cost.pull_cost) times
+
+    factor = 1 - (1 - SLEEPING_COST) * asleep,
+    asleep = share(Fr) * outside(R) * max(0, 1 - sleep_time / T),
+
+where outside(R) is the fraction of the bed's grains farther than R from the intruder (a sphere
+of radius R about it, cut by the bed's surface and base), T = travel / V the pull's duration (no
+grain falls asleep before it has rested sleep_time), and share(Fr) the fraction of those grains
+that do fall asleep, measured: the intruder's disturbance reaches farther the faster it goes.
+(cost.expected_pull_cost). The scheduler's limits (cost.job_resources) keep the whole cost: a
+pull through a bed that does not sleep must not be killed for it.
+"""
+
+import math
+
+import numpy as np
+
+from analysis.physics import froude
+
+# Grains per d^3 in a poured bed: a packing fraction of 0.6 of grains 0.9-1.1 d in diameter
+# (mean volume pi/6 <d^3> = 0.529 d^3); only the depth of the bed below the intruder comes from
+# it, and the estimate is no finer than that.
+GRAINS_PER_VOLUME = 1.13
+
+# The region's settings when a config gives none: granudrag pull's defaults (its --help).
+SLEEP_TIME_DEFAULT = 1.0
+
+# share(Fr): of the grains outside the region, the fraction asleep on average once the first
+# sleep_time has passed, at these Froude numbers (linear in log Fr between them, constant
+# beyond). Measured with `estimate_cost.py --asleep-from RUNS.csv` on the active region's
+# validation runs (config/validate/active_region.yaml, 20 d box, D = 2, R = 4-8 d, mu = 0 and
+# 0.5, 2 beds, 2026-11-26: the medians over radius, friction and bed; per radius alone they
+# are 0.61-0.62, 0.24-0.26 and 0.014-0.017, so the share does not depend on R there).
+ASLEEP_SHARE = ((0.04, 0.62), (1.0, 0.25), (5.0, 0.015))
+
+# A grain asleep costs this fraction of an awake one (its contacts with awake grains are
+# computed, the lists and checks still see it). Measured with bench/compare_lammps.sh
+# --active_radius: 1 - (1 - t_region / t_without) / asleep.
+SLEEPING_COST = 0.45
+
+
+def bed_height(grains, lx, ly):
+    """The height of a bed of this many grains, d (GRAINS_PER_VOLUME)."""
+    return grains / (GRAINS_PER_VOLUME * lx * ly)
+
+
+def outside_fraction(radius, lx, ly, grains, depth):
+    """Fraction of a bed's grains farther than `radius` from an intruder at `depth` (d below the
+    surface): one minus the volume of the sphere of that radius inside the bed (cut by the
+    surface and the base, at most the bed) over the bed's."""
+    height = bed_height(grains, lx, ly)
+    r = float(radius)
+
+    def cap(t):  # volume of a cap of height t cut from the sphere
+        t = min(max(t, 0.0), 2 * r)
+        return math.pi * t * t * (3 * r - t) / 3.0
+
+    inside = 4.0 / 3.0 * math.pi * r**3 - cap(r - depth) - cap(r - (height - depth))
+    return max(0.0, 1.0 - inside / (lx * ly * height))
+
+
+def asleep_share(Fr, table=None):
+    """share(Fr): interpolated linearly in log Fr in the measured table (default ASLEEP_SHARE, as
+    it is at the call: estimate_cost.py --asleep-from replaces it), constant beyond."""
+    table = table or ASLEEP_SHARE
+    frs = np.log([f for f, _ in table])
+    return float(np.interp(math.log(max(float(Fr), 1e-12)), frs, [s for _, s in table]))
+
+
+def _settings(pull, config):
+    sysc = config["systems"][pull.bed.system]
+    settings = dict(sysc.get("pull") or {})
+    settings.update(dict(pull.settings))
+    return sysc, settings
+
+
+def asleep_fraction(pull, config, travel, table=None):
+    """The expected mean fraction of the bed's grains asleep over a pull of `travel` d (0 without
+    the region)."""
+    sysc, settings = _settings(pull, config)
+    radius = float(settings.get("active_radius", 0.0) or 0.0)
+    if radius <= 0:
+        return 0.0
+    D = pull.bed.value("D")
+    lx, ly, grains = float(sysc["lx"]), float(sysc["ly"]), int(sysc["grains"])
+    pos = pull.bed.value("pos")
+    depth = pos if pull.bed.place == "h" else bed_height(grains, lx, ly) - pos
+    duration = travel / pull.V
+    rest = float(settings.get("sleep_time", SLEEP_TIME_DEFAULT))
+    outside = outside_fraction(radius, lx, ly, grains, depth)
+    return asleep_share(float(froude(pull.V, D)), table) * outside * max(0.0, 1.0 - rest / duration)
+
+
+def measured_shares(runs):
+    """share(Fr) from runs with the region (a runs.csv of the validation: its asleep, active_radius,
+    lx, ly, grains, h, distance, V and D columns): per run, the asleep fraction over what the
+    geometry and duration allow; the median per Froude number. Returns ((Fr, share), ...)."""
+    rows = runs[(runs.active_radius > 0) & runs.asleep.notna()]
+    if rows.empty:
+        raise ValueError("no pull with an active region (active_radius > 0) and a recorded asleep fraction")
+    shares = {}
+    for r in rows.itertuples():
+        allowed = outside_fraction(r.active_radius, r.lx, r.ly, r.grains, r.h) * max(
+            0.0, 1.0 - SLEEP_TIME_DEFAULT * r.V / r.distance)
+        if allowed > 0:
+            shares.setdefault(round(float(r.Fr), 3), []).append(min(1.0, r.asleep / allowed))
+    return tuple((fr, float(np.median(v))) for fr, v in sorted(shares.items()))
