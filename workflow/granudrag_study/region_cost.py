@@ -38,10 +38,14 @@ SLEEP_TIME_DEFAULT = 1.0
 # are 0.61-0.62, 0.24-0.26 and 0.014-0.017, so the share does not depend on R there).
 ASLEEP_SHARE = ((0.04, 0.62), (1.0, 0.25), (5.0, 0.015))
 
-# A grain asleep costs this fraction of an awake one (its contacts with awake grains are
-# computed, the lists and checks still see it). Measured with bench/compare_lammps.sh
-# --active_radius: 1 - (1 - t_region / t_without) / asleep.
-SLEEPING_COST = 0.45
+# A grain asleep costs this fraction of an awake one: c = 1 - (1 - t_region / t_without) / asleep.
+# Measured 2026-11-26 on 1 thread, the CPU time of the same pull with and without the region
+# through the 70,001-body 40 d x 40 d bed of bench/out (docs/benchmark.md): 0.49 (8,000 steps at
+# V = 0.03, R = 6 d with sleep_distance 0.05 and sleep_time 0.5, so that 58 % of the bodies sleep
+# on average; 0.47 on bench/compare_lammps.sh's 2,001-body bed). The scan still visits a sleeping
+# grain's pairs when one partner is awake, and the integration, lists and checks visit every body
+# (the profile, by function: the contact law's work fell by the awake pairs, the scan by a fifth).
+SLEEPING_COST = 0.49
 
 
 def bed_height(grains, lx, ly):
