@@ -204,7 +204,7 @@ Pour::Pour(const PourSpec& spec, Column column, const Simulation::State* resume)
 void Pour::run(bool show_progress, const std::function<void(const Pour&)>& on_checkpoint,
                const std::function<void(const Pour&)>& on_frame) {
   if (finished()) return;
-  Progress progress("pour", max_steps_);
+  Progress progress("pour", max_steps_, sim_.steps_done());
   const double n = static_cast<double>(sim_.particles().size());
   Timers& timers = sim_.timers();
   timers.reset();

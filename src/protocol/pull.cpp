@@ -125,7 +125,7 @@ void Pull::run(bool show_progress, const std::function<void(const Pull&)>& on_ch
   long every = spec_.checkpoint_every;
   const long k = record_.samples_per_interval;
   if (every > 0) every = (every + k - 1) / k * k;
-  Progress progress("pull", record_.total_steps);
+  Progress progress("pull", record_.total_steps, sim_.steps_done());
   const double n = static_cast<double>(sim_.particles().size());
   Timers& timers = sim_.timers();
   timers.reset();
