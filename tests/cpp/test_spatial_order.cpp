@@ -1,7 +1,8 @@
 // The spatial order (core/spatial_order.hpp) and the two-colour schedule it serves
 // (contact/verlet_contacts.cpp): a sweep along the longer horizontal axis of a wide bed, whose
 // periodic boundary the colour check must allow without letting two blocks of one colour write
-// the same body.
+// the same body; a state carried through the permutation; a pull that steps a bed in that order,
+// writes its frames in the bed's, and resumes bitwise.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include "core/balanced_split.hpp"
 #include "core/spatial_order.hpp"
 #include "helpers.hpp"
+#include "protocol/pull.hpp"
 
 using namespace granudrag;
 using granudrag::support::ThreadCount;
@@ -233,4 +235,84 @@ TEST(SpatialOrder, APouredBedSweptAlongXTakesTheTwoColoursOnTwoAndFourThreadsWit
       ASSERT_LT(support::rel_diff(sorted.particles().f[k], reference[order[k]], scale), 1e-12)
           << k << ", threads " << threads;
   }
+}
+
+TEST(SpatialOrder, AReorderedStateGoesOnWithTheSameForcesAndSprings) {
+  // The bed's state (its springs carried from the pour) in the sweep's order: the same forces
+  // and springs, found through the permutation, after steps with the intruder moving.
+  ThreadCount tc(1);
+  const Bed& bed = wide_bed();
+  Settings s;
+  s.dt = bed.dt;
+  Simulation plain(bed.state.particles, bed.box, bed.contact, s);
+  plain.restore(bed.state);
+  const std::vector<std::size_t> order = spatial_order(bed.state.particles, bed.box);
+  const Simulation::State state = reordered(bed.state, order);
+  ASSERT_FALSE(bed.state.pair_history.empty());
+  Simulation sorted(state.particles, bed.box, bed.contact, s);
+  sorted.restore(state);
+  const std::vector<std::size_t> rank = inverse_order(order);
+  plain.particles().v[bed.intruder] = Vec3(1, 0, 0);
+  sorted.particles().v[rank[bed.intruder]] = Vec3(1, 0, 0);
+  plain.run(200);
+  sorted.run(200);
+  double scale = 0;
+  for (const Vec3& f : plain.particles().f) scale = std::max(scale, f.norm());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    ASSERT_LT(support::rel_diff(sorted.particles().f[k], plain.particles().f[order[k]], scale), 1e-12) << k;
+    ASSERT_LT((sorted.particles().x[k] - plain.particles().x[order[k]]).norm(), 1e-12) << k;
+  }
+  // Every spring, renamed and in the canonical orientation.
+  std::vector<PairHistory> a = plain.state().pair_history, b = sorted.state().pair_history;
+  ASSERT_EQ(a.size(), b.size());
+  double shear_scale = 0;
+  for (PairHistory& h : a) {
+    shear_scale = std::max(shear_scale, h.shear.norm());
+    const int i = static_cast<int>(rank[h.i]), j = static_cast<int>(rank[h.j]);
+    h = i < j ? PairHistory{i, j, h.shear} : PairHistory{j, i, Vec3(-h.shear)};
+  }
+  auto by_pair = [](const PairHistory& x, const PairHistory& y) {
+    return std::pair(x.i, x.j) < std::pair(y.i, y.j);
+  };
+  std::sort(a.begin(), a.end(), by_pair);
+  std::sort(b.begin(), b.end(), by_pair);
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    ASSERT_EQ(a[k].i, b[k].i);
+    ASSERT_EQ(a[k].j, b[k].j);
+    ASSERT_LT((a[k].shear - b[k].shear).norm(), 1e-12 * shear_scale) << k;
+  }
+}
+
+TEST(SpatialOrder, APullStepsTheBedSweptAlongXResumesBitwiseAndShowsTheBedsOrder) {
+  // On 2 threads (the two colours across the seam): a pull resumed from its checkpoint takes
+  // the same order again and ends bitwise as the uninterrupted one; the frames' particles are
+  // the bed's, in its order.
+  ThreadCount tc(2);
+  const Bed& bed = wide_bed();
+  PullSpec spec;
+  spec.speed = 0.5;
+  spec.distance = 1.0;
+  spec.checkpoint_every = 400;
+  Pull whole(bed, spec);
+  EXPECT_EQ(whole.order(), spatial_order(bed.state.particles, bed.box));
+  EXPECT_NE(whole.order(), inverse_order(whole.order()));  // not the bed's order
+  EXPECT_EQ(whole.simulation().particles().species[whole.intruder()], Species::Intruder);
+  EXPECT_TRUE(dynamic_cast<const VerletContacts&>(whole.simulation().contacts()).colored());
+  const Particles start = whole.particles_in_bed_order();
+  EXPECT_EQ(start.x, bed.state.particles.x);
+  EXPECT_EQ(start.radius, bed.state.particles.radius);
+  EXPECT_EQ(start.species, bed.state.particles.species);
+  std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
+  whole.run(false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); });
+  ASSERT_GE(checkpoints.size(), 2u);
+  Pull resumed(bed, spec, checkpoints[0].first, checkpoints[0].second);
+  resumed.run(false, [](const Pull&) {});
+  EXPECT_EQ(whole.simulation().particles().x, resumed.simulation().particles().x);
+  EXPECT_EQ(whole.simulation().particles().v, resumed.simulation().particles().v);
+  EXPECT_EQ(whole.simulation().particles().omega, resumed.simulation().particles().omega);
+  EXPECT_EQ(whole.record().fx, resumed.record().fx);
+  // The intruder, found in the bed's order, has moved along x only.
+  const Particles end = whole.particles_in_bed_order();
+  EXPECT_EQ(end.x[bed.intruder].z(), bed.state.particles.x[bed.intruder].z());
+  EXPECT_GT(end.x[bed.intruder].x(), bed.state.particles.x[bed.intruder].x() + 0.9);
 }
