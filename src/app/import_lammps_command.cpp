@@ -32,8 +32,10 @@ std::vector<ParameterSpec> import_lammps_keys() {
           .at_most(1e9)
           .help("atom type of the intruder (0: none)"),
       Key::flag("sort").default_value("true").help(
-          "put the grains in spatial order (layers in z, a Morton curve in x-y), as a pour leaves them, so "
-          "that the threaded force loop runs its two-colour schedule; false: keep the file's order"),
+          "put the grains in spatial order (thin layers along the longer horizontal axis, or along z when "
+          "the bed is deeper than that axis is long; a Morton curve in the other two), the order a pull "
+          "steps them in, so that the threaded force loop runs its two-colour schedule; false: keep the "
+          "file's order"),
   };
   for (const auto& k : contact_keys()) keys.push_back(k);
   keys.push_back(skin_key());

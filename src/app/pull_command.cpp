@@ -103,7 +103,8 @@ int pull_command(const std::vector<std::string>& args) {
   };
   auto dump = [&](const Pull& p) {
     const Simulation& sim = p.simulation();
-    frames->add(sim.steps_done(), static_cast<double>(sim.steps_done()) * sim.dt(), sim.particles());
+    frames->add(sim.steps_done(), static_cast<double>(sim.steps_done()) * sim.dt(),
+                p.particles_in_bed_order());
   };
   std::unique_ptr<Pull> pull;
   // A resumed pull must match every option but the run controls, and the bed itself; an

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <climits>
 #include <memory>
 #include <type_traits>
 
@@ -87,16 +88,50 @@ void VerletContacts::balance_rows(int threads) {
   const int blocks = 2 * threads;
   balanced_split(cost, blocks, row_split_);
   // The blocks can be run in two colours, even blocks together and then odd ones, writing
-  // straight into the particles' forces, when no block's partners reach the next block of its
-  // colour. Grains poured by granudrag are ordered in space (pour.cpp), so a row's partners lie
-  // within a layer of it in index; a bed in another order (imported) takes private arrays.
-  colored_ = threads > 1;
-  for (int b = 0; b + 2 <= blocks && colored_; ++b) {
-    int reach = -1;  // the largest partner of the block's rows (rows are sorted)
-    for (long r = row_split_[b]; r < row_split_[b + 1]; ++r)
-      if (pairs.end(r) > pairs.begin(r)) reach = std::max(reach, pairs.partner[pairs.end(r) - 1]);
-    colored_ = reach < row_split_[b + 2];
+  // straight into the particles' forces, when no two blocks of one colour write the same body.
+  // Block b writes its rows and their partners (j > i): those short of the block but one
+  // (b + 2), and those beyond it, the excursions. Bodies ordered by a sweep (a pour's order,
+  // core/spatial_order.hpp) have partners within a layer of their row, and excursions only
+  // across a periodic sweep's boundary: rows of the first blocks reaching into the last one. A
+  // bed in another order (imported) takes private arrays.
+  colored_ = threads > 1 && colour_blocks_apart(pairs, row_split_);
+}
+
+bool colour_blocks_apart(const PairList& pairs, const std::vector<long>& split) {
+  // Per block: the largest partner short of the block but one, and the hull of the excursions.
+  const int blocks = static_cast<int>(split.size()) - 1;
+  std::vector<long> near_end(blocks), far_first(blocks, LONG_MAX), far_last(blocks, -1);
+  for (int b = 0; b < blocks; ++b) {
+    const long limit = b + 2 <= blocks ? split[b + 2] : split[blocks];
+    long reach = split[b + 1] - 1;
+    for (long r = split[b]; r < split[b + 1]; ++r) {
+      if (pairs.end(r) == pairs.begin(r)) continue;
+      const int* first = pairs.partner.data() + pairs.begin(r);
+      const int* last = pairs.partner.data() + pairs.end(r);
+      if (last[-1] < limit) {  // rows are sorted: no excursion
+        reach = std::max<long>(reach, last[-1]);
+        continue;
+      }
+      const int* far = std::lower_bound(first, last, limit);
+      if (far > first) reach = std::max<long>(reach, far[-1]);
+      far_first[b] = std::min<long>(far_first[b], *far);
+      far_last[b] = std::max<long>(far_last[b], last[-1]);
+    }
+    near_end[b] = reach;
   }
+  // Two blocks of one colour, b < c (so c >= b + 2): b's near part ends before c starts, and
+  // c's parts lie beyond it. What can meet is an excursion of either block: each block's are
+  // checked against the near part and the excursions of every other block of its colour.
+  for (int b = 0; b < blocks; ++b) {
+    if (far_last[b] < 0) continue;
+    for (int c = b % 2; c < blocks; c += 2) {
+      if (c == b) continue;
+      const bool meets_near = far_first[b] <= near_end[c] && split[c] <= far_last[b];
+      const bool meets_far = far_last[c] >= 0 && far_first[b] <= far_last[c] && far_first[c] <= far_last[b];
+      if (meets_near || meets_far) return false;
+    }
+  }
+  return true;
 }
 
 void VerletContacts::evaluate_batch(const Particles& p, const ContactParams& c, double dt,

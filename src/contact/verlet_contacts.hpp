@@ -9,17 +9,23 @@
 
 namespace granudrag {
 
+// Whether blocks of rows split[b] .. split[b+1] can run in two colours (the even blocks
+// together, then the odd ones): no two blocks of one colour write the same body, a row's own
+// or a partner's. Conservative: each block's writes are taken as two ranges of bodies.
+bool colour_blocks_apart(const PairList& pairs, const std::vector<long>& split);
+
 // The production path. Each grain pair is evaluated once (Newton's third law), by the thread
 // that owns its row; rows are split into two contiguous blocks per thread of about equal cost
 // (list entries, touching pairs weighted as the contact law costs), re-balanced at each rebuild.
-// When the partners of each block stay short of the next block but one (grains ordered in
-// space, as a pour leaves them), the even blocks run together, then the odd ones, and every
-// thread adds straight into the particles' forces. Otherwise thread 0 adds into them directly,
-// and the other threads into private copies summed in thread order afterwards (whose clearing
-// and summing cost memory traffic that grows with N). No atomics, and a fixed summation order
-// for a given thread count: runs are bitwise reproducible for that count; one thread gives the
-// serial order. (A per-pair buffer gathered in fixed order would make them independent of the
-// thread count too, but doubled the memory traffic and the cost.)
+// When no two blocks of one colour write the same body (bodies ordered by a sweep in space, as
+// a pour leaves them and a pull puts them: core/spatial_order.hpp), the even blocks run
+// together, then the odd ones, and every thread adds straight into the particles' forces.
+// Otherwise thread 0 adds into them directly, and the other threads into private copies summed
+// in thread order afterwards (whose clearing and summing cost memory traffic that grows with
+// N). No atomics, and a fixed summation order for a given thread count: runs are bitwise
+// reproducible for that count; one thread gives the serial order. (A per-pair buffer gathered
+// in fixed order would make them independent of the thread count too, but doubled the memory
+// traffic and the cost.)
 class VerletContacts : public ContactLoop {
  public:
   explicit VerletContacts(double skin) : list_(skin), simd_(best_simd_level()) {}

@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "core/ordered_sum.hpp"
 #include "core/progress.hpp"
+#include "core/spatial_order.hpp"
 
 namespace granudrag {
 
@@ -307,6 +308,45 @@ Energy Simulation::energy() const {
   e.elastic = contacts_->elastic_energy(p_, box_, contact_);
   if (box_.wall) e.elastic += wall_.elastic_energy(p_, contact_);
   return e;
+}
+
+namespace {
+template <class T>
+std::vector<T> permuted(const std::vector<T>& a, const std::vector<std::size_t>& order) {
+  if (a.empty()) return a;
+  if (a.size() != order.size())
+    throw Error("a per-body array of " + std::to_string(a.size()) + " entries for " +
+                std::to_string(order.size()) + " bodies");
+  std::vector<T> out(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) out[k] = a[order[k]];
+  return out;
+}
+}  // namespace
+
+Simulation::State reordered(const Simulation::State& s, const std::vector<std::size_t>& order) {
+  if (order.size() != s.particles.size())
+    throw Error("an order of " + std::to_string(order.size()) + " bodies for a state of " +
+                std::to_string(s.particles.size()));
+  const std::vector<std::size_t> rank = inverse_order(order);
+  Simulation::State r;
+  r.particles = reordered(s.particles, order);
+  r.pair_history.reserve(s.pair_history.size());
+  for (const PairHistory& h : s.pair_history) {
+    const int i = static_cast<int>(rank[h.i]), j = static_cast<int>(rank[h.j]);
+    r.pair_history.push_back(i < j ? PairHistory{i, j, h.shear} : PairHistory{j, i, Vec3(-h.shear)});
+  }
+  r.wall_history = permuted(s.wall_history, order);
+  r.steps = s.steps;
+  const ActiveRegion::State& a = s.region;
+  r.region = a;
+  r.region.held = permuted(a.held, order);
+  r.region.at_rest = permuted(a.at_rest, order);
+  r.region.anchor = permuted(a.anchor, order);
+  r.region.force_sum = permuted(a.force_sum, order);
+  r.region.held_force = permuted(a.held_force, order);
+  r.region.reference = permuted(a.reference, order);
+  r.region.reference_due = permuted(a.reference_due, order);
+  return r;
 }
 
 }  // namespace granudrag

@@ -109,4 +109,10 @@ class Simulation {
   bool ready_ = false;
 };
 
+// s with its bodies in `order` (order[k]: the body that goes to position k,
+// core/spatial_order.hpp): the particles, the per-body arrays of the wall and the active
+// region, and the pair springs renamed, each kept in the canonical orientation (i < j, seen
+// from i).
+Simulation::State reordered(const Simulation::State& s, const std::vector<std::size_t>& order);
+
 }  // namespace granudrag

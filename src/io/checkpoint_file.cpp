@@ -140,7 +140,8 @@ void save_checkpoint(const std::string& path, const Pull& pull, const Parameters
   write_parameters(f, ParameterRecord::of(pull_parameters));
   f.set_attr("/pull", "bed_fingerprint", bed_fingerprint(pull.bed()));
   Bed bed = pull.bed();
-  bed.state = pull.state();
+  bed.state = pull.state();  // in the simulation's order (Pull::order())
+  bed.intruder = pull.intruder();
   write_bed_groups(f, bed);
   write_region(f, bed.state.region);
   write_pull_record(f, pull.record());

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/progress.hpp"
+#include "core/spatial_order.hpp"
 #include "protocol/observables.hpp"
 #include "protocol/run_report.hpp"
 #include "protocol/speed_limit.hpp"
@@ -33,7 +34,10 @@ double froude_number(double speed, double diameter) {
 Pull::Pull(const Bed& bed, const PullSpec& spec)
     : bed_(bed),
       spec_(spec),
-      sim_(bed.state.particles, bed.box, bed.contact, pull_settings(bed, spec)),
+      order_(spatial_order(bed.state.particles, bed.box)),
+      rank_(inverse_order(order_)),
+      intruder_(bed.intruder < 0 ? -1 : static_cast<int>(rank_[bed.intruder])),
+      sim_(reordered(bed.state.particles, order_), bed.box, bed.contact, pull_settings(bed, spec)),
       guard_(GuardLimits{}, 0.0) {
   spec_.validate();
   if (bed_.intruder < 0) throw Error("the bed has no intruder to pull: pour it with intruder_diameter > 0");
@@ -48,11 +52,11 @@ Pull::Pull(const Bed& bed, const PullSpec& spec)
     }
   }
   if (spec_.fresh_start) {
-    sim_.particles().v[bed_.intruder] = Vec3(spec_.speed, 0, 0);
+    sim_.particles().v[intruder_] = Vec3(spec_.speed, 0, 0);
     sim_.setup();
   } else {
-    sim_.restore(bed_.state);
-    sim_.particles().v[bed_.intruder] = Vec3(spec_.speed, 0, 0);
+    sim_.restore(reordered(bed_.state, order_));
+    sim_.particles().v[intruder_] = Vec3(spec_.speed, 0, 0);
   }
   // A bed at rest has small overlaps; one beyond what the run guard allows at any step is a
   // damaged or mislabelled bed, named as such before anything is blamed on the speed (with
@@ -197,7 +201,7 @@ bool Pull::target_met() const {
 
 void Pull::after_step() {
   const Particles& p = sim_.particles();
-  const int in = bed_.intruder;
+  const int in = intruder_;
   record_.force_sum += p.f[in];
   record_.contact_sum += sim_.contacts().contacts_of(in);
   record_.work += -p.f[in].dot(p.v[in]) * sim_.dt();
@@ -219,7 +223,7 @@ void Pull::after_step() {
 
 void Pull::end_of_interval() {
   const Particles& p = sim_.particles();
-  const int in = bed_.intruder;
+  const int in = intruder_;
   const double k = static_cast<double>(record_.samples_per_interval);
   record_.time.push_back(sim_.time());
   record_.fx.push_back(record_.force_sum.x() / k);
@@ -282,7 +286,7 @@ void Pull::end_of_interval() {
   if (done < spec_.snapshots && sim_.time() >= t_start + (t_end - t_start) * (done + 0.5) / spec_.snapshots) {
     Snapshot s;
     s.time = sim_.time();
-    for (std::size_t i = 0; i < p.size(); ++i) {
+    for (std::size_t i : rank_) {  // in the bed's order
       if (p.species[i] != Species::Mobile) continue;
       const Vec3 d = bed_.box.min_image(p.x[i] - p.x[in]);
       if (std::abs(d.y()) >= spec_.slab_half_width) continue;
@@ -294,6 +298,8 @@ void Pull::end_of_interval() {
     record_.snapshots.push_back(std::move(s));
   }
 }
+
+Particles Pull::particles_in_bed_order() const { return reordered(sim_.particles(), rank_); }
 
 PullResult Pull::result() const {
   PullResult r;

@@ -134,7 +134,14 @@ class Pull {
 
   PullResult result() const;
   const PullRecord& record() const { return record_; }
+  // The simulation steps the bed's bodies in a spatial order (core/spatial_order.hpp), taken
+  // once from the bed: body k of simulation() is body order()[k] of bed(). Its state and the
+  // checkpoints are in that order; the frames and the snapshots are in the bed's.
   const Simulation& simulation() const { return sim_; }
+  const std::vector<std::size_t>& order() const { return order_; }
+  int intruder() const { return intruder_; }  // in simulation()'s order
+  // The simulation's bodies in the bed's order (for frames).
+  Particles particles_in_bed_order() const;
   Simulation::State state() const { return sim_.state(); }
   const Bed& bed() const { return bed_; }
   const PullSpec& spec() const { return spec_; }
@@ -159,6 +166,8 @@ class Pull {
 
   Bed bed_;
   PullSpec spec_;
+  std::vector<std::size_t> order_, rank_;  // simulation body k is bed body order_[k]; rank_: inverse
+  int intruder_ = -1;
   Simulation sim_;
   PullRecord record_;
   RunGuard guard_;

@@ -99,13 +99,13 @@ TEST(Pull, FramesComeAtStepZeroAndEveryDumpIntervalAndResumeWhereTheCheckpointCo
       false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); },
       [&](const Pull& p) {
         steps.push_back(p.simulation().steps_done());
-        positions.push_back(p.simulation().particles().x);
+        positions.push_back(p.particles_in_bed_order().x);  // what the frames write
       });
   const long total = whole.record().total_steps;
   ASSERT_EQ(whole.record().frames, total / 300 + 1);
   for (std::size_t k = 0; k < steps.size(); ++k) EXPECT_EQ(steps[k], static_cast<long>(300 * k));
   EXPECT_EQ(positions.front(), small_bed().state.particles.x);  // frame 0 is the bed as poured
-  EXPECT_EQ(positions.back() == whole.simulation().particles().x, total % 300 == 0);
+  EXPECT_EQ(positions.back() == whole.particles_in_bed_order().x, total % 300 == 0);
   // Resumed from the first checkpoint (step 500: frames 0 and 300 counted), the frames go on
   // from step 600, the same bit for bit.
   ASSERT_GE(checkpoints.size(), 1u);
@@ -118,7 +118,7 @@ TEST(Pull, FramesComeAtStepZeroAndEveryDumpIntervalAndResumeWhereTheCheckpointCo
       false, [](const Pull&) {},
       [&](const Pull& p) {
         resumed_steps.push_back(p.simulation().steps_done());
-        resumed_positions.push_back(p.simulation().particles().x);
+        resumed_positions.push_back(p.particles_in_bed_order().x);
       });
   EXPECT_EQ(resumed.record().frames, whole.record().frames);
   ASSERT_EQ(resumed_steps, std::vector<long>(steps.begin() + 2, steps.end()));
