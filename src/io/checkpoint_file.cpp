@@ -12,6 +12,10 @@ namespace granudrag {
 namespace {
 
 const char* kCheckpointFormat = "granudrag-checkpoint";
+// The order of the bodies in a checkpoint's state: the simulation's spatial order (Pull::order()).
+// Checkpoints written before pulls stepped their bodies in it hold the bed's order and lack this
+// attribute; such a checkpoint is moved aside and its pull starts over.
+const char* kBodyOrder = "spatial";
 
 void write_pull_record(h5::File& f, const PullRecord& r) {
   f.set_attr("/pull", "samples_per_interval", static_cast<std::int64_t>(r.samples_per_interval));
@@ -139,6 +143,7 @@ void save_checkpoint(const std::string& path, const Pull& pull, const Parameters
   write_parameters(f, bed_parameters);
   write_parameters(f, ParameterRecord::of(pull_parameters));
   f.set_attr("/pull", "bed_fingerprint", bed_fingerprint(pull.bed()));
+  f.set_attr("/pull", "body_order", std::string(kBodyOrder));
   Bed bed = pull.bed();
   bed.state = pull.state();  // in the simulation's order (Pull::order())
   bed.intruder = pull.intruder();
@@ -156,6 +161,10 @@ Checkpoint load_checkpoint(const std::string& path, const Bed& bed, const Parame
   try {
     const h5::File f = h5::File::open(path);
     check_file_header(f, kCheckpointFormat, 2, "delete it to start the pull over");
+    if (!f.has_attr("/pull", "body_order") || f.get_attr_string("/pull", "body_order") != kBodyOrder)
+      throw Error(
+          "its bodies are in the bed's order (written by a granudrag before pulls stepped them in a "
+          "spatial order)");
     Bed saved;
     try {
       saved = read_bed_groups(f);

@@ -441,3 +441,25 @@ TEST(CheckpointRecovery, AnUnreadableCheckpointIsMovedAsideAndAMismatchedOneIsKe
   EXPECT_MENTIONS(why, "speed");
   EXPECT_TRUE(fs::exists(ckpt));
 }
+
+TEST(CheckpointRecovery, ACheckpointInTheBedsOrderIsMovedAside) {
+  // A checkpoint of a granudrag from before pulls stepped their bodies in a spatial order holds
+  // them in the bed's order, without /pull's body_order: resuming it would scramble the bodies'
+  // identities (frames, the order the simulation expects), so the pull starts over.
+  TempDir dir;
+  const PulledBed& fx = pulled_bed();
+  const std::string ckpt = dir.file("run.h5.checkpoint.h5");
+  const Parameters now = pull_parameters();
+  const std::vector<std::string> controls = {"threads", "quiet"};
+  save_checkpoint(ckpt, *fx.pull, now, ParameterRecord::of(pour_parameters()));
+  ASSERT_TRUE(load_checkpoint(ckpt, fx.bed, now, controls).state.particles.size() > 0);
+  const hid_t file = H5Fopen(ckpt.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  ASSERT_GE(H5Adelete_by_name(file, "/pull", "body_order", H5P_DEFAULT), 0);
+  H5Fclose(file);
+  const std::string why = error_of([&] { load_checkpoint(ckpt, fx.bed, now, controls); });
+  EXPECT_MENTIONS(why, "bed's order");
+  EXPECT_FALSE(load_checkpoint_or_move_aside(ckpt, fx.bed, now, controls).has_value());
+  EXPECT_FALSE(fs::exists(ckpt));
+  EXPECT_TRUE(fs::exists(ckpt + ".corrupt"));
+}
