@@ -33,19 +33,22 @@ SLEEP_TIME_DEFAULT = 1.0
 # share(Fr): of the grains outside the region, the fraction asleep on average once the first
 # sleep_time has passed, at these Froude numbers (linear in log Fr between them, constant
 # beyond). Measured with `estimate_cost.py --asleep-from RUNS.csv` on the active region's
-# validation runs (config/validate/active_region.yaml, 20 d box, D = 2, R = 4-8 d, mu = 0 and
-# 0.5, 2 beds, 2026-11-26: the medians over radius, friction and bed; per radius alone they
-# are 0.61-0.62, 0.24-0.26 and 0.014-0.017, so the share does not depend on R there).
-ASLEEP_SHARE = ((0.04, 0.62), (1.0, 0.25), (5.0, 0.015))
+# validation runs of 2026-11-26, in the 40 d x 40 d box of config/validate/active_region_40_quick.yaml
+# (mu = 0.5, D = 2 and 6, R = 6 and 12 d, 2 beds; the paper's box): 0.86 in the yield pulls
+# (V = 0.03: D = 2 at Fr 0.04 0.89-0.93, D = 6 at Fr 0.03 0.78-0.84), 0.72 at Fr = 1 (0.54-0.86).
+# Fr = 5 was pulled in the 20 d box only (config/validate/active_region.yaml): 0.015, where the
+# yield pulls' share was 0.62 and Fr = 1's 0.25: a small box sleeps less, its far field is near.
+ASLEEP_SHARE = ((0.04, 0.86), (1.0, 0.72), (5.0, 0.015))
 
 # A grain asleep costs this fraction of an awake one: c = 1 - (1 - t_region / t_without) / asleep.
-# Measured 2026-11-26 on 1 thread, the CPU time of the same pull with and without the region
-# through the 70,001-body 40 d x 40 d bed of bench/out (docs/benchmark.md): 0.49 (8,000 steps at
-# V = 0.03, R = 6 d with sleep_distance 0.05 and sleep_time 0.5, so that 58 % of the bodies sleep
-# on average; 0.47 on bench/compare_lammps.sh's 2,001-body bed). The scan still visits a sleeping
-# grain's pairs when one partner is awake, and the integration, lists and checks visit every body
-# (the profile, by function: the contact law's work fell by the awake pairs, the scan by a fifth).
-SLEEPING_COST = 0.49
+# Measured from the CPU times of the 40 d validation's yield pulls, each against the same bed's
+# pull without the region (Snakemake's benchmark files, 1 thread): median 0.22 over the 8 pairs
+# (0.10-0.18 for D = 2, 0.26-0.41 for D = 6, whose wider disturbance leaves more sleeping grains
+# with an awake partner); the yield pulls ran 1.7-3.6x faster. In a bed still creeping (the
+# 70,001-body bed of docs/benchmark.md, settled to 1e-4 only) awake grains are scattered through
+# the sleeping ones and c was 0.49. What a sleeping grain still costs: the scan of its pairs when
+# a partner is awake, and the integration's, lists' and checks' passes over every body.
+SLEEPING_COST = 0.22
 
 
 def bed_height(grains, lx, ly):
