@@ -106,7 +106,8 @@ def asleep_fraction(pull, config, travel, table=None):
 def measured_shares(runs):
     """share(Fr) from runs with the region (a runs.csv of the validation: its asleep, active_radius,
     lx, ly, grains, h, distance, V and D columns): per run, the asleep fraction over what the
-    geometry and duration allow; the median per Froude number. Returns ((Fr, share), ...)."""
+    geometry and duration allow (with the default sleep_time: runs.csv does not record it); the
+    median per Froude number. Returns ((Fr, share), ...)."""
     rows = runs[(runs.active_radius > 0) & runs.asleep.notna()]
     if rows.empty:
         raise ValueError("no pull with an active region (active_radius > 0) and a recorded asleep fraction")
