@@ -395,13 +395,18 @@ TEST(FuzzReaders, DamagedLammpsDataFilesEndInANamedErrorOrAValidRead) {
   EXPECT_GE(tally.cases, 400);
 }
 
-TEST(CheckpointRecovery, AnUnreadableCheckpointIsMovedAsideAndAMismatchedOneIsKept) {
+// A checkpoint of the pulled bed, saved with the pull's parameters, in a directory of its own.
+class CheckpointRecovery : public ::testing::Test {
+ protected:
+  void SetUp() override { save_checkpoint(ckpt, *fx.pull, now, ParameterRecord::of(pour_parameters())); }
   TempDir dir;
   const PulledBed& fx = pulled_bed();
   const std::string ckpt = dir.file("run.h5.checkpoint.h5");
   const Parameters now = pull_parameters();
   const std::vector<std::string> controls = {"threads", "quiet"};
-  save_checkpoint(ckpt, *fx.pull, now, ParameterRecord::of(pour_parameters()));
+};
+
+TEST_F(CheckpointRecovery, AnUnreadableCheckpointIsMovedAsideAndAMismatchedOneIsKept) {
   const std::string bytes = read_bytes(ckpt);
   ASSERT_TRUE(load_checkpoint_or_move_aside(ckpt, fx.bed, now, controls).has_value());
 
@@ -442,16 +447,10 @@ TEST(CheckpointRecovery, AnUnreadableCheckpointIsMovedAsideAndAMismatchedOneIsKe
   EXPECT_TRUE(fs::exists(ckpt));
 }
 
-TEST(CheckpointRecovery, ACheckpointInTheBedsOrderIsMovedAside) {
+TEST_F(CheckpointRecovery, ACheckpointInTheBedsOrderIsMovedAside) {
   // A checkpoint of a granudrag from before pulls stepped their bodies in a spatial order holds
   // them in the bed's order, without /pull's body_order: resuming it would scramble the bodies'
   // identities (frames, the order the simulation expects), so the pull starts over.
-  TempDir dir;
-  const PulledBed& fx = pulled_bed();
-  const std::string ckpt = dir.file("run.h5.checkpoint.h5");
-  const Parameters now = pull_parameters();
-  const std::vector<std::string> controls = {"threads", "quiet"};
-  save_checkpoint(ckpt, *fx.pull, now, ParameterRecord::of(pour_parameters()));
   ASSERT_TRUE(load_checkpoint(ckpt, fx.bed, now, controls).state.particles.size() > 0);
   const hid_t file = H5Fopen(ckpt.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   ASSERT_GE(file, 0);
