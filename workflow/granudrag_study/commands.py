@@ -83,8 +83,7 @@ def movie_pull_args(pull, config):
     target `movie`): `pull` again with `movie.frames` frames over its travel (--dump_interval)
     and no sequential stopping, so the movie shows the whole travel."""
     frames = int((config.get("movie") or {}).get("frames", 120))
-    settings = dict(config["systems"][pull.bed.system].get("pull") or {})
-    settings.update(dict(pull.settings))
+    settings = pull.settings_in(config)
     settings.pop("target_error", None)
     settings.pop("min_distance", None)
     movie = Pull(pull.bed, pull.speed, tuple(settings.items()))

@@ -48,8 +48,7 @@ def pull_distance(pull, config):
     """Travel of a pull, d: its distance (0: the box length), or with a target error the
     expected stopping distance (expected_stop_distance)."""
     sysc = config["systems"][pull.bed.system]
-    settings = dict(sysc.get("pull") or {})
-    settings.update(dict(pull.settings))
+    settings = pull.settings_in(config)
     distance = float(settings.get("distance", 0.0) or 0.0)
     most = distance if distance > 0 else float(sysc["lx"])
     target = float(settings.get("target_error", 0.0) or 0.0)

@@ -105,6 +105,12 @@ class Pull:
         kind, value = parse_speed(self.speed)
         return value if kind == "V" else froude_speed(value, self.bed.value("D"))
 
+    def settings_in(self, config):
+        """The pull's settings: its system's `pull` block with this pull's own over it."""
+        settings = dict(config["systems"][self.bed.system].get("pull") or {})
+        settings.update(dict(self.settings))
+        return settings
+
 
 def bed_file(results, key):
     return f"{results}/beds/{key}/bed.h5"

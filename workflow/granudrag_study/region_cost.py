@@ -79,17 +79,10 @@ def asleep_share(Fr, table=None):
     return float(np.interp(math.log(max(float(Fr), 1e-12)), frs, [s for _, s in table]))
 
 
-def _settings(pull, config):
-    sysc = config["systems"][pull.bed.system]
-    settings = dict(sysc.get("pull") or {})
-    settings.update(dict(pull.settings))
-    return sysc, settings
-
-
 def asleep_fraction(pull, config, travel, table=None):
     """The expected mean fraction of the bed's grains asleep over a pull of `travel` d (0 without
     the region)."""
-    sysc, settings = _settings(pull, config)
+    sysc, settings = config["systems"][pull.bed.system], pull.settings_in(config)
     radius = float(settings.get("active_radius", 0.0) or 0.0)
     if radius <= 0:
         return 0.0
