@@ -9,7 +9,9 @@
 //
 // "At rest" is measured by displacement, not speed: while an intruder is pulled, elastic waves
 // keep every grain of a stiff bed vibrating at a few percent of V, far from the intruder too,
-// with amplitudes of 1e-4 d: speeds say all grains move, displacements say they do not.
+// with amplitudes of 1e-4 d: speeds say all grains move, displacements say they do not. The
+// pull sets the distance relative to the intruder's travel (its key sleep_speed), since a slow
+// pull's failure zone creeps at a few percent of V and must not be held.
 //
 // A sleeping grain wakes when it comes within the radius of an intruder (the region follows it
 // through the periodic box), or when the net force on it, averaged over a check interval, has
@@ -35,6 +37,7 @@ namespace granudrag {
 struct ActiveRegionSettings {
   double radius = 0;             // d, from the intruder's centre; 0: off
   double sleep_distance = 0.01;  // d: moved less than this over sleep_time counts as at rest
+                                 // (a pull sets it: sleep_speed V sleep_time)
   double sleep_time = 1.0;       // sqrt(d/g): at rest for this long before falling asleep
   double wake_force = 0.5;       // fraction of the grain's weight m g
   double check_interval = 0.25;  // sqrt(d/g) between decisions (the pull derives it)

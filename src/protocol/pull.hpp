@@ -40,6 +40,9 @@ struct PullSpec {
   // as the run's verdict instead of stopping.
   bool keep_going = false;
   ActiveRegionSettings active;  // the active region (engine/active_region.hpp); off by default
+  // The region's rest test, relative to V: a grain is at rest when it moves slower than this
+  // fraction of V over sleep_time (the pull sets active.sleep_distance from it).
+  double sleep_speed = 0.01;
 
   // Every field within its key's range (pull_keys()); throws Error naming the key.
   void validate() const;

@@ -66,12 +66,13 @@ const KeyTable<PullSpec>& pull_keys() {
               "sleep_time fall asleep (held in place, their mutual contacts not computed) until the intruder "
               "comes within it or wake_force wakes them; 0: off (every grain integrated); at least D/2 + 2")
           .field(&PullSpec::active, &ActiveRegionSettings::radius),
-      Key::number("sleep_distance")
-          .unit("d")
+      Key::number("sleep_speed")
+          .unit("V")
           .above(0)
-          .help("active region: a grain that has moved less than this over sleep_time is at rest (not its "
-                "speed: elastic waves keep far grains vibrating at a few percent of V)")
-          .field(&PullSpec::active, &ActiveRegionSettings::sleep_distance),
+          .help("active region: a grain that has moved less than this fraction of the intruder's travel over "
+                "sleep_time is at rest (relative to V: the grains creeping around a slow intruder must stay "
+                "awake, the far field vibrates at 1e-4 d)")
+          .field(&PullSpec::sleep_speed),
       Key::number("sleep_time")
           .unit("sqrt(d/g)")
           .at_least(0)

@@ -128,7 +128,7 @@ TEST(ActiveRegion, APullWithSleepingGrainsResumesFromACheckpointBitwise) {
   spec.checkpoint_every = 400;
   spec.active.radius = 3;
   spec.active.sleep_time = 0.2;
-  spec.active.sleep_distance = 0.05;
+  spec.sleep_speed = 0.5;  // 0.05 d over sleep_time at V = 0.5
   Pull whole(small_bed(), spec);
   std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
   whole.run(false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); });
@@ -148,6 +148,22 @@ TEST(ActiveRegion, APullWithSleepingGrainsResumesFromACheckpointBitwise) {
   EXPECT_EQ(whole.record().fx, resumed.record().fx);
   EXPECT_EQ(whole.record().sleeping, resumed.record().sleeping);
   EXPECT_EQ(whole.simulation().active_region()->wake_ups(), resumed.simulation().active_region()->wake_ups());
+}
+
+// A slow pull's failure zone creeps at a few percent of V: the rest test is relative to V, the
+// distance a grain may move over sleep_time being sleep_speed times the intruder's travel.
+TEST(ActiveRegion, ThePullSetsTheRestDistanceFromItsSpeed) {
+  PullSpec spec;
+  spec.active.radius = 4;
+  for (double speed : {0.5, 0.03}) {
+    spec.speed = speed;
+    Pull pull(small_bed(), spec);
+    EXPECT_DOUBLE_EQ(pull.simulation().active_region()->settings().sleep_distance, 0.01 * speed * 1.0);
+  }
+  spec.active.sleep_time = 0;  // a check every step: the window is one step
+  spec.speed = 0.5;
+  Pull pull(small_bed(), spec);
+  EXPECT_DOUBLE_EQ(pull.simulation().active_region()->settings().sleep_distance, 0.01 * 0.5 * small_bed().dt);
 }
 
 TEST(ActiveRegion, ARadiusInsideTheGrainsAroundTheIntruderIsRefused) {
