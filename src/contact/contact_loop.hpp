@@ -2,6 +2,7 @@
 // How the contact forces between bodies are found and summed. Two implementations share the
 // contact law: VerletContacts (cell grid, Verlet lists, parallel) and BruteForceContacts (every
 // pair, serial, obviously correct), which the tests keep as the oracle for the fast path.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -83,6 +84,13 @@ class ContactLoop {
   // (constant while both stay held); zero for the others. Called when the held set changes.
   virtual void held_pair_forces(const Particles& p, const Box& box, const ContactParams& c,
                                 std::vector<Vec3>& force) const = 0;
+  // Sets exposed[i] = 1 for every body with a pair this loop may compute before its next list
+  // build: a partner not held like it, or an intruder. A held grain left at 0 has nothing but
+  // gravity acting on it (ActiveRegion::classify_quiet). The default marks every body: a loop
+  // without lists (the brute-force oracle) steps every held grain, the reference of the fast one.
+  virtual void mark_exposed(std::vector<std::uint8_t>& exposed) const {
+    std::fill(exposed.begin(), exposed.end(), std::uint8_t{1});
+  }
 
  protected:
   bool both_held(int i, int j) const { return held_ && (*held_)[i] && (*held_)[j]; }

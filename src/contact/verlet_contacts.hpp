@@ -51,6 +51,7 @@ class VerletContacts : public ContactLoop {
   void held_pair_forces(const Particles& p, const Box& box, const ContactParams& c,
                         std::vector<Vec3>& force) const override;
   void held_changed() override;
+  void mark_exposed(std::vector<std::uint8_t>& exposed) const override;
   const NeighborList& list() const { return list_; }
   // Whether the last balance allows the two-colour schedule (no private force arrays).
   bool colored() const { return colored_; }

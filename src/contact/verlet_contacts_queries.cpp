@@ -1,6 +1,6 @@
 // VerletContacts' passes that read the contacts without changing them: the run guard's and the
-// observables' checks (energy, overlap, coordination numbers) and the active region's forces
-// between held grains.
+// observables' checks (energy, overlap, coordination numbers), and for the active region the
+// forces between held grains and which held grains have a partner awake.
 #include <omp.h>
 
 #include <algorithm>
@@ -145,6 +145,23 @@ long VerletContacts::contact_count() const {
   for (auto t : grain_history_.touching) n += t;
   for (auto t : intruder_history_.touching) n += t;
   return n;
+}
+
+void VerletContacts::mark_exposed(std::vector<std::uint8_t>& exposed) const {
+  if (!held_) {
+    ContactLoop::mark_exposed(exposed);
+    return;
+  }
+  // Serial: two rows may mark one body. Run at checks and list builds only.
+  const std::uint8_t* held = held_->data();
+  const PairList& pairs = list_.grain_pairs();
+  for (std::size_t i = 0; i < pairs.rows(); ++i)
+    for (int e = pairs.begin(i); e < pairs.end(i); ++e) {
+      const int j = pairs.partner[e];
+      if (held[i] != held[j]) exposed[i] = exposed[j] = 1;
+    }
+  const PairList& intruder = list_.intruder_pairs();
+  for (int j : intruder.partner) exposed[j] = 1;
 }
 
 }  // namespace granudrag

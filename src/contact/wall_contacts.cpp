@@ -72,4 +72,12 @@ double WallContacts::elastic_energy(const Particles& p, const ContactParams& c) 
   });
 }
 
+void WallContacts::mark_near(std::vector<std::uint8_t>& exposed) const {
+  if (!selected_) {
+    std::fill(exposed.begin(), exposed.end(), std::uint8_t{1});
+    return;
+  }
+  for (int i : near_) exposed[i] = 1;
+}
+
 }  // namespace granudrag

@@ -24,6 +24,8 @@ class WallContacts {
   void accumulate_range(Particles& p, const ContactParams& c, double dt, bool update_history, long first,
                         long last);
   double elastic_energy(const Particles& p, const ContactParams& c) const;
+  // Sets exposed[i] = 1 for every grain the next evaluations check (all, before select()).
+  void mark_near(std::vector<std::uint8_t>& exposed) const;
   const std::vector<Vec3>& shear() const { return shear_; }
   void restore_shear(std::vector<Vec3> shear) { shear_ = std::move(shear); }
 

@@ -25,6 +25,7 @@ ActiveRegion::ActiveRegion(const ActiveRegionSettings& settings, double dt, cons
   s_.held_force.assign(n, Vec3::Zero());
   s_.reference.assign(n, Vec3::Zero());
   s_.reference_due.assign(n, 0);
+  s_.quiet.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     if (p.species[i] == Species::Frozen) s_.held[i] = 1;
     if (p.species[i] == Species::Intruder) intruders_.push_back(static_cast<int>(i));
@@ -37,7 +38,7 @@ double ActiveRegion::distance_to_intruders(const Particles& p, const Box& box, c
   return std::sqrt(d2);
 }
 
-bool ActiveRegion::after_step(Particles& p, const Box& box, long step, double gravity) {
+bool ActiveRegion::after_step(Particles& p, const Box& box, long step, const Vec3& gravity) {
   ++s_.interval_steps;
   if (step % check_steps_ != 0) return false;
 
@@ -47,7 +48,7 @@ bool ActiveRegion::after_step(Particles& p, const Box& box, long step, double gr
   for (int in : intruders_) speed = std::max(speed, p.v[in].norm());
   const double reach = settings_.radius + speed * check_steps_ * dt_;
   const double per_step = 1.0 / static_cast<double>(std::max<std::int64_t>(1, s_.interval_steps));
-  const double wake = settings_.wake_force * gravity;
+  const double wake = settings_.wake_force * gravity.norm();
   const double rest = settings_.sleep_distance;
   const long n = static_cast<long>(p.size());
   long woke = 0, slept = 0, sleeping = 0;
@@ -56,7 +57,9 @@ bool ActiveRegion::after_step(Particles& p, const Box& box, long step, double gr
     if (p.species[i] != Species::Mobile) continue;
     const bool near = distance_to_intruders(p, box, p.x[i]) < reach;
     if (s_.held[i]) {
-      const Vec3 net = s_.force_sum[i] * per_step + s_.held_force[i];
+      // A quiet grain felt its weight alone at every step of the interval.
+      const Vec3 mean = s_.quiet[i] == kQuiet ? Vec3(p.mass[i] * gravity) : Vec3(s_.force_sum[i] * per_step);
+      const Vec3 net = mean + s_.held_force[i];
       s_.force_sum[i].setZero();
       if (!near && s_.reference_due[i]) {
         s_.reference[i] = net;
@@ -64,6 +67,7 @@ bool ActiveRegion::after_step(Particles& p, const Box& box, long step, double gr
       }
       if (near || (net - s_.reference[i]).norm() > wake * p.mass[i]) {
         s_.held[i] = 0;
+        s_.quiet[i] = 0;
         s_.at_rest[i] = 0;
         s_.anchor[i] = p.x[i];
         ++woke;
@@ -94,10 +98,33 @@ bool ActiveRegion::after_step(Particles& p, const Box& box, long step, double gr
   return woke + slept > 0;
 }
 
+void ActiveRegion::classify_quiet(Particles& p, const std::vector<std::uint8_t>& exposed, bool promote,
+                                  const Vec3& gravity) {
+  if (!settings_.skip_quiet) return;
+  const long n = static_cast<long>(p.size());
+  const double steps = static_cast<double>(s_.interval_steps);
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i) {
+    if (s_.quiet[i]) {
+      if (!exposed[i]) continue;
+      if (s_.quiet[i] == kQuiet) {
+        // Stepped again from now: its force sum so far is its weight at every step, and its
+        // force is accumulated afresh (a list build comes after the first half-kick cleared it).
+        s_.force_sum[i] = p.mass[i] * gravity * steps;
+        p.f[i].setZero();
+        p.torque[i].setZero();
+      }
+      s_.quiet[i] = 0;
+    } else if (promote && s_.held[i] && !exposed[i] && p.species[i] == Species::Mobile) {
+      s_.quiet[i] = kTurningQuiet;
+    }
+  }
+}
+
 void ActiveRegion::restore(const State& s, const Particles& p) {
   const std::size_t n = p.size();
   for (std::size_t size : {s.held.size(), s.at_rest.size(), s.anchor.size(), s.force_sum.size(),
-                           s.held_force.size(), s.reference.size(), s.reference_due.size()})
+                           s.held_force.size(), s.reference.size(), s.reference_due.size(), s.quiet.size()})
     if (size != n)
       throw Error("the active region's saved state does not match the bed's " + std::to_string(n) +
                   " bodies");

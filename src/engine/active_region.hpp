@@ -21,6 +21,13 @@
 // the interval), gravity, and its contacts with other held bodies, which are constant while both
 // are held and evaluated once whenever the held set changes. Frozen base grains count as held.
 //
+// A held grain none of whose list partners is awake (nor the wall, nor an intruder) is quiet:
+// nothing acts on it but gravity and its held partners, so no step touches it (its force stays
+// m g, as the full path computes it). Most of a settled bed far from the intruder is quiet, and
+// the integrator's passes over it were most of what a sleeping grain still cost. A grain turns
+// quiet only at a check where the held set changed, and stops being quiet at any list build
+// that gives it an awake partner, or when it wakes.
+//
 // Decisions are taken every check interval (a fraction of sleep_time, short enough that the
 // intruder moves at most half a grain diameter) in one parallel pass, so the bookkeeping costs
 // an addition per held grain and step, and the held set changes only then. Off (radius 0),
@@ -41,6 +48,7 @@ struct ActiveRegionSettings {
   double sleep_time = 1.0;       // sqrt(d/g): at rest for this long before falling asleep
   double wake_force = 0.5;       // fraction of the grain's weight m g
   double check_interval = 0.25;  // sqrt(d/g) between decisions (the pull derives it)
+  bool skip_quiet = true;        // false: every held grain is stepped (the reference for tests)
   bool enabled() const { return radius > 0; }
 };
 
@@ -56,6 +64,7 @@ class ActiveRegion {
     std::vector<Vec3> held_force;             // per held grain: from its held partners (constant)
     std::vector<Vec3> reference;              // per held grain: its mean net force after it fell asleep
     std::vector<std::uint8_t> reference_due;  // per held grain: take it at the next check
+    std::vector<std::uint8_t> quiet;          // per body: kQuiet, kTurningQuiet or 0
     std::int64_t interval_steps = 0;          // steps summed into force_sum
     std::int64_t wake_ups = 0, sleeps = 0;
   };
@@ -66,13 +75,28 @@ class ActiveRegion {
   long check_steps() const { return check_steps_; }
   // Per body: 1 when held in place this step; the contact loop skips pairs of two.
   const std::vector<std::uint8_t>& held() const { return s_.held; }
-  // Called by the integrator for each held grain once its force of the step is complete.
-  void add_force(long i, const Vec3& f) { s_.force_sum[i] += f; }
+  // Called by the integrator for each held grain it steps, once its force of the step is
+  // complete: a grain turning quiet has now been stepped the once that leaves its force m g.
+  void add_force(long i, const Vec3& f) {
+    s_.force_sum[i] += f;
+    if (s_.quiet[i] == kTurningQuiet) s_.quiet[i] = kQuiet;
+  }
   // After the forces and the second half-kick of step `step` (1-based): at a check, puts grains
   // to sleep and wakes them. Returns true when the held set changed: the caller then re-sorts
   // the contact loop and hands the held partners' forces to set_held_forces().
-  bool after_step(Particles& p, const Box& box, long step, double gravity);
+  bool after_step(Particles& p, const Box& box, long step, const Vec3& gravity);
   std::vector<Vec3>& held_forces() { return s_.held_force; }
+  // Per body: kQuiet when quiet (held, no awake partner): the integrator skips it.
+  static constexpr std::uint8_t kQuiet = 1, kTurningQuiet = 2;
+  const std::vector<std::uint8_t>& quiet() const { return s_.quiet; }
+  // `exposed`: per body, 1 when a list partner of it is not held like it (or it may touch the
+  // wall or an intruder). Quiet grains that are exposed stop being quiet (their force sum
+  // catches up with the steps they were not stepped, their force and torque are cleared);
+  // with `promote` (only at a check, after the held set changed), held grains that are not
+  // exposed turn quiet after one more step, whose forces leave them m g and no torque, what
+  // the full path gives them at every step from then on.
+  void classify_quiet(Particles& p, const std::vector<std::uint8_t>& exposed, bool promote,
+                      const Vec3& gravity);
 
   long sleeping() const { return sleeping_; }  // mobile grains asleep now
   std::int64_t wake_ups() const { return s_.wake_ups; }

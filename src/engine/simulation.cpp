@@ -106,9 +106,10 @@ void Simulation::step() {
     }
   }
   ++steps_;
-  if (region_ && region_->after_step(p_, box_, steps_, settings_.gravity.norm())) {
+  if (region_ && region_->after_step(p_, box_, steps_, settings_.gravity)) {
     contacts_->held_changed();
     contacts_->held_pair_forces(p_, box_, contact_, region_->held_forces());
+    classify_quiet(true);
   }
   timers_.stamp(Phase::Integrate);
 }
@@ -153,7 +154,11 @@ double Simulation::initial_integrate(long first, long last) {
   const double* x0 = measure ? reference->data()->data() : nullptr;
   double max_drift_sq = measure ? 0.0 : HUGE_VAL;
   const std::uint8_t* held = region_ ? region_->held().data() : nullptr;  // asleep: not moved
+  const std::uint8_t* quiet = region_ ? region_->quiet().data() : nullptr;
   for (long i = first; i < last; ++i) {
+    // Held, nothing but gravity on it: its force stays m g, and it has not moved since the
+    // lists were built or since it was last measured (within half a skin).
+    if (quiet && quiet[i] == ActiveRegion::kQuiet) continue;
     const Species kind = p_.species[i];
     if (kind == Species::Mobile && !(held && held[i])) {
       const double kick_v = kick_v_[i], kick_w = kick_w_[i];
@@ -207,7 +212,9 @@ void Simulation::final_integrate(long first, long last) {
   const double* f = p_.f.data()->data();
   const double* tq = p_.torque.data()->data();
   const std::uint8_t* held = region_ ? region_->held().data() : nullptr;
+  const std::uint8_t* quiet = region_ ? region_->quiet().data() : nullptr;
   for (long i = first; i < last; ++i) {
+    if (quiet && quiet[i] == ActiveRegion::kQuiet) continue;
     add_body_force(i);
     if (p_.species[i] != Species::Mobile) continue;
     if (held && held[i]) {  // asleep: its force is summed for the wake test, not integrated
@@ -269,6 +276,14 @@ void Simulation::lists_rebuilt() {
   if (!settings_.brute_force) wall_.select(p_, settings_.skin);
   // Species may have changed since (a base frozen through particles()).
   balance_bodies(omp_get_max_threads());
+  if (region_) classify_quiet(false);
+}
+
+void Simulation::classify_quiet(bool promote) {
+  std::vector<std::uint8_t> exposed(p_.size(), 0);
+  contacts_->mark_exposed(exposed);
+  if (box_.wall) wall_.mark_near(exposed);
+  region_->classify_quiet(p_, exposed, promote, settings_.gravity);
 }
 
 Simulation::State Simulation::state() const {

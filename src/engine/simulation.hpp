@@ -88,6 +88,8 @@ class Simulation {
   // Gravity on a mobile grain; nothing on a frozen one. Inlined: a call per body cost 1 % of a pull.
   [[gnu::always_inline]] inline void add_body_force(long i);
   void lists_rebuilt();  // the wall's candidates and the integrator's split follow the lists
+  // The active region's quiet grains (ActiveRegion::classify_quiet) from the lists as they are.
+  void classify_quiet(bool promote);
   // The integrator's bodies are split into one contiguous range per thread of about equal cost.
   void balance_bodies(int threads);
   void ensure_body_split();  // balances if the thread count or the number of bodies changed

@@ -53,6 +53,7 @@ void write_region(h5::File& f, const ActiveRegion::State& s) {
   f.write_rows("/active_region/held_force", s.held_force);
   f.write_rows("/active_region/reference", s.reference);
   f.write("/active_region/reference_due", s.reference_due);
+  f.write("/active_region/quiet", s.quiet);
   f.write("/active_region/counters", std::vector<std::int64_t>{s.interval_steps, s.wake_ups, s.sleeps});
 }
 
@@ -67,6 +68,12 @@ ActiveRegion::State read_region(const h5::File& f) {
   s.held_force = f.read_vec3("/active_region/held_force");
   s.reference = f.read_vec3("/active_region/reference");
   s.reference_due = f.read_uint8("/active_region/reference_due");
+  // Written before quiet grains were skipped: none quiet, every held grain stepped (the same
+  // physics; the first check that changes the held set finds the quiet ones).
+  if (f.exists("/active_region/quiet"))
+    s.quiet = f.read_uint8("/active_region/quiet");
+  else
+    s.quiet.assign(s.held.size(), 0);
   const std::vector<std::int64_t> counters = f.read_int64("/active_region/counters");
   s.interval_steps = counters.at(0);
   s.wake_ups = counters.at(1);

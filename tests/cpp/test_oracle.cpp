@@ -185,6 +185,10 @@ TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
     }
     const ActiveRegion& region = *fast.active_region();
     EXPECT_GT(region.sleeping(), 300) << "most of the scene asleep";
+    // Most of them quiet, skipped by the fast path's integrator and stepped by the oracle's.
+    EXPECT_GT(std::count(region.quiet().begin(), region.quiet().end(), ActiveRegion::kQuiet), 200);
+    EXPECT_EQ(std::count(brute.active_region()->quiet().begin(), brute.active_region()->quiet().end(), 0),
+              static_cast<long>(n));
     EXPECT_GT(region.wake_ups(), 0) << "the intruder woke some";
     EXPECT_EQ(region.wake_ups(), brute.active_region()->wake_ups());
     // What was held throughout has not moved, nor have the springs between two such bodies.
