@@ -136,6 +136,21 @@ void Simulation::run(long steps, bool show_progress) {
   }
 }
 
+// Calls body(i) for the bodies first .. last - 1 in order, except the active region's quiet
+// grains: with the region, from its list of the others (a settled bed is mostly quiet, and a
+// pass over every body to skip them cost more than the bodies left).
+template <class Body>
+void Simulation::for_stepped(long first, long last, Body&& body) {
+  if (!region_ || stepped_.empty()) {
+    for (long i = first; i < last; ++i) body(i);
+    return;
+  }
+  const std::uint8_t* quiet = region_->quiet().data();
+  const auto end = std::lower_bound(stepped_.begin(), stepped_.end(), last);
+  for (auto k = std::lower_bound(stepped_.begin(), end, first); k != end; ++k)
+    if (quiet[*k] != ActiveRegion::kQuiet) body(*k);
+}
+
 // The passes over the bodies are fused: the first half-kick also clears the forces it has used
 // and measures how far each body has moved since the last list build (the rebuild check), and
 // the second adds gravity before it kicks, so a step reads the arrays twice, not four times.
@@ -154,11 +169,9 @@ double Simulation::initial_integrate(long first, long last) {
   const double* x0 = measure ? reference->data()->data() : nullptr;
   double max_drift_sq = measure ? 0.0 : HUGE_VAL;
   const std::uint8_t* held = region_ ? region_->held().data() : nullptr;  // asleep: not moved
-  const std::uint8_t* quiet = region_ ? region_->quiet().data() : nullptr;
-  for (long i = first; i < last; ++i) {
-    // Held, nothing but gravity on it: its force stays m g, and it has not moved since the
-    // lists were built or since it was last measured (within half a skin).
-    if (quiet && quiet[i] == ActiveRegion::kQuiet) continue;
+  // Quiet grains are not visited: held, nothing but gravity on them, their force stays m g, and
+  // they have not moved since the lists were built or since they were last measured.
+  for_stepped(first, last, [&](long i) {
     const Species kind = p_.species[i];
     if (kind == Species::Mobile && !(held && held[i])) {
       const double kick_v = kick_v_[i], kick_w = kick_w_[i];
@@ -171,13 +184,13 @@ double Simulation::initial_integrate(long first, long last) {
       for (int d = 0; d < 3; ++d) x[3 * i + d] += dt * v[3 * i + d];
     }
     for (int d = 0; d < 3; ++d) f[3 * i + d] = tq[3 * i + d] = 0.0;
-    if (!measure) continue;
+    if (!measure) return;
     const double dx = x[3 * i] - x0[3 * i], dy = x[3 * i + 1] - x0[3 * i + 1],
                  dz = x[3 * i + 2] - x0[3 * i + 2];
     const double d2 = dx * dx + dy * dy + dz * dz;
     // Written so that a NaN displacement wins: the rebuild it forces reports it.
     if (!(d2 <= max_drift_sq)) max_drift_sq = std::isnan(d2) ? HUGE_VAL : d2;
-  }
+  });
   return max_drift_sq;
 }
 
@@ -212,21 +225,19 @@ void Simulation::final_integrate(long first, long last) {
   const double* f = p_.f.data()->data();
   const double* tq = p_.torque.data()->data();
   const std::uint8_t* held = region_ ? region_->held().data() : nullptr;
-  const std::uint8_t* quiet = region_ ? region_->quiet().data() : nullptr;
-  for (long i = first; i < last; ++i) {
-    if (quiet && quiet[i] == ActiveRegion::kQuiet) continue;
+  for_stepped(first, last, [&](long i) {
     add_body_force(i);
-    if (p_.species[i] != Species::Mobile) continue;
+    if (p_.species[i] != Species::Mobile) return;
     if (held && held[i]) {  // asleep: its force is summed for the wake test, not integrated
       region_->add_force(i, p_.f[i]);
-      continue;
+      return;
     }
     const double kick_v = kick_v_[i], kick_w = kick_w_[i];
     for (int d = 0; d < 3; ++d) {
       v[3 * i + d] += kick_v * f[3 * i + d];
       w[3 * i + d] += kick_w * tq[3 * i + d];
     }
-  }
+  });
 }
 
 // A mobile grain costs the integrator several times what a frozen one or an intruder does
@@ -284,6 +295,11 @@ void Simulation::classify_quiet(bool promote) {
   contacts_->mark_exposed(exposed);
   if (box_.wall) wall_.mark_near(exposed);
   region_->classify_quiet(p_, exposed, promote, settings_.gravity);
+  // Grains turning quiet stay listed until the next classification (for_stepped skips them).
+  stepped_.clear();
+  const std::vector<std::uint8_t>& quiet = region_->quiet();
+  for (std::size_t i = 0; i < quiet.size(); ++i)
+    if (quiet[i] != ActiveRegion::kQuiet) stepped_.push_back(static_cast<int>(i));
 }
 
 Simulation::State Simulation::state() const {

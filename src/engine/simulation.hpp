@@ -88,8 +88,11 @@ class Simulation {
   // Gravity on a mobile grain; nothing on a frozen one. Inlined: a call per body cost 1 % of a pull.
   [[gnu::always_inline]] inline void add_body_force(long i);
   void lists_rebuilt();  // the wall's candidates and the integrator's split follow the lists
-  // The active region's quiet grains (ActiveRegion::classify_quiet) from the lists as they are.
+  // The active region's quiet grains (ActiveRegion::classify_quiet) from the lists as they are,
+  // and the list of the others.
   void classify_quiet(bool promote);
+  template <class Body>
+  void for_stepped(long first, long last, Body&& body);
   // The integrator's bodies are split into one contiguous range per thread of about equal cost.
   void balance_bodies(int threads);
   void ensure_body_split();  // balances if the thread count or the number of bodies changed
@@ -102,6 +105,7 @@ class Simulation {
   double dt_;
   std::unique_ptr<ContactLoop> contacts_;
   std::unique_ptr<ActiveRegion> region_;
+  std::vector<int> stepped_;  // with the region: the bodies that are not quiet, ascending
   WallContacts wall_;
   std::vector<long> body_split_;         // thread t integrates bodies body_split_[t] .. body_split_[t+1]
   std::vector<double> kick_v_, kick_w_;  // per body: dt / 2m and dt / 2I
