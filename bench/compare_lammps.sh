@@ -72,6 +72,8 @@ if [ -z "$bed" ]; then
   fi
 fi
 bed=$(realpath "$bed")
+label="$size"  # the bed's name in the table: the recipe's size, or the file given with --bed
+[ "$bed" = "$(realpath "$out/bed-$size.h5")" ] || label=$(basename "$bed")
 dt=$(/usr/bin/python3 -c "import h5py; print(repr(float(h5py.File('$bed')['/contact'].attrs['dt'])))")
 # The study's sampling: `granudrag pull`'s default sample_interval, in steps of this bed's dt.
 if [ -z "$every" ]; then
@@ -110,7 +112,7 @@ for c in $cores; do
   done
 done
 
-/usr/bin/python3 - "$run" "$grains" "$steps" "$pairs" "$cores" "$size" "$speed" "$radius" <<'PYEOF'
+/usr/bin/python3 - "$run" "$grains" "$steps" "$pairs" "$cores" "$label" "$speed" "$radius" <<'PYEOF'
 import re
 import statistics as st
 import sys
