@@ -291,13 +291,19 @@ void Simulation::lists_rebuilt() {
 }
 
 void Simulation::classify_quiet(bool promote) {
+  // At a list build only quiet grains can change (back to stepped): with none, and every body
+  // stepped already, the pass over every pair would change nothing.
+  const std::vector<std::uint8_t>& quiet = region_->quiet();
+  const bool all_stepped = stepped_.empty() || stepped_.size() == p_.size();
+  if (!promote && all_stepped &&
+      std::none_of(quiet.begin(), quiet.end(), [](std::uint8_t q) { return q != 0; }))
+    return;
   std::vector<std::uint8_t> exposed(p_.size(), 0);
   contacts_->mark_exposed(exposed);
   if (box_.wall) wall_.mark_near(exposed);
   region_->classify_quiet(p_, exposed, promote, settings_.gravity);
   // Grains turning quiet stay listed until the next classification (for_stepped skips them).
   stepped_.clear();
-  const std::vector<std::uint8_t>& quiet = region_->quiet();
   for (std::size_t i = 0; i < quiet.size(); ++i)
     if (quiet[i] != ActiveRegion::kQuiet) stepped_.push_back(static_cast<int>(i));
 }

@@ -24,8 +24,7 @@ Settings pull_settings(const Bed& bed, const PullSpec& spec) {
   // Decisions four times per dwell, and before the intruder has moved half a grain diameter.
   s.active.check_interval = std::max(bed.dt, std::min(0.25 * spec.active.sleep_time, 0.5 / spec.speed));
   // At rest relative to V: around a yield pull the grains creep at a few percent of V, and an
-  // absolute threshold (0.01 d per sqrt(d/g), a third of V = 0.03) held them, stiffening the
-  // bed (+47 % drag for D = 6 at R = 6 d, 40 d box); 1 % of V held only the static far field.
+  // absolute threshold held them and stiffened the bed (docs/pour-and-pull.md, active region).
   s.active.sleep_distance =
       spec.sleep_speed * spec.speed * std::max(spec.active.sleep_time, s.active.check_interval);
   return s;

@@ -51,6 +51,18 @@ bool run(ActiveRegion& region, Pair& s, long& step, long steps, const Vec3& forc
   return changed;
 }
 
+// A pull through the small bed in which most grains fall asleep early: outside 3 d of the
+// intruder, at rest after 0.2 time units (0.05 d over sleep_time at V = 0.5).
+PullSpec sleeping_pull() {
+  PullSpec spec;
+  spec.speed = 0.5;
+  spec.distance = 1.0;
+  spec.active.radius = 3;
+  spec.active.sleep_time = 0.2;
+  spec.sleep_speed = 0.5;
+  return spec;
+}
+
 }  // namespace
 
 TEST(ActiveRegion, AGrainAtRestFarFromTheIntruderFallsAsleepAfterTheDwellAndIsHeldStill) {
@@ -122,13 +134,8 @@ TEST(ActiveRegion, ARegionWiderThanTheBoxChangesNoBitOfAPull) {
 
 TEST(ActiveRegion, APullWithSleepingGrainsResumesFromACheckpointBitwise) {
   support::ThreadCount tc(1);  // the 2-thread schedules with sleeping grains: test_oracle.cpp
-  PullSpec spec;
-  spec.speed = 0.5;
-  spec.distance = 1.0;
+  PullSpec spec = sleeping_pull();
   spec.checkpoint_every = 400;
-  spec.active.radius = 3;
-  spec.active.sleep_time = 0.2;
-  spec.sleep_speed = 0.5;  // 0.05 d over sleep_time at V = 0.5
   Pull whole(small_bed(), spec);
   std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
   whole.run(false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); });
@@ -156,12 +163,7 @@ TEST(ActiveRegion, APullWithSleepingGrainsResumesFromACheckpointBitwise) {
 // must give the same bits, wake-ups and all, with the default wake test.
 TEST(ActiveRegion, SkippingQuietGrainsChangesNoBitOfAPull) {
   support::ThreadCount tc(1);
-  PullSpec spec;
-  spec.speed = 0.5;
-  spec.distance = 1.0;
-  spec.active.radius = 3;
-  spec.active.sleep_time = 0.2;
-  spec.sleep_speed = 0.5;
+  PullSpec spec = sleeping_pull();
   spec.checkpoint_every = 200;  // to look at the quiet grains on the way
   long most_quiet = 0;
   Pull skipping(small_bed(), spec);
