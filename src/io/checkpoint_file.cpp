@@ -1,5 +1,6 @@
 #include "io/checkpoint_file.hpp"
 
+#include <cmath>
 #include <cstdio>
 
 #include "core/error.hpp"
@@ -29,6 +30,8 @@ void write_pull_record(h5::File& f, const PullRecord& r) {
   f.set_attr("/pull", "theta_count", static_cast<std::int64_t>(r.theta_count));
   f.write("/pull/theta_histogram",
           std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
+  f.write("/pull/theta_sum_series", r.theta_sum_series);
+  f.write("/pull/theta_count_series", r.theta_count_series);
   f.write("/pull/z_histogram", std::vector<std::int64_t>(r.z_histogram.begin(), r.z_histogram.end()));
   f.write("/pull/shell_grains", std::vector<std::int64_t>(r.shells.grains.begin(), r.shells.grains.end()));
   f.write("/pull/shell_contacts",
@@ -97,6 +100,19 @@ PullRecord read_pull_record(const h5::File& f) {
   r.theta_count = f.get_attr_int64("/pull", "theta_count");
   const auto th = f.read_int64("/pull/theta_histogram");
   r.theta_histogram.assign(th.begin(), th.end());
+  if (f.exists("/pull/theta_sum_series")) {
+    r.theta_sum_series = f.read_doubles("/pull/theta_sum_series");
+    r.theta_count_series = f.read_doubles("/pull/theta_count_series");
+    if (r.theta_sum_series.size() != r.time.size() || r.theta_count_series.size() != r.time.size())
+      throw Error("/pull/theta_sum_series or /pull/theta_count_series is not as long as /pull/time");
+  } else if (!r.time.empty()) {
+    // Written before the series: unknown per interval; its last entry is the totals so far, the
+    // baseline of the intervals to come (Pull::theta_error).
+    r.theta_sum_series.assign(r.time.size(), NAN);
+    r.theta_count_series.assign(r.time.size(), NAN);
+    r.theta_sum_series.back() = r.theta_sum;
+    r.theta_count_series.back() = static_cast<double>(r.theta_count);
+  }
   const auto zh = f.read_int64("/pull/z_histogram");
   r.z_histogram.assign(zh.begin(), zh.end());
   // Checkpoints written before the shells have none: counted from the resume on.

@@ -104,6 +104,10 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
   scalar(
       "theta", res.theta, res.theta_error,
       "mean angle between the intruder velocity and the intruder-to-grain line at contact formation (rad)");
+  f.set_attr("/observables/theta", "error_dof", res.theta_dof);
+  f.set_attr("/observables/theta", "error_method",
+             std::string("the angles' sum and count per sample interval, the ratio's error by the "
+                         "delta method and the drag's estimator (correlated formations counted as such)"));
   f.write("/observables/theta/histogram",
           std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
   scalar("bulk_coordination", res.bulk_coordination, NAN,

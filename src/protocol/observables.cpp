@@ -198,6 +198,23 @@ MeanError mean_error(const std::vector<double>& x) {
   return r;
 }
 
+MeanError ratio_error(const std::vector<double>& sums, const std::vector<double>& counts) {
+  MeanError r;
+  double s = 0, c = 0;
+  for (std::size_t k = 0; k < sums.size(); ++k) s += sums[k], c += counts[k];
+  if (!(c > 0)) return r;
+  r.mean = s / c;
+  const double per_sample = c / static_cast<double>(counts.size());
+  std::vector<double> e(sums.size());
+  for (std::size_t k = 0; k < sums.size(); ++k) e[k] = (sums[k] - r.mean * counts[k]) / per_sample;
+  const MeanError linear = mean_error(e);
+  r.error = linear.error;
+  r.dof = linear.dof;
+  r.window = linear.window;
+  r.plateau = linear.plateau;
+  return r;
+}
+
 double block_average_error(const std::vector<double>& x) { return mean_error(x).error; }
 
 std::vector<PrefixError> prefix_errors(const std::vector<double>& x) {

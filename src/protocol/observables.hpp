@@ -17,6 +17,14 @@ struct MeanError {
 // NaN error for fewer than 8 samples.
 MeanError mean_error(const std::vector<double>& x);
 
+// The ratio sum(s)/sum(c) of a series of per-sample sums s_k of counted items and their counts
+// c_k (the contact angles formed in each sample interval), and its standard error. Items of one
+// sample, and of neighbouring samples, are not independent (a grain chattering on the intruder
+// forms a contact at one angle many times), so the error is not the items' sd / sqrt(count): it
+// is mean_error of the linearized series (s_k - r c_k) / mean(c) (the delta method), which
+// carries their correlations. NaN for fewer than 8 samples or no items.
+MeanError ratio_error(const std::vector<double>& sums, const std::vector<double>& counts);
+
 // The standard error of mean_error (kept for callers that want the number only).
 double block_average_error(const std::vector<double>& x);
 

@@ -234,6 +234,8 @@ void Pull::end_of_interval() {
   record_.fy.push_back(record_.force_sum.y() / k);
   record_.fz.push_back(record_.force_sum.z() / k);
   record_.contacts.push_back(record_.contact_sum / k);
+  record_.theta_sum_series.push_back(record_.theta_sum);
+  record_.theta_count_series.push_back(static_cast<double>(record_.theta_count));
   if (const ActiveRegion* region = sim_.active_region())
     record_.sleeping.push_back(static_cast<double>(region->sleeping()));
   record_.force_sum.setZero();
@@ -305,6 +307,30 @@ void Pull::end_of_interval() {
 
 Particles Pull::particles_in_bed_order() const { return reordered(sim_.particles(), rank_); }
 
+// Per interval after the transient (those ending past t0: the angles are counted from t0 on),
+// the angles' sum and count, and ratio_error of them. A checkpoint written before the series
+// leaves NaN over its intervals: the error then comes from the intervals after the resume,
+// scaled by sqrt(their count / all), as a standard error of count items scales.
+MeanError Pull::theta_error(double t0) const {
+  std::vector<double> sums, counts;
+  double before_sum = 0, before_count = 0;
+  for (std::size_t k = 0; k < record_.time.size(); ++k) {
+    const double s = record_.theta_sum_series[k], c = record_.theta_count_series[k];
+    if (record_.time[k] > t0 && std::isfinite(s) && std::isfinite(before_sum)) {
+      sums.push_back(s - before_sum);
+      counts.push_back(c - before_count);
+    }
+    before_sum = s, before_count = c;
+  }
+  MeanError e = ratio_error(sums, counts);
+  double covered = 0;
+  for (double c : counts) covered += c;
+  if (covered > 0 && covered < record_.theta_count)
+    e.error *= std::sqrt(covered / static_cast<double>(record_.theta_count));
+  e.mean = record_.theta_sum / record_.theta_count;
+  return e;
+}
+
 PullResult Pull::result() const {
   PullResult r;
   const double D = 2 * bed_.state.particles.radius[bed_.intruder];
@@ -336,10 +362,10 @@ PullResult Pull::result() const {
   r.coordination = coordination.mean;
   r.coordination_error = coordination.error;
   if (record_.theta_count > 0) {
-    const double m = record_.theta_sum / record_.theta_count;
-    r.theta = m;
-    const double var = record_.theta_sq_sum / record_.theta_count - m * m;
-    r.theta_error = std::sqrt(std::max(0.0, var) / record_.theta_count);
+    r.theta = record_.theta_sum / record_.theta_count;
+    const MeanError e = theta_error(t0);
+    r.theta_error = e.error;
+    r.theta_dof = e.dof;
   }
   long total = 0, weighted = 0;
   for (std::size_t z = 0; z < record_.z_histogram.size(); ++z) {

@@ -72,6 +72,9 @@ struct PullRecord {
   double theta_sum = 0, theta_sq_sum = 0;
   long theta_count = 0;
   std::vector<long> theta_histogram = std::vector<long>(36, 0);  // 5-degree bins on [0, pi]
+  // theta_sum and theta_count at the end of each sample interval: the series theta's error is
+  // estimated from (ratio_error). NaN for the intervals of a checkpoint written before it.
+  std::vector<double> theta_sum_series, theta_count_series;
   // Bulk coordination number of grains in the shell, after the transient.
   std::vector<long> z_histogram = std::vector<long>(16, 0);  // Z = 0 .. 15 (15: >= 15)
   CoordinationShells shells;  // Z in nested shells of every width, the same samples
@@ -108,12 +111,12 @@ struct PullResult {
   // (prefix_errors); travel per sample: samples_per_interval * dt * speed.
   std::vector<PrefixError> drag_convergence;
   double travel_per_sample = NAN;
-  double coordination = NAN;        // n: mean number of grains touching the intruder
-  double coordination_error = NAN;  // its standard error (mean_error, as the drag's)
-  double theta = NAN, theta_error = NAN;
-  double bulk_coordination = NAN;            // Z
-  std::vector<double> z_distribution;        // P(Z)
-  double kappa = NAN;                        // (Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8
+  double coordination = NAN;                               // n: mean number of grains touching the intruder
+  double coordination_error = NAN;                         // its standard error (mean_error, as the drag's)
+  double theta = NAN, theta_error = NAN, theta_dof = NAN;  // theta's error: ratio_error
+  double bulk_coordination = NAN;                          // Z
+  std::vector<double> z_distribution;                      // P(Z)
+  double kappa = NAN;                                      // (Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8
   std::vector<double> shell_z, shell_kappa;  // Z and kappa within R + CoordinationShells::widths
   double froude = NAN;                       // 2V sqrt(2D/g)/(D+d), paper Eq. 4
 };
@@ -165,6 +168,7 @@ class Pull {
   bool target_met() const;
   long samples_in_transient() const;
   double transient_distance() const;
+  MeanError theta_error(double t0) const;
   int grains_lost() const;
 
   Bed bed_;

@@ -1,8 +1,8 @@
 // Statistics of a pull's time series (protocol/observables.hpp): Student's t quantiles, the
 // error of the mean of correlated series and the coverage of its 95 % intervals (synthetic AR(1)
-// and AR(2) series, and recorded drag series), prefix errors and the running mean; and the rings
-// of the nested coordination shells (protocol/coordination_shells.hpp). No pull is run here;
-// the pulls are in test_pull.cpp.
+// and AR(2) series, and recorded drag series), the error of a ratio of sums (theta), prefix errors and the
+// running mean; and the rings of the nested coordination shells (protocol/coordination_shells.hpp). No pull
+// is run here; the pulls are in test_pull.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -206,6 +206,82 @@ TEST(Observables, AnAnticorrelatedShortSeriesGetsItsIndependentSampleErrorNotZer
   EXPECT_EQ(e.dof, 7);
   EXPECT_FALSE(e.plateau);
   EXPECT_EQ(mean_error(std::vector<double>(8, 2.0)).error, 0);  // a constant series: exactly 0
+}
+
+namespace {
+
+// Contact angles formed at the intruder, per sample interval: events (new grains) arrive as a
+// Poisson process of `rate` per interval, each at an angle ~ N(1.2, 0.4), and form their contact
+// again once in each of the next `repeats` - 1 intervals (a grain chattering on and off), so
+// the angles of one grain are counted `repeats` times.
+struct AngleSeries {
+  std::vector<double> sums, counts;
+};
+AngleSeries chattering_angles(long intervals, double rate, int repeats, std::mt19937_64& rng) {
+  std::poisson_distribution<int> arrivals(rate);
+  std::normal_distribution<double> angle(1.2, 0.4);
+  AngleSeries a{std::vector<double>(intervals + repeats, 0.0), std::vector<double>(intervals + repeats, 0.0)};
+  for (long k = 0; k < intervals; ++k)
+    for (int e = arrivals(rng); e > 0; --e) {
+      const double theta = angle(rng);
+      for (int r = 0; r < repeats; ++r) a.sums[k + r] += theta, a.counts[k + r] += 1;
+    }
+  a.sums.resize(intervals);
+  a.counts.resize(intervals);
+  return a;
+}
+
+// The spread of the ratio over independent realizations, and the mean of ratio_error's estimate
+// and of the independent-items error sd / sqrt(count) (what theta's error was before).
+struct RatioCheck {
+  double spread = 0, estimated = 0, independent_items = 0;
+};
+RatioCheck check_ratio(int repeats) {
+  std::mt19937_64 rng(11 + repeats);
+  const int realizations = 400;
+  double sum = 0, sq = 0;
+  RatioCheck c;
+  for (int r = 0; r < realizations; ++r) {
+    const AngleSeries a = chattering_angles(2000, 0.5, repeats, rng);
+    const MeanError e = ratio_error(a.sums, a.counts);
+    sum += e.mean, sq += e.mean * e.mean;
+    c.estimated += e.error / realizations;
+    double n = 0;
+    for (double x : a.counts) n += x;
+    c.independent_items += 0.4 / std::sqrt(n) / realizations;
+  }
+  const double m = sum / realizations;
+  c.spread = std::sqrt((sq / realizations - m * m) * realizations / (realizations - 1));
+  std::printf("angles counted %d times: spread of the ratio %.5f, ratio_error %.5f, sd/sqrt(count) %.5f\n",
+              repeats, c.spread, c.estimated, c.independent_items);
+  return c;
+}
+
+}  // namespace
+
+TEST(Observables, TheRatioErrorOfIndependentAnglesIsTheirStandardError) {
+  // 1,000 angles per realization, sd 0.4: 0.0126. The spread of 400 realizations is known to
+  // 3.5 %; the estimate is held to 12 % of it.
+  const RatioCheck c = check_ratio(1);
+  EXPECT_NEAR(c.spread, 0.4 / std::sqrt(1000.0), 0.1 * c.spread);
+  EXPECT_NEAR(c.estimated, c.spread, 0.12 * c.spread);
+  EXPECT_NEAR(c.independent_items, c.spread, 0.12 * c.spread);
+}
+
+TEST(Observables, TheRatioErrorCountsAChatteringGrainOnceNotEachTimeItTouches) {
+  // Each grain's angle counted 6 times over 6 intervals: 6,000 angles but 1,000 independent
+  // ones. The items' sd / sqrt(count) is sqrt(6) = 2.45 times too small; ratio_error is not.
+  const RatioCheck c = check_ratio(6);
+  EXPECT_NEAR(c.spread, 0.4 / std::sqrt(1000.0), 0.1 * c.spread);
+  EXPECT_NEAR(c.estimated, c.spread, 0.15 * c.spread);
+  EXPECT_LT(c.independent_items, 0.5 * c.spread);
+}
+
+TEST(Observables, TheRatioErrorNeedsEightIntervalsAndAnItem) {
+  EXPECT_TRUE(std::isnan(ratio_error(std::vector<double>(8, 0.0), std::vector<double>(8, 0.0)).mean));
+  const MeanError few = ratio_error({1, 2, 3}, {1, 1, 1});
+  EXPECT_DOUBLE_EQ(few.mean, 2);
+  EXPECT_TRUE(std::isnan(few.error));
 }
 
 TEST(Observables, PrefixErrorsAreTheErrorsOfGrowingPrefixes) {

@@ -38,6 +38,21 @@ TEST(Pull, MeasuresDragAndContactsOfAMovingIntruder) {
   EXPECT_LT(r.coordination_error, 0.5 * r.coordination);
   EXPECT_GT(r.theta, 0.0);
   EXPECT_LT(r.theta, M_PI / 2);  // contacts form in front of the intruder
+  // theta's error: ratio_error of the angles' sums and counts per interval past the transient.
+  std::vector<double> sums, counts;
+  const PullRecord& rec = pull.record();
+  for (std::size_t k = 0; k < rec.time.size(); ++k) {
+    if (rec.time[k] <= r.transient_distance / spec.speed) continue;
+    sums.push_back(rec.theta_sum_series[k] - (k ? rec.theta_sum_series[k - 1] : 0.0));
+    counts.push_back(rec.theta_count_series[k] - (k ? rec.theta_count_series[k - 1] : 0.0));
+  }
+  const MeanError theta = ratio_error(sums, counts);
+  EXPECT_NEAR(theta.mean, r.theta, 1e-12 * r.theta);
+  EXPECT_EQ(theta.error, r.theta_error);
+  EXPECT_EQ(theta.dof, r.theta_dof);
+  EXPECT_GT(r.theta_error, 0.0);
+  EXPECT_LT(r.theta_error, 0.2);
+  EXPECT_EQ(rec.theta_count_series.back(), static_cast<double>(rec.theta_count));
   EXPECT_GT(r.bulk_coordination, 2.0);
   EXPECT_LT(r.bulk_coordination, 8.0);
   double total = 0;
@@ -83,6 +98,23 @@ TEST(Pull, ResumedFromCheckpointIsBitwiseIdentical) {
   }
   EXPECT_EQ(whole.result().drag, resumed.result().drag);
   EXPECT_EQ(whole.record().fx, resumed.record().fx);
+  EXPECT_EQ(whole.result().theta_error, resumed.result().theta_error);
+
+  // From a checkpoint written before theta's series (io/checkpoint_file.cpp reads it so): theta
+  // is the same; its error comes from the intervals after the resume, scaled to all the angles.
+  const auto counted = std::find_if(checkpoints.begin(), checkpoints.end() - 1,
+                                    [](const auto& c) { return c.second.theta_count > 0; });
+  ASSERT_NE(counted, checkpoints.end() - 1) << "no checkpoint between the transient and the end";
+  PullRecord old = counted->second;
+  old.theta_sum_series.assign(old.time.size(), NAN);
+  old.theta_count_series.assign(old.time.size(), NAN);
+  old.theta_sum_series.back() = old.theta_sum;
+  old.theta_count_series.back() = static_cast<double>(old.theta_count);
+  Pull from_old(small_bed(), spec, counted->first, old);
+  from_old.run(false, [](const Pull&) {});
+  EXPECT_EQ(from_old.result().theta, whole.result().theta);
+  EXPECT_GT(from_old.result().theta_error, 0.5 * whole.result().theta_error);
+  EXPECT_LT(from_old.result().theta_error, 2.0 * whole.result().theta_error);
 }
 
 TEST(Pull, FramesComeAtStepZeroAndEveryDumpIntervalAndResumeWhereTheCheckpointCounted) {

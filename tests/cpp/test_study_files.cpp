@@ -2,6 +2,7 @@
 // with their provenance, beds of format version 1 still pulled from, and checkpoints refused
 // when written with other options or for another bed, naming the difference.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <cstdint>
 #include <memory>
@@ -241,4 +242,29 @@ TEST(CheckpointFile, ResumesOnlyWithTheSameOptionsAndBed) {
       error_of([&] { load_checkpoint(dir.file("v1.checkpoint.h5"), bed, pull_parameters(), controls); });
   EXPECT_MENTIONS(old, "format version 1");
   EXPECT_MENTIONS(old, "delete it to start the pull over");
+}
+
+TEST(CheckpointFile, ACheckpointWrittenBeforeThetasSeriesResumesWithItsTotalsAsTheBaseline) {
+  TempDir dir;
+  const Bed& bed = tiny_bed();
+  const auto pull_ptr = short_pull(bed);
+  const Pull& pull = *pull_ptr;
+  const std::string path = dir.file("run.h5.checkpoint.h5");
+  save_checkpoint(path, pull, pull_parameters(), ParameterRecord::of(pour_parameters()));
+  const std::vector<std::string> controls = {"threads", "quiet"};
+  EXPECT_EQ(load_checkpoint(path, bed, pull_parameters(), controls).record.theta_count_series,
+            pull.record().theta_count_series);
+  {
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(H5Ldelete(f, "/pull/theta_sum_series", H5P_DEFAULT), 0);
+    ASSERT_GE(H5Ldelete(f, "/pull/theta_count_series", H5P_DEFAULT), 0);
+    H5Fclose(f);
+  }
+  const PullRecord r = load_checkpoint(path, bed, pull_parameters(), controls).record;
+  ASSERT_FALSE(r.time.empty());
+  ASSERT_EQ(r.theta_sum_series.size(), r.time.size());
+  ASSERT_EQ(r.theta_count_series.size(), r.time.size());
+  for (std::size_t k = 0; k + 1 < r.time.size(); ++k) EXPECT_TRUE(std::isnan(r.theta_sum_series[k])) << k;
+  EXPECT_EQ(r.theta_sum_series.back(), pull.record().theta_sum);
+  EXPECT_EQ(r.theta_count_series.back(), static_cast<double>(pull.record().theta_count));
 }
