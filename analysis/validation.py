@@ -11,7 +11,13 @@ stiffest K_n). A variant agrees at a point when
 with e the drag's error. Where the variants were pulled through the same beds (the yield
 speed: one bed, several speeds; replicate beds by `seeds`), the comparison is paired, bed by
 bed: the bed's own randomness is common to both pulls and cancels, so the difference
-carries only the pulls' within-run errors. Elsewhere (other boxes and stiffnesses need their
+carries only the pulls' within-run errors. That error is an upper bound: two pulls through one
+bed meet the same grains, so their fluctuations are correlated too (in the 40 d box's D = 6
+yield pulls the per-bed drag differences scattered 5x less than it). With three or more beds
+the scatter of the per-bed differences measures the paired error directly, and each paired
+row reports it (`<obs>_beds_err`, `<obs>_beds_z`, for the drag and every judged observable; a
+Student t with beds - 1 dof): a shift smaller than the runs' errors but the same in every bed
+shows there. The verdict stays on z. Elsewhere (other boxes and stiffnesses need their
 own beds) the point table's errors, which include the scatter between beds, are used.
 
     python -m analysis validate yield_speed results/validate/runs.csv --output-dir DIR
@@ -123,7 +129,7 @@ def _difference(base, other, study, keys, ref, v):
                     "drag_err": np.sqrt((pairs.drag_err**2).sum()) / len(pairs)}
             if "asleep" in pairs.columns:
                 row["asleep"] = pairs.asleep.mean()
-            return _also(_verdict(row, diff, diff_err), pairs, study)
+            return _also(_verdict(row, diff, diff_err) | _beds("drag", d), pairs, study)
     f_ref, e_ref = base.drag.mean(), np.sqrt((base.drag_err**2).sum()) / len(base)
     f, e = other.drag.mean(), np.sqrt((other.drag_err**2).sum()) / len(other)
     row |= {"drag_ref": f_ref, "drag": f, "drag_err_ref": e_ref, "drag_err": e,
@@ -138,12 +144,21 @@ def _also(row, pairs, study):
         d = (pairs[col] - pairs[f"{col}_ref"]).mean()
         de = np.sqrt((pairs[err]**2 + pairs[f"{err}_ref"]**2).sum()) / len(pairs)
         z = d / de if de > 0 else np.inf * np.sign(d)
-        row |= {f"{col}_diff": d, f"{col}_diff_err": de, f"{col}_z": z}
+        row |= {f"{col}_diff": d, f"{col}_diff_err": de, f"{col}_z": z} | _beds(col, pairs[col] - pairs[f"{col}_ref"])
         row["agrees"] = bool(row["agrees"] and abs(z) < Z_AGREE)
     for col in study.also_reported:
         ref = pairs[f"{col}_ref"].mean()
         row[f"{col}_rel_diff"] = (pairs[col].mean() - ref) / ref if ref else np.nan
     return row
+
+
+def _beds(col, d):
+    """The per-bed differences' own error of their mean, sd / sqrt(beds), and the mean over it
+    (NaN below three beds: one degree of freedom says nothing)."""
+    if len(d) < 3:
+        return {f"{col}_beds_err": np.nan, f"{col}_beds_z": np.nan}
+    err = d.std(ddof=1) / np.sqrt(len(d))
+    return {f"{col}_beds_err": err, f"{col}_beds_z": d.mean() / err if err > 0 else np.inf * np.sign(d.mean())}
 
 
 def _verdict(row, diff, diff_err):

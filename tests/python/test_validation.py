@@ -135,3 +135,25 @@ def test_validate_writes_figure_table_and_sentence(tmp_path):
     back = pd.read_csv(tmp_path / "validate_yield_speed.csv")
     assert len(back) == 8 and {"z", "rel_diff", "agrees"} <= set(back.columns)
     assert "V = 0.03 instead of 0.01" in (tmp_path / "validate_yield_speed.md").read_text()
+
+
+def test_paired_rows_report_the_scatter_of_the_per_bed_differences():
+    """Pulls through one bed that share their fluctuations: a shift of 2 % the same in every
+    bed hides inside the runs' 5 % errors (z < 2) but not inside the differences' own scatter."""
+    rng = np.random.default_rng(5)
+    rows = []
+    for b in range(1, 6):
+        common = 1 + 0.05 * rng.standard_normal()     # the bed's path: the same in both pulls
+        for R, shift in ((0.0, 0.0), (12.0, 0.02)):
+            F = 100 * common * (1 + shift) * (1 + 0.002 * rng.standard_normal())
+            rows.append(dict(system=f"R{R:g}", D=6.0, h_requested=7.0, mu=0.5, kn=2e4, gamman=199.05, Fr=1.0,
+                             V=1.0, seed=b, active_radius=R, drag=F, drag_err=5.0, theta=1.0 + shift,
+                             theta_err=0.05, n_contacts=80.0, Z=4.5, sanity="clean"))
+    cmp = val.compare(pd.DataFrame(rows), "active_region")
+    row = cmp.iloc[0]
+    assert abs(row.z) < 1 and row.agrees                               # 2 / (5 sqrt(2/5)) = 0.6
+    d = np.array([r2["drag"] - r1["drag"] for r1, r2 in zip(rows[::2], rows[1::2])])
+    assert row.drag_beds_err == pytest.approx(d.std(ddof=1) / np.sqrt(5))
+    assert row.drag_beds_z > 5 and row.theta_beds_z == np.inf                # theta: +0.02 exactly
+    two = val.compare(pd.DataFrame([r for r in rows if r["seed"] <= 2]), "active_region")
+    assert np.isnan(two.iloc[0].drag_beds_z) and np.isnan(two.iloc[0].theta_beds_err)
