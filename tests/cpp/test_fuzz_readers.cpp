@@ -301,6 +301,33 @@ TEST(FuzzReaders, DamagedBedRunAndCheckpointFilesEndInANamedErrorOrAValidRead) {
   EXPECT_GT(tally.errors, tally.cases / 2);
 }
 
+TEST(FuzzReaders, AChunkStoredShorterThanItsDataIsRefusedByName) {
+  // One flipped bit in a checkpoint's chunk index declared a 3-double chunk 12 bytes long, and
+  // HDF5 copied 24 bytes out of the 12 it read. Written directly, such a chunk is that damage.
+  TempDir dir;
+  const std::string path = dir.file("short_chunk.h5");
+  {
+    const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t n = 3;
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(dcpl, 1, &n);
+    H5Pset_fletcher32(dcpl);
+    const hid_t d = H5Dcreate2(f, "/x", H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    const unsigned char chunk[12] = {};
+    const hsize_t origin = 0;
+    ASSERT_GE(H5Dwrite_chunk(d, H5P_DEFAULT, 0, &origin, sizeof chunk, chunk), 0);
+    H5Dclose(d);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+    H5Fclose(f);
+  }
+  const std::string why = error_of([&] { h5::File::open(path).read_doubles("/x"); });
+  EXPECT_NE(why.find("/x"), std::string::npos) << why;
+  EXPECT_NE(why.find("is damaged: it stores 12 bytes for 3 values of 8 bytes"), std::string::npos) << why;
+  EXPECT_NE(why.find("regenerate the file"), std::string::npos) << why;
+}
+
 TEST(FuzzReaders, DamagedParameterFilesEndInANamedError) {
   TempDir dir;
   const std::string valid =
