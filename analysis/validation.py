@@ -13,7 +13,7 @@ speed: one bed, several speeds; replicate beds by `seeds`), the comparison is pa
 bed: the bed's own randomness is common to both pulls and cancels, so the difference
 carries only the pulls' within-run errors. That error is an upper bound: two pulls through one
 bed meet the same grains, so their fluctuations are correlated too (in the 40 d box's D = 6
-yield pulls the per-bed drag differences scattered 5x less than it). With three or more beds
+yield pulls the per-bed drag differences scattered 3-6x less than it). With three or more beds
 the scatter of the per-bed differences measures the paired error directly, and each paired
 row reports it (`<obs>_beds_err`, `<obs>_beds_z`, for the drag and every judged observable; a
 Student t with beds - 1 dof): a shift smaller than the runs' errors but the same in every bed
