@@ -1,6 +1,5 @@
 #include "io/checkpoint_file.hpp"
 
-#include <cmath>
 #include <cstdio>
 
 #include "core/error.hpp"
@@ -105,14 +104,7 @@ PullRecord read_pull_record(const h5::File& f) {
     r.theta_count_series = f.read_doubles("/pull/theta_count_series");
     if (r.theta_sum_series.size() != r.time.size() || r.theta_count_series.size() != r.time.size())
       throw Error("/pull/theta_sum_series or /pull/theta_count_series is not as long as /pull/time");
-  } else if (!r.time.empty()) {
-    // Written before the series: unknown per interval; its last entry is the totals so far, the
-    // baseline of the intervals to come (Pull::theta_error).
-    r.theta_sum_series.assign(r.time.size(), NAN);
-    r.theta_count_series.assign(r.time.size(), NAN);
-    r.theta_sum_series.back() = r.theta_sum;
-    r.theta_count_series.back() = static_cast<double>(r.theta_count);
-  }
+  }  // else written before the series: the resumed Pull takes its totals as the baseline
   const auto zh = f.read_int64("/pull/z_histogram");
   r.z_histogram.assign(zh.begin(), zh.end());
   // Checkpoints written before the shells have none: counted from the resume on.

@@ -117,6 +117,17 @@ Pull::Pull(const Bed& bed, const PullSpec& spec, const Simulation::State& state,
     : Pull(bed, spec) {
   sim_.restore(state);
   record_ = std::move(record);
+  // A record written before theta's series (an older checkpoint) has none: its intervals are
+  // unknown, and the totals so far are the baseline of the intervals to come (theta_error).
+  if (record_.theta_sum_series.size() != record_.time.size() ||
+      record_.theta_count_series.size() != record_.time.size()) {
+    record_.theta_sum_series.assign(record_.time.size(), NAN);
+    record_.theta_count_series.assign(record_.time.size(), NAN);
+    if (!record_.time.empty()) {
+      record_.theta_sum_series.back() = record_.theta_sum;
+      record_.theta_count_series.back() = static_cast<double>(record_.theta_count);
+    }
+  }
   guard_ = RunGuard(guard_.limits(), record_.energy_start);
   guard_.restore(record_.max_overlap, record_.grains_lost);
 }

@@ -100,16 +100,14 @@ TEST(Pull, ResumedFromCheckpointIsBitwiseIdentical) {
   EXPECT_EQ(whole.record().fx, resumed.record().fx);
   EXPECT_EQ(whole.result().theta_error, resumed.result().theta_error);
 
-  // From a checkpoint written before theta's series (io/checkpoint_file.cpp reads it so): theta
-  // is the same; its error comes from the intervals after the resume, scaled to all the angles.
+  // From a record written before theta's series (an older checkpoint): theta is the same; its
+  // error comes from the intervals after the resume, scaled to all the angles.
   const auto counted = std::find_if(checkpoints.begin(), checkpoints.end() - 1,
                                     [](const auto& c) { return c.second.theta_count > 0; });
   ASSERT_NE(counted, checkpoints.end() - 1) << "no checkpoint between the transient and the end";
   PullRecord old = counted->second;
-  old.theta_sum_series.assign(old.time.size(), NAN);
-  old.theta_count_series.assign(old.time.size(), NAN);
-  old.theta_sum_series.back() = old.theta_sum;
-  old.theta_count_series.back() = static_cast<double>(old.theta_count);
+  old.theta_sum_series.clear();
+  old.theta_count_series.clear();
   Pull from_old(small_bed(), spec, counted->first, old);
   from_old.run(false, [](const Pull&) {});
   EXPECT_EQ(from_old.result().theta, whole.result().theta);
