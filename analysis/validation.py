@@ -141,10 +141,11 @@ def _also(row, pairs, study):
     """The paired comparison of the study's other observables: z and agreement for those with
     an error (the row agrees only if they all do), the relative difference for the rest."""
     for col, err in study.also_judged:
-        d = (pairs[col] - pairs[f"{col}_ref"]).mean()
+        diffs = pairs[col] - pairs[f"{col}_ref"]
+        d = diffs.mean()
         de = np.sqrt((pairs[err]**2 + pairs[f"{err}_ref"]**2).sum()) / len(pairs)
         z = d / de if de > 0 else np.inf * np.sign(d)
-        row |= {f"{col}_diff": d, f"{col}_diff_err": de, f"{col}_z": z} | _beds(col, pairs[col] - pairs[f"{col}_ref"])
+        row |= {f"{col}_diff": d, f"{col}_diff_err": de, f"{col}_z": z} | _beds(col, diffs)
         row["agrees"] = bool(row["agrees"] and abs(z) < Z_AGREE)
     for col in study.also_reported:
         ref = pairs[f"{col}_ref"].mean()

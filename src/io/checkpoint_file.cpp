@@ -25,7 +25,8 @@ void write_pull_record(h5::File& f, const PullRecord& r) {
   f.write("/pull/fy", r.fy);
   f.write("/pull/fz", r.fz);
   f.write("/pull/contacts", r.contacts);
-  f.write("/pull/theta_sums", std::vector<double>{r.theta_sum, r.theta_sq_sum});
+  // One entry (older checkpoints carry a second, the squares' sum the error no longer uses).
+  f.write("/pull/theta_sums", std::vector<double>{r.theta_sum});
   f.set_attr("/pull", "theta_count", static_cast<std::int64_t>(r.theta_count));
   f.write("/pull/theta_histogram",
           std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
@@ -95,7 +96,6 @@ PullRecord read_pull_record(const h5::File& f) {
   r.contacts = f.read_doubles("/pull/contacts");
   const auto theta = f.read_doubles("/pull/theta_sums");
   r.theta_sum = theta.at(0);
-  r.theta_sq_sum = theta.at(1);
   r.theta_count = f.get_attr_int64("/pull", "theta_count");
   const auto th = f.read_int64("/pull/theta_histogram");
   r.theta_histogram.assign(th.begin(), th.end());

@@ -214,30 +214,6 @@ hid_t memory_type(Want want) {
   return -1;
 }
 
-void require_stored_data(const Dataset& d, const std::string& file_name, std::size_t element_size);
-
-Dataset open_dataset(hid_t file, const std::string& file_name, const std::string& raw_path, Want want) {
-  Dataset d;
-  d.path = canonical(raw_path);
-  if (!object_exists(file, d.path)) throw Error("no dataset " + in_file(d.path, file_name));
-  if (kind_of(file, d.path) == H5I_GROUP)
-    throw Error(in_file(d.path, file_name) + " is a group, not a dataset");
-  d.dset = Handle(H5Dopen2(file, d.path.c_str(), H5P_DEFAULT), H5Dclose);
-  if (!d.dset.ok()) throw Error("cannot open dataset " + in_file(d.path, file_name) + hdf5_reason());
-  const Handle type(H5Dget_type(d.dset.get()), H5Tclose);
-  if (!accepts(want, type.get()))
-    throw Error("dataset " + in_file(d.path, file_name) + " holds " + describe(type.get()) + ", not " +
-                wanted(want));
-  const Handle space(H5Dget_space(d.dset.get()), H5Sclose);
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  if (rank < 0) throw Error("cannot read the shape of " + in_file(d.path, file_name) + hdf5_reason());
-  d.dims.resize(static_cast<std::size_t>(rank));
-  H5Sget_simple_extent_dims(space.get(), d.dims.data(), nullptr);
-  d.count = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
-  require_stored_data(d, file_name, H5Tget_size(type.get()));
-  return d;
-}
-
 // Written here, a dataset's chunks hold their data whole (Fletcher-32 is the only filter), so it
 // stores at least count x element size bytes. A damaged chunk index can declare a chunk shorter
 // than that, and HDF5 (1.10) then copies the full chunk out of the short buffer it read: a heap
@@ -261,6 +237,28 @@ void require_stored_data(const Dataset& d, const std::string& file_name, std::si
     throw Error("dataset " + in_file(d.path, file_name) + " is damaged: it stores " + std::to_string(stored) +
                 " bytes for " + std::to_string(d.count) + " values of " + std::to_string(element_size) +
                 " bytes; regenerate the file");
+}
+
+Dataset open_dataset(hid_t file, const std::string& file_name, const std::string& raw_path, Want want) {
+  Dataset d;
+  d.path = canonical(raw_path);
+  if (!object_exists(file, d.path)) throw Error("no dataset " + in_file(d.path, file_name));
+  if (kind_of(file, d.path) == H5I_GROUP)
+    throw Error(in_file(d.path, file_name) + " is a group, not a dataset");
+  d.dset = Handle(H5Dopen2(file, d.path.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!d.dset.ok()) throw Error("cannot open dataset " + in_file(d.path, file_name) + hdf5_reason());
+  const Handle type(H5Dget_type(d.dset.get()), H5Tclose);
+  if (!accepts(want, type.get()))
+    throw Error("dataset " + in_file(d.path, file_name) + " holds " + describe(type.get()) + ", not " +
+                wanted(want));
+  const Handle space(H5Dget_space(d.dset.get()), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 0) throw Error("cannot read the shape of " + in_file(d.path, file_name) + hdf5_reason());
+  d.dims.resize(static_cast<std::size_t>(rank));
+  H5Sget_simple_extent_dims(space.get(), d.dims.data(), nullptr);
+  d.count = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
+  require_stored_data(d, file_name, H5Tget_size(type.get()));
+  return d;
 }
 
 void require_shape(const Dataset& d, const std::string& file_name, std::size_t rank, std::size_t columns,

@@ -229,7 +229,6 @@ void Pull::after_step() {
     const Vec3 d = bed_.box.min_image(p.x[g] - p.x[in]);
     const double theta = std::acos(std::clamp(d.x() / d.norm(), -1.0, 1.0));
     record_.theta_sum += theta;
-    record_.theta_sq_sum += theta * theta;
     ++record_.theta_count;
     const int bin = std::min(35, static_cast<int>(theta / M_PI * 36));
     ++record_.theta_histogram[bin];

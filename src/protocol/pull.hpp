@@ -69,7 +69,7 @@ struct PullRecord {
   // With the active region: grains asleep at the end of each interval (empty without it).
   std::vector<double> sleeping;
   // Contact angles (paper Eq. 6) at formation, after the transient.
-  double theta_sum = 0, theta_sq_sum = 0;
+  double theta_sum = 0;
   long theta_count = 0;
   std::vector<long> theta_histogram = std::vector<long>(36, 0);  // 5-degree bins on [0, pi]
   // theta_sum and theta_count at the end of each sample interval: the series theta's error is
