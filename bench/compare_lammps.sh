@@ -4,10 +4,12 @@
 #
 #   bench/compare_lammps.sh [--size quick|7.7k|30k|70k] [--bed BED.h5] [--steps N] [--pairs P]
 #                           [--cores "1 2"] [--every K] [--binary build/granudrag]
-#                           [--speed V] [--active_radius R]
+#                           [--speed V] [--active_radius R] [--poured_by granudrag|lammps]
 #
 # 1. Pours the bed with `granudrag pour` (grains 0.9-1.1 d, frozen base, a D = 2 intruder at
 #    depth 9 d, K_n = 2e5 with the paper's ratios, dt = 5e-4), cached in bench/out/, or takes --bed.
+#    --poured_by lammps pours it with LAMMPS instead (bench/lammps_pour.in, the same recipe with
+#    fix pour) and imports it with `granudrag import-lammps` (which sorts it): a bed from elsewhere.
 # 2. Exports it with `granudrag export-lammps` (data file + input running the same pull).
 # 3. Times the pull, whole process (/usr/bin/time) and loop alone (granudrag's "timing:" line,
 #    LAMMPS's "Loop time"), granudrag on 1 and 2 OpenMP threads, LAMMPS (Debian's `lmp`, no
@@ -33,7 +35,7 @@
 # Needs: apt-get install lammps openmpi-bin.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-size=7.7k bed="" steps="" pairs=3 cores="1 2" every="" gd=build/granudrag speed=1 radius=""
+size=7.7k bed="" steps="" pairs=3 cores="1 2" every="" gd=build/granudrag speed=1 radius="" poured_by=granudrag
 while [ $# -gt 0 ]; do
   case "$1" in
     --size) size=$2; shift 2 ;;
@@ -45,7 +47,8 @@ while [ $# -gt 0 ]; do
     --binary) gd=$2; shift 2 ;;
     --speed) speed=$2; shift 2 ;;
     --active_radius) radius=$2; shift 2 ;;
-    -h | --help) sed -n '2,33p' "$0"; exit 0 ;;
+    --poured_by) poured_by=$2; shift 2 ;;
+    -h | --help) sed -n '2,35p' "$0"; exit 0 ;;
     *) echo "compare_lammps.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -58,12 +61,27 @@ case "$size" in  # grains, box side (d), default steps
 esac
 grains=$1 side=$2
 steps=${steps:-$3}
+case "$poured_by" in
+  granudrag | lammps) ;;
+  *) echo "compare_lammps.sh: --poured_by must be granudrag or lammps (got '$poured_by')" >&2; exit 2 ;;
+esac
 command -v lmp >/dev/null || { echo "LAMMPS not found: apt-get install lammps openmpi-bin" >&2; exit 1; }
 [ -x "$gd" ] || { cmake -S . -B build >/dev/null && cmake --build build -j "$(nproc)" >/dev/null; }
 gd=$(realpath "$gd")
 out=bench/out
 mkdir -p "$out"
-if [ -z "$bed" ]; then
+if [ -z "$bed" ] && [ "$poured_by" = lammps ]; then
+  bed=$out/bed-$size-lammps.h5
+  if [ ! -f "$bed" ]; then
+    # The intruder's centre 9 d below the surface: grains of mean volume 0.529 d^3 settle to a
+    # packing of 0.62 in this recipe (7,700 grains in 20 d x 20 d: surface at 16.4 d).
+    zi=$(/usr/bin/python3 -c "print(round(0.529 * $grains / (0.62 * $side * $side) - 9, 2))")
+    echo "pouring $bed with LAMMPS ($grains grains, $side x $side d, intruder at z = $zi d) ..." >&2
+    (cd "$out" && lmp -in ../lammps_pour.in -log "lammps_pour-$size.log" -screen none -var grains "$grains" \
+      -var side "$side" -var zi "$zi" -var kn 2e5 -var dt 5e-4 -var data "bed-$size-lammps.data")
+    "$gd" import-lammps --data "$out/bed-$size-lammps.data" --output "$bed" --kn 2e5 --dt 5e-4 >&2
+  fi
+elif [ -z "$bed" ]; then
   bed=$out/bed-$size.h5
   if [ ! -f "$bed" ]; then
     echo "pouring $bed ($grains grains, $side x $side d) ..." >&2
@@ -74,6 +92,7 @@ fi
 bed=$(realpath "$bed")
 label="$size"  # the bed's name in the table: the recipe's size, or the file given with --bed
 [ "$bed" = "$(realpath "$out/bed-$size.h5")" ] || label=$(basename "$bed")
+[ "$bed" != "$(realpath -m "$out/bed-$size-lammps.h5")" ] || label="$size, poured by LAMMPS"
 dt=$(/usr/bin/python3 -c "import h5py; print(repr(float(h5py.File('$bed')['/contact'].attrs['dt'])))")
 # The study's sampling: `granudrag pull`'s default sample_interval, in steps of this bed's dt.
 if [ -z "$every" ]; then
