@@ -54,7 +54,7 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
                  "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "stop_reason",
-                 "active_radius", "asleep", "sanity", "path"]
+                 "active_radius", "perturbation", "asleep", "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
@@ -164,7 +164,8 @@ def read_run(path, system=None, root=None):
         Z, kappa = observable("bulk_coordination"), observable("kappa")
         kappa_err = _kappa_error(obs, kappa, n, transient / get["speed"] if get["speed"] > 0 else 0.0)
         scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
-        active_radius = _active_radius(f, path) if version >= 2 else 0.0
+        active_radius = _pull_setting(f, path, "active_radius") if version >= 2 else 0.0
+        perturbation = _pull_setting(f, path, "perturbation") if version >= 2 else 0.0
         asleep = _asleep(obs, scale["grains"])
         sanity = _verdict(f, path)
     except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
@@ -212,7 +213,7 @@ def read_run(path, system=None, root=None):
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,
-            "active_radius": active_radius, "asleep": asleep, "sanity": sanity,
+            "active_radius": active_radius, "perturbation": perturbation, "asleep": asleep, "sanity": sanity,
             "path": str(path)}
 
 
@@ -349,13 +350,13 @@ def _asleep(obs, grains):
     return float(counts.mean() / grains) if counts.size and grains > 0 else math.nan
 
 
-def _active_radius(f, path):
-    """The pull's active region radius, d (0: every grain integrated; also for files from
-    before the active region, which record no such key)."""
+def _pull_setting(f, path, key):
+    """A numeric pull setting that defaults to 0 (active_radius, d: 0 every grain integrated;
+    perturbation: 0 not a replica), also for files from before the key, which record none."""
     pull = _parameters(f, path).get("pull", {}) if "parameters" in f else {}
-    value = pull.get("active_radius", 0.0)
+    value = pull.get(key, 0.0)
     if isinstance(value, (bool, str, list)):
-        raise RunFileError(f"{path}: damaged run file: /parameters/pull attribute 'active_radius' "
+        raise RunFileError(f"{path}: damaged run file: /parameters/pull attribute '{key}' "
                            f"is not a number ({value!r})")
     return float(value)
 

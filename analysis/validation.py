@@ -20,6 +20,12 @@ Student t with beds - 1 dof): a shift smaller than the runs' errors but the same
 shows there. The verdict stays on z. Elsewhere (other boxes and stiffnesses need their
 own beds) the point table's errors, which include the scatter between beds, are used.
 
+The runs' errors can also be too narrow: theta's misses part of how far two pulls through
+one bed drift apart by chaos. A reference system pulled a second time with a perturbation
+(`granudrag pull --perturbation 1e-9`, a replica; its `perturbation` column > 0) measures that:
+the reference becomes the mean of each bed's pull and its replica, and no paired error is taken
+below the chaos the replicas show (`_fold_replicas`).
+
     python -m analysis validate yield_speed results/validate/runs.csv --output-dir DIR
 
 writes DIR/validate_<study>.png, .pdf, .csv (every comparison) and .md (the sentence).
@@ -72,6 +78,11 @@ STUDIES = {
 NAMES = (*STUDIES, "pull_length")
 
 
+# A replica of a reference pull (`granudrag pull --perturbation`, the runs table's column): not a
+# variant, but a second pull through the same bed that differs by chaos alone.
+REPLICA = "perturbation"
+
+
 def _keys(df, study):
     keys = [k for k in study.keys if k in df.columns]
     if study.variant not in df.columns:
@@ -96,17 +107,20 @@ def compare(runs, study):
         runs = runs[runs.sanity.fillna("clean") == "clean"]
     table = runs if (study.paired or "seed" not in runs.columns or "n_beds" in runs.columns) else combine_beds(runs)
     table = _rounded(table, keys + [study.variant])
+    is_replica = table[REPLICA].fillna(0) > 0 if REPLICA in table.columns else pd.Series(False, table.index)
     gkeys = [f"_{k}" for k in keys]
     rows = []
     for _, g in table.groupby(gkeys, sort=True):
+        replicas, g = g[is_replica.loc[g.index]], g[~is_replica.loc[g.index]]
         values = np.sort(g[f"_{study.variant}"].unique())
         if len(values) < 2:
             continue
         ref = values[0] if study.reference == "min" else values[-1]
         base = g[g[f"_{study.variant}"] == ref]
+        replicas = replicas[replicas[f"_{study.variant}"] == ref]
         for v in values[values != ref]:
             other = g[g[f"_{study.variant}"] == v]
-            rows.append(_difference(base, other, study, keys, ref, v))
+            rows.append(_difference(base, other, study, keys, ref, v, replicas))
     if not rows:
         raise ValidationError(
             f"{study.name}: no point was run at two or more values of {study.variant} "
@@ -114,14 +128,16 @@ def compare(runs, study):
     return pd.DataFrame(rows)
 
 
-def _difference(base, other, study, keys, ref, v):
+def _difference(base, other, study, keys, ref, v, replicas=None):
     first = base.iloc[0]
     row = {k: first[k] for k in keys} | {"reference": ref, "variant": v}
     if study.paired and "seed" in base.columns:
         pairs = base.merge(other, on="seed", suffixes=("_ref", ""))
         if len(pairs):
+            if replicas is not None and len(replicas):
+                pairs, row = _fold_replicas(pairs, replicas, study, row)
             d = pairs.drag - pairs.drag_ref
-            de2 = pairs.drag_err**2 + pairs.drag_err_ref**2
+            de2 = _paired_variance(pairs, "drag", "drag_err")
             f_ref, f = pairs.drag_ref.mean(), pairs.drag.mean()
             diff, diff_err = d.mean(), np.sqrt(de2.sum()) / len(pairs)
             row |= {"drag_ref": f_ref, "drag": f, "beds": len(pairs), "paired": True,
@@ -143,7 +159,7 @@ def _also(row, pairs, study):
     for col, err in study.also_judged:
         diffs = pairs[col] - pairs[f"{col}_ref"]
         d = diffs.mean()
-        de = np.sqrt((pairs[err]**2 + pairs[f"{err}_ref"]**2).sum()) / len(pairs)
+        de = np.sqrt(_paired_variance(pairs, col, err).sum()) / len(pairs)
         z = d / de if de > 0 else np.inf * np.sign(d)
         row |= {f"{col}_diff": d, f"{col}_diff_err": de, f"{col}_z": z} | _beds(col, diffs)
         row["agrees"] = bool(row["agrees"] and abs(z) < Z_AGREE)
@@ -151,6 +167,40 @@ def _also(row, pairs, study):
         ref = pairs[f"{col}_ref"].mean()
         row[f"{col}_rel_diff"] = (pairs[col].mean() - ref) / ref if ref else np.nan
     return row
+
+
+def _fold_replicas(pairs, replicas, study, row):
+    """The reference of each bed with a replica (a pull of it parted by chaos alone: `granudrag
+    pull --perturbation`) becomes the mean of the two, and the replicas' differences measure the
+    chaos: sigma^2 = <(ref - replica)^2> / 2 per run (from two or more beds). Against a reference
+    of m pulls a variant then differs by chaos alone with variance sigma^2 (1 + 1/m), which
+    `_paired_variance` takes when it exceeds the runs' own errors (theta's error misses part of
+    it: in the 40 d box's D = 6 yield pulls two replicas differed 1.4x more than it said)."""
+    judged = [("drag", "drag_err"), *study.also_judged]
+    cols = [c for c, _ in judged] + [e for _, e in judged] + [c for c in study.also_reported if c in replicas]
+    rep = replicas.groupby("seed")[cols].mean().add_suffix("_rep").reset_index()
+    pairs = pairs.merge(rep, on="seed", how="left")
+    has = pairs["drag_rep"].notna()
+    m = np.where(has, 2.0, 1.0)
+    row = row | {"replicas": int(has.sum())}
+    for col, err in judged:
+        gap = (pairs[f"{col}_ref"] - pairs[f"{col}_rep"])[has]
+        sigma2 = float((gap**2).mean() / 2) if len(gap) >= 2 else np.nan
+        row[f"{col}_chaos_sd"] = np.sqrt(sigma2)
+        pairs[f"{col}_chaos_var"] = sigma2 * (1 + 1 / m)
+        pairs[f"{err}_ref"] = np.where(has, np.hypot(pairs[f"{err}_ref"], pairs[f"{err}_rep"]) / 2,
+                                       pairs[f"{err}_ref"])
+    for col in [c for c, _ in judged] + [c for c in study.also_reported if f"{c}_rep" in pairs]:
+        pairs[f"{col}_ref"] = np.where(has, (pairs[f"{col}_ref"] + pairs[f"{col}_rep"]) / 2, pairs[f"{col}_ref"])
+    return pairs, row
+
+
+def _paired_variance(pairs, col, err):
+    """Per bed, the variance of the variant's difference from the reference: the runs' errors,
+    or the chaos the reference's replicas measured, whichever is larger."""
+    within = pairs[err]**2 + pairs[f"{err}_ref"]**2
+    chaos = pairs.get(f"{col}_chaos_var")
+    return within if chaos is None or chaos.isna().all() else np.maximum(within, chaos.fillna(0))
 
 
 def _beds(col, d):
@@ -229,6 +279,12 @@ def _answer(cmp, study):
         judged = ", ".join(["drag"] + [c for c, _ in study.also_judged])
         text = (f"Smallest active radius at which {judged} agree with every grain integrated at every "
                 f"point: " + ", ".join(out) + ".")
+        if cmp.get("replicas", pd.Series(dtype=float)).fillna(0).gt(0).any():
+            chaos = [f"{c} {cmp[f'{c}_chaos_sd'].median():.3g}" for c in ["drag"] + [c for c, _ in study.also_judged]
+                     if f"{c}_chaos_sd" in cmp.columns and cmp[f"{c}_chaos_sd"].notna().any()]
+            text += (" The reference is the mean of each bed's pull and its replica; two replicas differ "
+                     "by chaos alone by (per run, median over the points) " + ", ".join(chaos) +
+                     ", and a paired error is never taken below that.")
         if "asleep" in cmp.columns:      # what each radius saves: the grains it holds asleep
             saved = ", ".join(f"{v:g} d: {100 * g.asleep.mean():.0f} %" for v, g in cmp.groupby("variant"))
             text += f" Mean fraction of the grains asleep over a pull: {saved}."

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -62,6 +63,8 @@ Pull::Pull(const Bed& bed, const PullSpec& spec)
     sim_.restore(reordered(bed_.state, order_));
     sim_.particles().v[intruder_] = Vec3(spec_.speed, 0, 0);
   }
+  // A resumed replica's state (the other constructor) carries its perturbation already.
+  if (spec_.perturbation > 0) sim_.particles().v[replica_grain()].x() += spec_.perturbation;
   // A bed at rest has small overlaps; one beyond what the run guard allows at any step is a
   // damaged or mislabelled bed, named as such before anything is blamed on the speed (with
   // keep_going, the guard records it at the first sample instead).
@@ -174,6 +177,20 @@ void Pull::run(bool show_progress, const std::function<void(const Pull&)>& on_ch
   loop_seconds_ = omp_get_wtime() - t0;
   loop_steps_ = sim_.steps_done() - first_step;
   if (record_.stop_reason.empty()) record_.stop_reason = "distance";
+}
+
+int Pull::replica_grain() const {
+  const Particles& p = bed_.state.particles;
+  const Vec3& centre = p.x[bed_.intruder];
+  int nearest = -1;
+  double best = HUGE_VAL;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.species[i] != Species::Mobile) continue;
+    const double d2 = bed_.box.min_image(p.x[i] - centre).squaredNorm();
+    if (d2 < best) best = d2, nearest = static_cast<int>(i);
+  }
+  if (nearest < 0) throw Error("'perturbation' needs a mobile grain to perturb, and the bed has none");
+  return static_cast<int>(rank_[nearest]);
 }
 
 std::string Pull::timing_report() const {

@@ -39,6 +39,11 @@ struct PullSpec {
   // On a sanity failure other than a non-finite number: finish the pull and record the failure
   // as the run's verdict instead of stopping.
   bool keep_going = false;
+  // A replica: before the first step, this is added to the x velocity of the mobile grain
+  // nearest the intruder (replica_grain()). The same pull through the same bed, parted from it
+  // by chaos alone: pulled beside a comparison through one bed, it measures how far two pulls
+  // differ for no reason (analysis/validation.py). 0: off.
+  double perturbation = 0;      // sqrt(g d)
   ActiveRegionSettings active;  // the active region (engine/active_region.hpp); off by default
   // The region's rest test, relative to V: a grain is at rest when it moves slower than this
   // fraction of V over sleep_time (the pull sets active.sleep_distance from it).
@@ -146,6 +151,9 @@ class Pull {
   const Simulation& simulation() const { return sim_; }
   const std::vector<std::size_t>& order() const { return order_; }
   int intruder() const { return intruder_; }  // in simulation()'s order
+  // The grain a replica perturbs (spec.perturbation), in simulation()'s order: the mobile grain
+  // whose centre is nearest the intruder's in the bed, so that the perturbation acts at once.
+  int replica_grain() const;
   // The simulation's bodies in the bed's order (for frames).
   Particles particles_in_bed_order() const;
   Simulation::State state() const { return sim_.state(); }

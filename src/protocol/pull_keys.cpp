@@ -93,6 +93,15 @@ const KeyTable<PullSpec>& pull_keys() {
               "on a sanity failure (grains lost, overlap, energy; not NaN) finish the pull and record it as "
               "the run file's /sanity verdict, which the analysis leaves out, instead of stopping")
           .field(&PullSpec::keep_going),
+      Key::number("perturbation")
+          .unit("sqrt(g d)")
+          .at_least(0)
+          .help(
+              "replica: add this to the x velocity of the mobile grain nearest the intruder before the first "
+              "step, so the pull parts from the same pull through the same bed by chaos alone (e.g. 1e-9); "
+              "beside a comparison it measures how far two pulls through one bed differ for no reason; 0: "
+              "off")
+          .field(&PullSpec::perturbation),
       Key::flag("fresh_start")
           .help("drop the bed's contact histories and recompute forces first, as LAMMPS does after read_data")
           .field(&PullSpec::fresh_start),

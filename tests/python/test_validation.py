@@ -157,3 +157,36 @@ def test_paired_rows_report_the_scatter_of_the_per_bed_differences():
     assert row.drag_beds_z > 5 and row.theta_beds_z == np.inf                # theta: +0.02 exactly
     two = val.compare(pd.DataFrame([r for r in rows if r["seed"] <= 2]), "active_region")
     assert np.isnan(two.iloc[0].drag_beds_z) and np.isnan(two.iloc[0].theta_beds_err)
+
+
+def test_a_reference_replica_widens_paired_errors_to_the_chaos_it_measures():
+    """theta's run errors (0.01) are narrower than how far two pulls through one bed drift
+    apart (chaos: 0.04 per run): a shift of 0.03 looks real against the errors (z > 2) and is
+    not against the replicas; the reference is the mean of a bed's pull and its replica."""
+    rng = np.random.default_rng(11)
+    rows = []
+    for b in range(1, 7):
+        common = 1 + 0.05 * rng.standard_normal()
+        for system, R, eps, shift in (("I", 0.0, 0.0, 0.0), ("I_replica", 0.0, 1e-9, 0.0), ("R18", 18.0, 0.0, 0.03)):
+            theta = 2.0 + shift + 0.04 * rng.standard_normal()
+            rows.append(dict(system=system, D=6.0, h_requested=7.0, mu=0.5, kn=2e4, gamman=199.05, Fr=0.05, V=0.03,
+                             seed=b, active_radius=R, perturbation=eps, drag_err=5.0, theta=theta,
+                             drag=100 * common * (1 + 0.001 * rng.standard_normal()),
+                             theta_err=0.01, n_contacts=80.0 + 10 * shift, Z=4.5, sanity="clean"))
+    runs = pd.DataFrame(rows)
+    plain = val.compare(runs[runs.perturbation == 0], "active_region").iloc[0]
+    row = val.compare(runs, "active_region").iloc[0]
+    assert len(val.compare(runs, "active_region")) == 1 and row.variant == 18.0   # the replica is no variant
+    assert row.replicas == 6 and "replicas" not in plain.index
+    sd = runs.pivot(index="seed", columns="system", values="theta")
+    assert row.theta_chaos_sd == pytest.approx(np.sqrt(((sd.I - sd.I_replica)**2).mean() / 2))
+    assert 0.02 < row.theta_chaos_sd < 0.07
+    ref = (sd.I + sd.I_replica) / 2
+    assert row.theta_diff == pytest.approx((sd.R18 - ref).mean())
+    # Per bed the chaos, sigma^2 (1 + 1/2), exceeds the errors' 0.01^2 + 0.01^2 / 2.
+    assert row.theta_diff_err == pytest.approx(row.theta_chaos_sd * np.sqrt(1.5 / 6))
+    assert abs(plain.theta_z) > 2 > abs(row.theta_z) and row.agrees and not plain.agrees
+    # The drag's run errors (5 %) exceed its chaos (0.1 % here): they stay.
+    assert row.drag_chaos_sd < 0.5
+    assert row.rel_diff_err == pytest.approx(np.sqrt(5**2 + 5**2 / 2) / np.sqrt(6) / row.drag_ref)
+    assert "two replicas differ by chaos alone" in val.conclusion(val.compare(runs, "active_region"), "active_region")
