@@ -133,4 +133,11 @@ double pull_speed(const Parameters& p, double intruder_diameter) {
   return p.is_set("speed") ? p.number("speed") : PullSpec{}.speed;
 }
 
+double pull_active_radius(const Parameters& p, double intruder_diameter) {
+  const double radius = p.number("active_radius");
+  if (!p.is_set("active_diameters")) return radius;
+  if (radius > 0) throw Error("give either 'active_radius' (in d) or 'active_diameters' (in D), not both");
+  return p.number("active_diameters") * intruder_diameter;
+}
+
 }  // namespace granudrag

@@ -59,4 +59,7 @@ void check_output_dir(const std::string& path, const std::string& key);
 // froude_number), or 1 sqrt(gd) when neither is given.
 double pull_speed(const Parameters& p, double intruder_diameter);
 
+// The active region's radius, d: --active_radius, or --active_diameters times D.
+double pull_active_radius(const Parameters& p, double intruder_diameter);
+
 }  // namespace granudrag

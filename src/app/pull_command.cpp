@@ -84,6 +84,7 @@ int pull_command(const std::vector<std::string>& args) {
   pull_keys().read(par, spec);
   const double D = 2 * bed.state.particles.radius[bed.intruder];
   spec.speed = pull_speed(par, D);
+  spec.active.radius = pull_active_radius(par, D);
   {
     const double distance = spec.distance > 0 ? spec.distance : bed.box.lx;
     const double total_time = distance / spec.speed;

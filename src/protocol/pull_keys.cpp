@@ -66,6 +66,13 @@ const KeyTable<PullSpec>& pull_keys() {
               "sleep_time fall asleep (held in place, their mutual contacts not computed) until the intruder "
               "comes within it or wake_force wakes them; 0: off (every grain integrated); at least D/2 + 2")
           .field(&PullSpec::active, &ActiveRegionSettings::radius),
+      // The radius in intruder diameters: one setting for a sweep over D (the command reads it,
+      // pull_active_radius, as it reads froude).
+      Key::number("active_diameters")
+          .unit("D")
+          .at_least(0)
+          .help("or: the active region's radius in intruder diameters, active_radius = this D (3 is "
+                "validated for D = 2 and 6 at mu = 0.5, the yield speed and Fr = 1: docs/pour-and-pull.md)"),
       Key::number("sleep_speed")
           .unit("V")
           .above(0)

@@ -43,6 +43,7 @@ expect "format version 99" "$gd" pull --bed future.h5 --output r.h5
 "$gd" pull --bed good.h5 --output run.h5 --distance 0.5 --quiet >/dev/null 2>&1
 expect "not a granudrag-bed file" "$gd" pull --bed run.h5 --output r2.h5
 expect "either 'speed' or 'froude'" "$gd" pull --bed good.h5 --output r.h5 --speed 1 --froude 1
+expect "either 'active_radius' (in d) or 'active_diameters'" "$gd" pull --bed good.h5 --output r.h5 --active_radius 5 --active_diameters 3
 expect "'transient'" "$gd" pull --bed good.h5 --output r.h5 --distance 2 --transient 3
 expect "either 'youngs_modulus'" "$gd" pour --output b.h5 --ly 8 --grains 400 --lx 8 --depth 2 --youngs_modulus 1e6 --kn 2e4
 printf 'title\n\nabc atoms\n' > bad.data

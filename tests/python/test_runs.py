@@ -209,6 +209,16 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     row = read_run(run)
     assert (row["lx"], row["ly"], row["grains"]) == (5.0, 4.5, 150.0)
     assert row["active_radius"] == 3.0       # the validation of the active region compares by it
+    assert row["perturbation"] == 0.0
+    # The radius in intruder diameters (D = 1.5), and a replica: read as the radius in d.
+    replica = tmp_path / "system~R" / "run.h5"
+    replica.parent.mkdir()
+    subprocess.run([str(BINARY), "pull", "--bed", str(tmp_path / "bed.h5"), "--output", str(replica),
+                    "--distance", "0.5", "--active_diameters", "2", "--perturbation", "1e-9", "--quiet"],
+                   check=True, capture_output=True)
+    again = read_run(replica)
+    assert again["active_radius"] == 3.0 and again["perturbation"] == 1e-9
+    assert read_parameters(replica)["pull"]["active_diameters"] == 2.0
     with h5py.File(run) as f:
         counts = f["observables/sleeping_grains/value"][()]
     assert row["asleep"] == pytest.approx(counts.mean() / 150) and 0 <= row["asleep"] <= 1

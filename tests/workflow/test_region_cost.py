@@ -129,6 +129,10 @@ def test_estimate_cost_prices_a_config_as_if_it_had_the_region(tmp_path):
     assert "active region" not in plain.stdout
     assert "active region: 2 of 3 pulls" in region.stdout  # Fr = 5: 3 d last less than sleep_time
     assert core_hours(region.stdout) < core_hours(plain.stdout)
+    # in intruder diameters: 3 D of a D = 2 intruder is the same 6 d
+    diameters = run_estimate(path, "--active_diameters", "3")
+    assert diameters.returncode == 0, diameters.stderr
+    assert core_hours(diameters.stdout) == core_hours(region.stdout)
     # the shares of a runs.csv replace the built-in ones: all asleep that can be, a larger saving
     runs = tmp_path / "runs.csv"
     pd.DataFrame([dict(active_radius=6, asleep=0.99, lx=20, ly=20, grains=6400, h=7, distance=3.0,
@@ -141,6 +145,7 @@ def test_estimate_cost_prices_a_config_as_if_it_had_the_region(tmp_path):
 
 @pytest.mark.parametrize("args, message", [
     (("--active_radius", "-2"), "--active_radius -2.0: give a radius >= 0"),
+    (("--active_radius", "6", "--active_diameters", "3"), "--active_radius (d) or --active_diameters (D), not both"),
     (("--asleep-from", "/no/such/runs.csv"), "--asleep-from /no/such/runs.csv"),
 ])
 def test_estimate_cost_refuses_bad_region_options(tmp_path, args, message):

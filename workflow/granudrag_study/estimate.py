@@ -147,6 +147,9 @@ def main(argv=None):
     ap.add_argument("--active_radius", type=float, metavar="R",
                     help="price the pulls as if every system's pull settings had active_radius R (d; "
                          "a system's own setting stays)")
+    ap.add_argument("--active_diameters", type=float, metavar="K",
+                    help="or: active_radius K D, in each pull's intruder diameters (3 is the validated "
+                         "radius; a system's own setting stays)")
     ap.add_argument("--asleep-from", metavar="RUNS_CSV",
                     help="print the sleeping shares measured in a study's runs.csv (pulls with the "
                          "active region), the model's ASLEEP_SHARE, and price with them")
@@ -155,12 +158,17 @@ def main(argv=None):
     args = ap.parse_args(argv)
     with open(args.config) as fh:
         config = yaml.safe_load(fh)
-    if args.active_radius is not None:
-        if args.active_radius < 0:
-            sys.exit(f"estimate_cost: --active_radius {args.active_radius}: give a radius >= 0 (d)")
+    if args.active_radius is not None and args.active_diameters is not None:
+        sys.exit("estimate_cost: give --active_radius (d) or --active_diameters (D), not both")
+    for key, value in (("active_radius", args.active_radius), ("active_diameters", args.active_diameters)):
+        if value is None:
+            continue
+        if value < 0:
+            sys.exit(f"estimate_cost: --{key} {value}: give a radius >= 0")
         for sysc in (config.get("systems") or {}).values():
-            if isinstance(sysc, dict):
-                sysc["pull"] = {"active_radius": args.active_radius, **(sysc.get("pull") or {})}
+            own = (sysc.get("pull") or {}) if isinstance(sysc, dict) else {}
+            if isinstance(sysc, dict) and not {"active_radius", "active_diameters"} & set(own):
+                sysc["pull"] = {key: value, **own}
     if args.asleep_from:
         _use_measured_shares(args.asleep_from)
     try:

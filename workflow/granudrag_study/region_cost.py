@@ -85,10 +85,11 @@ def asleep_fraction(pull, config, travel, table=None):
     """The expected mean fraction of the bed's grains asleep over a pull of `travel` d (0 without
     the region)."""
     sysc, settings = config["systems"][pull.bed.system], pull.settings_in(config)
-    radius = float(settings.get("active_radius", 0.0) or 0.0)
+    D = pull.bed.value("D")
+    # In d, or in intruder diameters (granudrag pull --active_diameters).
+    radius = float(settings.get("active_radius", 0.0) or 0.0) or float(settings.get("active_diameters", 0.0) or 0.0) * D
     if radius <= 0:
         return 0.0
-    D = pull.bed.value("D")
     lx, ly, grains = float(sysc["lx"]), float(sysc["ly"]), int(sysc["grains"])
     pos = pull.bed.value("pos")
     depth = pos if pull.bed.place == "h" else bed_height(grains, lx, ly) - pos
