@@ -170,28 +170,33 @@ def _also(row, pairs, study):
 
 
 def _fold_replicas(pairs, replicas, study, row):
-    """The reference of each bed with a replica (a pull of it parted by chaos alone: `granudrag
-    pull --perturbation`) becomes the mean of the two, and the replicas' differences measure the
-    chaos: sigma^2 = <(ref - replica)^2> / 2 per run (from two or more beds). Against a reference
-    of m pulls a variant then differs by chaos alone with variance sigma^2 (1 + 1/m), which
-    `_paired_variance` takes when it exceeds the runs' own errors (theta's error misses part of
-    it: in the 40 d box's D = 6 yield pulls two replicas differed 1.4x more than it said)."""
+    """The reference of each bed with replicas (pulls of it parted by chaos alone: `granudrag
+    pull --perturbation`) becomes the mean of its m pulls, and the replicas measure the chaos:
+    sigma^2 per run from the gaps between a bed's pull and its k = m - 1 replicas' mean,
+    <gap^2 / (1 + 1/k)> over two or more beds. Against a reference of m pulls a variant then
+    differs by chaos alone with variance sigma^2 (1 + 1/m), which `_paired_variance` takes when it
+    exceeds the runs' own errors (theta's error misses part of it: in the 40 d box's D = 6 yield
+    pulls two replicas differed 1.4x and 2.6x more than it said, in two sets of five beds)."""
     judged = [("drag", "drag_err"), *study.also_judged]
-    cols = [c for c, _ in judged] + [e for _, e in judged] + [c for c in study.also_reported if c in replicas]
-    rep = replicas.groupby("seed")[cols].mean().add_suffix("_rep").reset_index()
+    errs = [e for _, e in judged]
+    cols = [c for c, _ in judged] + [c for c in study.also_reported if c in replicas]
+    by_seed = replicas.groupby("seed")
+    rep = by_seed[cols].mean().join(by_seed[errs].agg(lambda e: float((e**2).sum())).add_suffix("_sq"))
+    rep = rep.assign(k=by_seed.size()).add_suffix("_rep").reset_index()
     pairs = pairs.merge(rep, on="seed", how="left")
     has = pairs["drag_rep"].notna()
-    m = np.where(has, 2.0, 1.0)
+    k = pairs["k_rep"].fillna(0).to_numpy()
+    m = 1.0 + k
     row = row | {"replicas": int(has.sum())}
     for col, err in judged:
-        gap = (pairs[f"{col}_ref"] - pairs[f"{col}_rep"])[has]
-        sigma2 = float((gap**2).mean() / 2) if len(gap) >= 2 else np.nan
+        gap2 = ((pairs[f"{col}_ref"] - pairs[f"{col}_rep"])**2 / (1 + 1 / np.where(has, k, 1)))[has]
+        sigma2 = float(gap2.mean()) if len(gap2) >= 2 else np.nan
         row[f"{col}_chaos_sd"] = np.sqrt(sigma2)
         pairs[f"{col}_chaos_var"] = sigma2 * (1 + 1 / m)
-        pairs[f"{err}_ref"] = np.where(has, np.hypot(pairs[f"{err}_ref"], pairs[f"{err}_rep"]) / 2,
+        pairs[f"{err}_ref"] = np.where(has, np.sqrt(pairs[f"{err}_ref"]**2 + pairs[f"{err}_sq_rep"].fillna(0)) / m,
                                        pairs[f"{err}_ref"])
-    for col in [c for c, _ in judged] + [c for c in study.also_reported if f"{c}_rep" in pairs]:
-        pairs[f"{col}_ref"] = np.where(has, (pairs[f"{col}_ref"] + pairs[f"{col}_rep"]) / 2, pairs[f"{col}_ref"])
+    for col in cols:
+        pairs[f"{col}_ref"] = np.where(has, (pairs[f"{col}_ref"] + k * pairs[f"{col}_rep"]) / m, pairs[f"{col}_ref"])
     return pairs, row
 
 

@@ -190,3 +190,25 @@ def test_a_reference_replica_widens_paired_errors_to_the_chaos_it_measures():
     assert row.drag_chaos_sd < 0.5
     assert row.rel_diff_err == pytest.approx(np.sqrt(5**2 + 5**2 / 2) / np.sqrt(6) / row.drag_ref)
     assert "two replicas differ by chaos alone" in val.conclusion(val.compare(runs, "active_region"), "active_region")
+
+
+def test_two_replicas_of_a_bed_make_a_reference_of_three_pulls():
+    rng = np.random.default_rng(12)
+    rows = []
+    for b in range(1, 5):
+        for system, R, eps in (("I", 0.0, 0.0), ("I_r1", 0.0, 1e-9), ("I_r2", 0.0, 2e-9), ("R18", 18.0, 0.0)):
+            rows.append(dict(system=system, D=6.0, h_requested=7.0, mu=0.5, kn=2e4, gamman=199.05, Fr=0.05,
+                             V=0.03, seed=b, active_radius=R, perturbation=eps, drag=100 + rng.standard_normal(),
+                             drag_err=5.0, theta=2.0 + 0.05 * rng.standard_normal(), theta_err=0.01,
+                             n_contacts=80.0, Z=4.5, sanity="clean"))
+    runs = pd.DataFrame(rows)
+    row = val.compare(runs, "active_region").iloc[0]
+    th = runs.pivot(index="seed", columns="system", values="theta")
+    ref = (th.I + th.I_r1 + th.I_r2) / 3
+    assert row.replicas == 4 and row.theta_diff == pytest.approx((th.R18 - ref).mean())
+    # a bed's pull against its two replicas' mean: variance sigma^2 (1 + 1/2)
+    gap2 = (th.I - (th.I_r1 + th.I_r2) / 2)**2 / 1.5
+    assert row.theta_chaos_sd == pytest.approx(np.sqrt(gap2.mean()))
+    # the reference's run error: three pulls of 0.01 averaged; the chaos: sigma^2 (1 + 1/3)
+    per_bed = max(0.01**2 + 0.01**2 / 3, row.theta_chaos_sd**2 * (1 + 1 / 3))
+    assert row.theta_diff_err == pytest.approx(np.sqrt(4 * per_bed) / 4)
