@@ -285,10 +285,11 @@ def _answer(cmp, study):
         text = (f"Smallest active radius at which {judged} agree with every grain integrated at every "
                 f"point: " + ", ".join(out) + ".")
         if cmp.get("replicas", pd.Series(dtype=float)).fillna(0).gt(0).any():
-            chaos = [f"{c} {cmp[f'{c}_chaos_sd'].median():.3g}" for c in ["drag"] + [c for c, _ in study.also_judged]
+            chaos = [f"{c} {cmp[f'{c}_chaos_sd'].min():.3g} to {cmp[f'{c}_chaos_sd'].max():.3g}"
+                     for c in ["drag"] + [c for c, _ in study.also_judged]
                      if f"{c}_chaos_sd" in cmp.columns and cmp[f"{c}_chaos_sd"].notna().any()]
-            text += (" The reference is the mean of each bed's pull and its replica; two replicas differ "
-                     "by chaos alone by (per run, median over the points) " + ", ".join(chaos) +
+            text += (" The reference is the mean of each bed's pull and its replicas; pulls through one bed "
+                     "differ by chaos alone by (per run, over the points) " + ", ".join(chaos) +
                      ", and a paired error is never taken below that.")
         if "asleep" in cmp.columns:      # what each radius saves: the grains it holds asleep
             saved = ", ".join(f"{v:g} d: {100 * g.asleep.mean():.0f} %" for v, g in cmp.groupby("variant"))

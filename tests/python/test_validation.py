@@ -189,7 +189,8 @@ def test_a_reference_replica_widens_paired_errors_to_the_chaos_it_measures():
     # The drag's run errors (5 %) exceed its chaos (0.1 % here): they stay.
     assert row.drag_chaos_sd < 0.5
     assert row.rel_diff_err == pytest.approx(np.sqrt(5**2 + 5**2 / 2) / np.sqrt(6) / row.drag_ref)
-    assert "two replicas differ by chaos alone" in val.conclusion(val.compare(runs, "active_region"), "active_region")
+    text = val.conclusion(val.compare(runs, "active_region"), "active_region")
+    assert "differ by chaos alone by (per run, over the points) drag" in text
 
 
 def test_two_replicas_of_a_bed_make_a_reference_of_three_pulls():
