@@ -146,8 +146,8 @@ TEST(KeyTables, TheDefaultsAreTheStructsAndEveryKeyIsBoundOrSaysWhy) {
     if (!row.read) unread.push_back("pour." + row.spec.key);
   for (const auto& row : pull_keys().rows())
     if (!row.read) unread.push_back("pull." + row.spec.key);
-  EXPECT_EQ(unread,
-            (std::vector<std::string>{"pour.intruder_x", "pour.intruder_y", "pull.speed", "pull.froude"}));
+  EXPECT_EQ(unread, (std::vector<std::string>{"pour.intruder_x", "pour.intruder_y", "pull.speed",
+                                              "pull.froude", "pull.active_diameters"}));
 }
 
 TEST(KeyTables, ASpeedReadByTheCommandIsStillChecked) {
