@@ -3,11 +3,14 @@
 #include <omp.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "core/error.hpp"
 #include "engine/simulation.hpp"
 #include "protocol/lattice_bed.hpp"
 #include "protocol/pour.hpp"
+#include "protocol/pull.hpp"
 
 namespace granudrag::support {
 
@@ -39,6 +42,15 @@ inline const Bed& small_bed() {
     return pour(s, false);
   }();
   return bed;
+}
+
+// Runs a pull to its end and keeps what each of its checkpoints saves (state and record), for
+// the resume tests: "kill" after checkpoint k, resume from checkpoints[k].
+using Checkpoints = std::vector<std::pair<Simulation::State, PullRecord>>;
+inline Checkpoints run_keeping_checkpoints(Pull& pull) {
+  Checkpoints out;
+  pull.run(false, [&](const Pull& p) { out.emplace_back(p.state(), p.record()); });
+  return out;
 }
 
 // Relative difference of two vectors on the scale `scale`.

@@ -137,8 +137,7 @@ TEST(ActiveRegion, APullWithSleepingGrainsResumesFromACheckpointBitwise) {
   PullSpec spec = sleeping_pull();
   spec.checkpoint_every = 400;
   Pull whole(small_bed(), spec);
-  std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
-  whole.run(false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); });
+  const support::Checkpoints checkpoints = support::run_keeping_checkpoints(whole);
   ASSERT_GE(checkpoints.size(), 3u);
   const Simulation::State& at = checkpoints[2].first;
   const long asleep = std::count(at.region.held.begin(), at.region.held.end(), 1) -

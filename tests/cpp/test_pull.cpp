@@ -83,8 +83,7 @@ TEST(Pull, ResumedFromCheckpointIsBitwiseIdentical) {
   spec.distance = 1.0;
   spec.checkpoint_every = 500;
   Pull whole(small_bed(), spec);
-  std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
-  whole.run(false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); });
+  const support::Checkpoints checkpoints = support::run_keeping_checkpoints(whole);
   ASSERT_GE(checkpoints.size(), 2u);
   // "Kill" after the first checkpoint and resume from it.
   Pull resumed(small_bed(), spec, checkpoints[0].first, checkpoints[0].second);
@@ -198,8 +197,7 @@ TEST(Pull, AResumedPullStopsAtTheSameStepAsAnUninterruptedOne) {
   spec.min_distance = 2.0;
   spec.checkpoint_every = 4000;
   Pull whole(small_bed(), spec);
-  std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
-  whole.run(false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); });
+  const support::Checkpoints checkpoints = support::run_keeping_checkpoints(whole);
   ASSERT_EQ(whole.record().stop_reason, "target_error");
   ASSERT_GE(checkpoints.size(), 2u);
   Pull resumed(small_bed(), spec, checkpoints[1].first, checkpoints[1].second);
@@ -355,8 +353,7 @@ TEST(Pull, AReplicaStartsFromTheSameBedWithOneGrainNudgedAndResumesBitwise) {
   // The replica parts from the pull (chaos), and resumes bitwise like any pull: a resumed
   // replica is not nudged a second time.
   plain.run(false);
-  std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
-  replica.run(false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); });
+  const support::Checkpoints checkpoints = support::run_keeping_checkpoints(replica);
   EXPECT_NE(plain.result().drag, replica.result().drag);
   ASSERT_GE(checkpoints.size(), 1u);
   Pull resumed(small_bed(), nudged, checkpoints[0].first, checkpoints[0].second);

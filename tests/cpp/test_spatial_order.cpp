@@ -302,8 +302,7 @@ TEST(SpatialOrder, APullStepsTheBedSweptAlongXResumesBitwiseAndShowsTheBedsOrder
   EXPECT_EQ(start.x, bed.state.particles.x);
   EXPECT_EQ(start.radius, bed.state.particles.radius);
   EXPECT_EQ(start.species, bed.state.particles.species);
-  std::vector<std::pair<Simulation::State, PullRecord>> checkpoints;
-  whole.run(false, [&](const Pull& p) { checkpoints.emplace_back(p.state(), p.record()); });
+  const support::Checkpoints checkpoints = support::run_keeping_checkpoints(whole);
   ASSERT_GE(checkpoints.size(), 2u);
   Pull resumed(bed, spec, checkpoints[0].first, checkpoints[0].second);
   resumed.run(false, [](const Pull&) {});
