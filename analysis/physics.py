@@ -44,6 +44,13 @@ def froude_speed(Fr, D):
     return Fr * (D + 1.0) / (2.0 * math.sqrt(2.0 * D))
 
 
+def active_radius(pull, D):
+    """The active region's radius, d, of a pull's settings (a dict of `granudrag pull` keys):
+    `active_radius`, or `active_diameters` times the intruder diameter D, as the pull command
+    reads them (src/app/command.cpp, pull_active_radius); 0: off."""
+    return float(pull.get("active_radius", 0.0) or 0.0) or float(pull.get("active_diameters", 0.0) or 0.0) * D
+
+
 def gamman_for(kn, ratio=PAPER_RATIO):
     """gamma_n that keeps gamma_n / K_n^0.6 at ratio (the same restitution curve; by default
     the paper's, as granudrag's default gamma_n for a given K_n)."""

@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from . import physics
 from .table import COLUMNS, froude, validate_table
 
 RUN_FORMAT = "granudrag-run"
@@ -164,9 +165,8 @@ def read_run(path, system=None, root=None):
         Z, kappa = observable("bulk_coordination"), observable("kappa")
         kappa_err = _kappa_error(obs, kappa, n, transient / get["speed"] if get["speed"] > 0 else 0.0)
         scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
-        # The region's radius, d: given as such, or in intruder diameters (active_diameters).
-        active_radius = (_pull_setting(f, path, "active_radius")
-                         or _pull_setting(f, path, "active_diameters") * get["D"]) if version >= 2 else 0.0
+        region = {k: _pull_setting(f, path, k) for k in ("active_radius", "active_diameters")} if version >= 2 else {}
+        active_radius = physics.active_radius(region, get["D"])
         perturbation = _pull_setting(f, path, "perturbation") if version >= 2 else 0.0
         asleep = _asleep(obs, scale["grains"])
         sanity = _verdict(f, path)

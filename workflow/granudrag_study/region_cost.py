@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from analysis.physics import froude
+from analysis.physics import active_radius, froude
 
 # Grains per d^3 in a poured bed: a packing fraction of 0.6 of grains 0.9-1.1 d in diameter
 # (mean volume pi/6 <d^3> = 0.529 d^3); only the depth of the bed below the intruder comes from
@@ -86,8 +86,7 @@ def asleep_fraction(pull, config, travel, table=None):
     the region)."""
     sysc, settings = config["systems"][pull.bed.system], pull.settings_in(config)
     D = pull.bed.value("D")
-    # In d, or in intruder diameters (granudrag pull --active_diameters).
-    radius = float(settings.get("active_radius", 0.0) or 0.0) or float(settings.get("active_diameters", 0.0) or 0.0) * D
+    radius = active_radius(settings, D)
     if radius <= 0:
         return 0.0
     lx, ly, grains = float(sysc["lx"]), float(sysc["ly"]), int(sysc["grains"])
