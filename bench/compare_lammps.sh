@@ -31,7 +31,9 @@
 # farther than R d from the intruder may fall asleep; they need sleep_time, 1 sqrt(d/g) = 2,000
 # steps here, at rest first, so give --steps well past that), and prints its loop time against
 # the pull without the region and against LAMMPS, with the mean and final fraction of the
-# bodies asleep (the run file's /observables/sleeping_grains).
+# bodies asleep (the run file's /observables/sleeping_grains), and the same for the second half
+# of the steps alone (`granudrag pull`'s "timing: second half" line), the steady cost once the bed
+# has fallen asleep.
 # Needs: apt-get install lammps openmpi-bin.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -48,7 +50,7 @@ while [ $# -gt 0 ]; do
     --speed) speed=$2; shift 2 ;;
     --active_radius) radius=$2; shift 2 ;;
     --poured_by) poured_by=$2; shift 2 ;;
-    -h | --help) sed -n '2,35p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,37p' "$0"; exit 0 ;;
     *) echo "compare_lammps.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -154,6 +156,10 @@ def gd_loop(path):
     split = dict(re.findall(r"(\S+) ([\d.e+-]+)", m.group(3)))
     return float(m.group(1)), {k: float(v) for k, v in split.items()}
 
+def gd_second_half(path):
+    m = re.search(r"^timing: second half ([\d.e+-]+) s for (\d+) steps", path.read_text(), re.M)
+    return float(m.group(1)), int(m.group(2))
+
 def lmp_loop(path):
     return float(re.search(r"^Loop time of ([\d.e+-]+)", path.read_text(), re.M).group(1))
 
@@ -194,6 +200,17 @@ for c in cores:
         print(f"#   active radius {radius} d on {c} thread(s): {saving:.2f}x faster than without it "
               f"(loop, median of the per-round ratios); bodies asleep: {asleep.mean():.1%} on "
               f"average over the pull, {asleep[-1]:.1%} at its end")
+        # The second half of the steps: the steady cost once the bed has fallen asleep (a study's
+        # pull of a box length spends about 1 % of its time falling asleep). LAMMPS's share is
+        # its loop scaled by the steps, its cost per step being steady.
+        gh = [gd_second_half(run / f"gd{c}-{k}.txt") for k in range(1, pairs + 1)]
+        rh = [gd_second_half(run / f"gdR{c}-{k}.txt") for k in range(1, pairs + 1)]
+        half = rh[0][1] / n
+        asleep_half = asleep[len(asleep) // 2:].mean()
+        print(f"#   second half ({rh[0][1]} steps): granudrag {st.median(x[0] for x in gh):.3f} s, with the region "
+              f"{st.median(x[0] for x in rh):.3f} s: {st.median(x[0] / r[0] for x, r in zip(gh, rh)):.2f}x faster "
+              f"than without it, {st.median(l * half / r[0] for l, r in zip(ll, rh)):.2f}x LAMMPS "
+              f"(its loop x {half:.3f}); bodies asleep {asleep_half:.1%} on average over it")
     split = {k: st.median(x[1][k] for x in g) for k in g[0][1]}
     tot = sum(split.values())
     print(f"#   granudrag {c} thread(s), loop split: " +

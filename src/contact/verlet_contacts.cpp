@@ -45,6 +45,7 @@ void VerletContacts::held_changed() {
 }
 
 void VerletContacts::classify_rows() {
+  forget_held_pairs();
   const PairList& pairs = list_.grain_pairs();
   if (!held_ || held_->size() != pairs.rows()) {
     row_mode_.clear();
@@ -391,6 +392,7 @@ void VerletContacts::import_history(const std::vector<PairHistory>& history) {
   const PairList& intruders = list_.intruder_pairs();
   const std::vector<int>& bodies = list_.intruder_bodies();
   grain_history_.resize(pairs.size());  // the imported set replaces whatever was carried over
+  forget_held_pairs();
   intruder_history_.resize(intruders.size());
   for (const PairHistory& h : history) {
     int e = -1;

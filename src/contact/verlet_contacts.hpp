@@ -69,6 +69,26 @@ class VerletContacts : public ContactLoop {
   void classify_rows();
   enum RowMode : std::uint8_t { kSkip = 0, kAll = 1, kAwakePartners = 2 };
   std::vector<std::uint8_t> row_mode_;  // empty: every row kAll
+  // Whether the step computes the pair of row i (mode) and partner j: not both held.
+  bool computed(std::uint8_t mode, int j) const {
+    return mode == kAll || (mode == kAwakePartners && !(*held_)[j]);
+  }
+  std::uint8_t row_mode(long i) const { return row_mode_.empty() ? std::uint8_t{kAll} : row_mode_[i]; }
+  // The held pairs' part of the checks that run every sample interval (energy, largest overlap,
+  // coordination numbers). A pair of two held bodies keeps its spring, its `touching` and its
+  // geometry while both stay held, so its part is taken once after each change of the held set
+  // or of the lists, and the checks scan only the pairs the step computes: in a mostly quiet
+  // bed those passes over every pair had become a large part of a step's cost.
+  struct HeldPairs {
+    bool counted = false, overlapped = false, energized = false;  // which parts are current
+    double energy = 0, overlap = 0;
+    std::vector<int> contacts;  // per body: its touching held pairs
+  };
+  mutable HeldPairs held_pairs_;
+  void forget_held_pairs() { held_pairs_.counted = held_pairs_.overlapped = held_pairs_.energized = false; }
+  const std::vector<int>& held_pair_contacts() const;
+  double held_pairs_overlap(const Particles& p, const Box& box) const;
+  double held_pairs_energy(const Particles& p, const Box& box, const ContactParams& c) const;
   // Scans rows i0 .. i1 for touching pairs and adds their forces into f, tq.
   void scan_rows(const Particles& p, const Box& box, const ContactParams& c, double dt, bool update_history,
                  long i0, long i1, ContactBatch& b, Vec3* f, Vec3* tq);

@@ -15,6 +15,9 @@ namespace granudrag {
 
 // The checks below run every sample interval (the run guard, the coordination numbers): in
 // parallel over the rows, or on a study's interval of 40 steps they cost 7 % of a 2-thread pull.
+// With bodies held, they scan the pairs the step computes and add the held pairs' part, taken
+// once per held set and list (held_pairs()): exact for the overlap and the counts; the energy's
+// terms are summed in another order than without the region (its last bits differ).
 double VerletContacts::elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const {
   auto pair_energy = [&](int i, int j) {
     ContactGeometry g;
@@ -23,15 +26,71 @@ double VerletContacts::elastic_energy(const Particles& p, const Box& box, const 
   const PairList& pairs = list_.grain_pairs();
   double energy = ordered_sum<double>(static_cast<long>(pairs.rows()), [&](long i) {
     double row = 0.0;
+    const std::uint8_t mode = row_mode(i);
+    if (mode == kSkip) return row;
     for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-      row += pair_energy(static_cast<int>(i), pairs.partner[e]);
+      if (computed(mode, pairs.partner[e])) row += pair_energy(static_cast<int>(i), pairs.partner[e]);
     return row;
   });
+  if (!row_mode_.empty()) energy += held_pairs_energy(p, box, c);
   const PairList& intruders = list_.intruder_pairs();
   for (std::size_t b = 0; b < intruders.rows(); ++b)
     for (int e = intruders.begin(b); e < intruders.end(b); ++e)
       energy += pair_energy(list_.intruder_bodies()[b], intruders.partner[e]);
   return energy;
+}
+
+const std::vector<int>& VerletContacts::held_pair_contacts() const {
+  HeldPairs& h = held_pairs_;
+  if (h.counted) return h.contacts;
+  const PairList& pairs = list_.grain_pairs();
+  h.contacts.assign(pairs.rows(), 0);
+  for (std::size_t i = 0; i < pairs.rows(); ++i) {
+    if (row_mode_[i] == kAll) continue;  // an awake row: none of its pairs is held
+    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
+      if ((*held_)[pairs.partner[e]] && grain_history_.touching[e]) {
+        ++h.contacts[i];
+        ++h.contacts[pairs.partner[e]];
+      }
+  }
+  h.counted = true;
+  return h.contacts;
+}
+
+double VerletContacts::held_pairs_overlap(const Particles& p, const Box& box) const {
+  HeldPairs& h = held_pairs_;
+  if (h.overlapped) return h.overlap;
+  const PairList& pairs = list_.grain_pairs();
+  h.overlap = 0;
+  for (std::size_t i = 0; i < pairs.rows(); ++i) {
+    if (row_mode_[i] == kAll) continue;
+    for (int e = pairs.begin(i); e < pairs.end(i); ++e) {
+      const int j = pairs.partner[e];
+      if ((*held_)[j] && grain_history_.touching[e])
+        h.overlap = std::max(h.overlap, p.radius[i] + p.radius[j] - box.min_image(p.x[i] - p.x[j]).norm());
+    }
+  }
+  h.overlapped = true;
+  return h.overlap;
+}
+
+double VerletContacts::held_pairs_energy(const Particles& p, const Box& box, const ContactParams& c) const {
+  HeldPairs& h = held_pairs_;
+  if (h.energized) return h.energy;
+  const PairList& pairs = list_.grain_pairs();
+  h.energy = ordered_sum<double>(static_cast<long>(pairs.rows()), [&](long i) {
+    double row = 0.0;
+    if (row_mode_[i] == kAll) return row;
+    for (int e = pairs.begin(i); e < pairs.end(i); ++e) {
+      const int j = pairs.partner[e];
+      ContactGeometry g;
+      if ((*held_)[j] && grain_history_.touching[e] && pair_geometry(p, box, static_cast<int>(i), j, g))
+        row += hertz_normal_energy(c.kn, g.reff, g.contact_distance - g.r);
+    }
+    return row;
+  });
+  h.energized = true;
+  return h.energy;
 }
 
 int VerletContacts::contacts_of(int body) const {
@@ -62,6 +121,10 @@ void VerletContacts::count_contacts(std::vector<int>& contacts) const {
   // arrays, added afterwards (integers: the same result in any order). Atomic increments instead
   // made one thread slower than the serial pass.
   const PairList& pairs = list_.grain_pairs();
+  if (!row_mode_.empty()) {
+    const std::vector<int>& held = held_pair_contacts();
+    for (std::size_t k = 0; k < held.size(); ++k) contacts[k] += held[k];
+  }
   const long rows = static_cast<long>(pairs.rows()), n = static_cast<long>(contacts.size());
   std::vector<std::vector<int>> extra(omp_get_max_threads());
 #pragma omp parallel
@@ -69,12 +132,15 @@ void VerletContacts::count_contacts(std::vector<int>& contacts) const {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     if (t > 0) extra[t].assign(n, 0);
     int* count = t == 0 ? contacts.data() : extra[t].data();
-    for (long i = rows * t / nt; i < rows * (t + 1) / nt; ++i)
+    for (long i = rows * t / nt; i < rows * (t + 1) / nt; ++i) {
+      const std::uint8_t mode = row_mode(i);
+      if (mode == kSkip) continue;
       for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-        if (grain_history_.touching[e]) {
+        if (grain_history_.touching[e] && computed(mode, pairs.partner[e])) {
           ++count[i];
           ++count[pairs.partner[e]];
         }
+    }
 #pragma omp barrier
     if (nt > 1) {
 #pragma omp for schedule(static)
@@ -118,12 +184,18 @@ double VerletContacts::largest_overlap(const Particles& p, const Box& box, bool 
   };
   const PairList& pairs = list_.grain_pairs();
   const long rows = static_cast<long>(pairs.rows());
-  double worst = 0;  // the largest is the same whatever the order
+  // The held pairs' part is taken apart for touching pairs only (held pairs out of touch keep
+  // their distance too, but a bed's deepest overlap is asked before any step, held or not).
+  const bool split = touching_only && !row_mode_.empty();
+  double worst = split ? held_pairs_overlap(p, box) : 0.0;  // the largest is the same whatever the order
 #pragma omp parallel for schedule(static) reduction(max : worst)
-  for (long i = 0; i < rows; ++i)
+  for (long i = 0; i < rows; ++i) {
+    const std::uint8_t mode = split ? row_mode(i) : std::uint8_t{kAll};
+    if (mode == kSkip) continue;
     for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-      if (!touching_only || grain_history_.touching[e])
+      if ((!touching_only || grain_history_.touching[e]) && computed(mode, pairs.partner[e]))
         worst = std::max(worst, overlap(static_cast<int>(i), pairs.partner[e]));
+  }
   const PairList& intruders = list_.intruder_pairs();
   for (std::size_t b = 0; b < intruders.rows(); ++b)
     for (int e = intruders.begin(b); e < intruders.end(b); ++e)

@@ -152,7 +152,9 @@ void Pull::run(bool show_progress, const std::function<void(const Pull&)>& on_ch
   Timers& timers = sim_.timers();
   timers.reset();
   const long first_step = sim_.steps_done();
+  const long half = first_step + (record_.total_steps - first_step) / 2;
   const double t0 = omp_get_wtime();
+  double t_half = t0;
   const bool dump = spec_.dump_every > 0 && on_frame;
   auto frame = [&] {
     timers.start();
@@ -172,10 +174,14 @@ void Pull::run(bool show_progress, const std::function<void(const Pull&)>& on_ch
       on_checkpoint(*this);
       timers.stamp(Phase::IO);
     }
+    if (sim_.steps_done() == half) t_half = omp_get_wtime();
     if (show_progress) progress.update(sim_.steps_done(), n, "particle-steps");
   }
-  loop_seconds_ = omp_get_wtime() - t0;
+  const double t_end = omp_get_wtime();
+  loop_seconds_ = t_end - t0;
   loop_steps_ = sim_.steps_done() - first_step;
+  half_seconds_ = t_end - t_half;
+  half_steps_ = sim_.steps_done() - std::max(half, first_step);
   if (record_.stop_reason.empty()) record_.stop_reason = "distance";
 }
 
@@ -194,7 +200,11 @@ int Pull::replica_grain() const {
 }
 
 std::string Pull::timing_report() const {
-  return timing_line(sim_.timers(), static_cast<double>(sim_.particles().size()), loop_steps_, loop_seconds_);
+  const double n = static_cast<double>(sim_.particles().size());
+  std::ostringstream half;
+  half << "timing: second half " << half_seconds_ << " s for " << half_steps_ << " steps, "
+       << n * static_cast<double>(half_steps_) / std::max(half_seconds_, 1e-9) << " particle-steps/s\n";
+  return timing_line(sim_.timers(), n, loop_steps_, loop_seconds_) + half.str();
 }
 
 long Pull::samples_in_transient() const {

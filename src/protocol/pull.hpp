@@ -163,7 +163,9 @@ class Pull {
   // Sanity report printed at the end of every run (CoMD style).
   std::string sanity_report(double wall_seconds) const;
   // "timing: loop ... s ..., particle-steps/s; integration ... s ..." for the last run(): the
-  // step loop alone and its split by phase (core/timer.hpp), one line.
+  // step loop alone and its split by phase (core/timer.hpp), one line; then a line
+  // "timing: second half ..." for the last half of its steps, which shows the steady cost of a
+  // pull whose bed fell asleep in its first part (the active region).
   std::string timing_report() const;
   double loop_seconds() const { return loop_seconds_; }
   long loop_steps() const { return loop_steps_; }
@@ -189,8 +191,8 @@ class Pull {
   long planned_steps_ = 0;  // for the whole distance: the transient and snapshots are set by it
   std::vector<int> scratch_;
   std::vector<int> counts_;
-  double loop_seconds_ = 0;
-  long loop_steps_ = 0;
+  double loop_seconds_ = 0, half_seconds_ = 0;
+  long loop_steps_ = 0, half_steps_ = 0;
 };
 
 }  // namespace granudrag

@@ -139,7 +139,8 @@ TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
   // The active region: grains outside 3.5 d of the intruder fall asleep after 150 steps of
   // collisions (checks every step here; a sleep distance and a wake force so large that only
   // the intruder's approach wakes them), and the intruder moving on wakes those it nears. Both
-  // paths skip the pairs of two held bodies and compute every other.
+  // paths skip the pairs of two held bodies and compute every other, and the checks of every
+  // sample interval (contact counts, largest overlap, elastic energy) agree.
   // One thread in spatial order, two on the shuffled scene (private force arrays); the
   // two-colour schedule with held grains is checked bitwise in AnActiveRegionWider... and by the
   // pulls of test_active_region.cpp.
@@ -175,6 +176,19 @@ TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
             << "force on " << i << " at step " << step << ", threads " << threads;
         ASSERT_LT(support::rel_diff(a.torque[i], b.torque[i], scale), 1e-9)
             << "torque on " << i << " at step " << step << ", threads " << threads;
+      }
+      if (step % 10 == 0) {
+        // The checks of every sample interval: the fast path takes the held pairs' part from
+        // what it kept since the held set or the lists last changed, the oracle scans them all.
+        std::vector<int> counts_a(n, 0), counts_b(n, 0);
+        fast.contacts().count_contacts(counts_a);
+        brute.contacts().count_contacts(counts_b);
+        ASSERT_EQ(counts_a, counts_b) << "step " << step << ", threads " << threads;
+        ASSERT_EQ(fast.contacts().max_overlap(a, scene.box), brute.contacts().max_overlap(b, scene.box))
+            << "step " << step;
+        const double e_brute = brute.contacts().elastic_energy(b, scene.box, c);
+        ASSERT_NEAR(fast.contacts().elastic_energy(a, scene.box, c), e_brute, 1e-9 * e_brute)
+            << "step " << step;
       }
       if (step == 250) {
         springs_then = fast.state().pair_history;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include "core/error.hpp"
@@ -75,6 +76,20 @@ TEST(Pull, MeasuresDragAndContactsOfAMovingIntruder) {
   EXPECT_DOUBLE_EQ(p.x[small_bed().intruder].z(), small_bed().state.particles.x[small_bed().intruder].z());
   // Work done on the grains is the drag times the distance, up to the transient.
   EXPECT_NEAR(pull.record().work / travelled, -mean(pull.record().fx), 1e-9 * pull.record().work);
+  // Its timing: the loop, and the second half of its steps (an active region's steady cost).
+  const long steps = pull.simulation().steps_done();
+  EXPECT_EQ(pull.loop_steps(), steps);
+  const std::string timing = pull.timing_report();
+  const std::size_t at = timing.find("\ntiming: second half ");
+  ASSERT_NE(at, std::string::npos) << timing;
+  double half_seconds = -1;
+  long half_steps = -1;
+  ASSERT_EQ(std::sscanf(timing.c_str() + at, "\ntiming: second half %lf s for %ld steps", &half_seconds,
+                        &half_steps),
+            2);
+  EXPECT_EQ(half_steps, steps - steps / 2);
+  EXPECT_GT(half_seconds, 0.0);
+  EXPECT_LT(half_seconds, pull.loop_seconds());
 }
 
 TEST(Pull, ResumedFromCheckpointIsBitwiseIdentical) {
