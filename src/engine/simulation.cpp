@@ -71,6 +71,7 @@ void Simulation::step() {
   contacts_->prepare_accumulate();
   if (box_.wall) wall_.prepare(p_);
   thread_drift_.assign(omp_get_max_threads(), 0.0);
+  damping_ = settings_.viscous_damping > 0 && time() >= settings_.viscous_from;
   double max_drift_sq = 0;
   bool rebuild = false;
 #pragma omp parallel
@@ -213,6 +214,16 @@ inline void Simulation::add_body_force(long i) {
   if (p_.species[i] == Species::Mobile) {
     const double m = p_.mass[i];
     for (int d = 0; d < 3; ++d) f[d] += m * settings_.gravity[d];
+    if (damping_) {  // with the half-step velocities, as the contacts' damping
+      const double c = m * settings_.viscous_damping, c_spin = p_.inertia(i) * settings_.viscous_damping;
+      const double* v = p_.v[i].data();
+      const double* w = p_.omega[i].data();
+      double* tq = p_.torque[i].data();
+      for (int d = 0; d < 3; ++d) {
+        f[d] -= c * v[d];
+        tq[d] -= c_spin * w[d];
+      }
+    }
   } else if (p_.species[i] == Species::Frozen) {
     double* tq = p_.torque[i].data();
     for (int d = 0; d < 3; ++d) f[d] = tq[d] = 0.0;  // as LAMMPS fix freeze

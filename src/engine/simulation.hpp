@@ -21,6 +21,12 @@ struct Settings {
   Vec3 gravity{0.0, 0.0, -1.0};
   bool brute_force = false;     // use the O(N^2) oracle instead of the neighbour lists
   ActiveRegionSettings active;  // off unless active.radius > 0
+  // A viscous drag -viscous_damping m v, and a torque -viscous_damping I omega, on every mobile
+  // grain from time viscous_from on, as LAMMPS fix viscous and fix viscous/sphere (their gamma =
+  // viscous_damping m, resp. I): it drains the slow elastic breathing a settling bed keeps for a
+  // long time, and the spin of rattlers no contact damps. 0: off (the same step loop, bit for bit).
+  double viscous_damping = 0.0;  // sqrt(g/d)
+  double viscous_from = 0.0;     // sqrt(d/g)
 };
 
 struct Energy {
@@ -113,6 +119,7 @@ class Simulation {
   Timers timers_;
   long steps_ = 0;
   bool ready_ = false;
+  bool damping_ = false;  // this step adds the viscous drag
 };
 
 // s with its bodies in `order` (order[k]: the body that goes to position k,

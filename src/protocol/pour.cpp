@@ -148,10 +148,19 @@ Pour::Column Pour::loose_column(const PourSpec& s) {
 
 namespace {
 
-Settings pour_settings(const PourSpec& s) {
+// Grains start at rest: the kinetic energy is tiny before they have fallen. Neither the threshold
+// stop nor the settling damping comes before the top of the column could have fallen to the
+// wall (t = sqrt(2 z_top / g)).
+double fallen_time(const PourSpec& s, double column_top) {
+  return std::min(s.max_settle_time, std::sqrt(2.0 * column_top));
+}
+
+Settings pour_settings(const PourSpec& s, double column_top) {
   Settings settings;
   settings.dt = s.dt;
   settings.skin = s.skin;
+  settings.viscous_damping = s.settle_damping;
+  settings.viscous_from = fallen_time(s, column_top);
   return settings;
 }
 
@@ -169,7 +178,8 @@ Pour::Pour(const PourSpec& spec, const Simulation::State& state, PourRecord reco
 
 Pour::Pour(const PourSpec& spec, Column column, const Simulation::State* resume)
     : spec_(spec),
-      sim_(std::move(column.particles), Box{spec.lx, spec.ly, true}, spec.contact, pour_settings(spec)),
+      sim_(std::move(column.particles), Box{spec.lx, spec.ly, true}, spec.contact,
+           pour_settings(spec, column.top)),
       guard_(GuardLimits{}, 0.0),
       column_top_(column.top) {
   bed_.box = Box{spec_.lx, spec_.ly, true};
@@ -184,9 +194,7 @@ Pour::Pour(const PourSpec& spec, Column column, const Simulation::State* resume)
   while (checks > 1 && time_at(checks - 1) >= spec_.max_settle_time) --checks;
   while (time_at(checks) < spec_.max_settle_time) ++checks;
   max_steps_ = checks * chunk_;
-  // Grains start at rest: the kinetic energy is tiny before they have fallen. No threshold
-  // stop before the top of the column could have fallen to the wall (t = sqrt(2 z_top / g)).
-  min_settle_time_ = std::min(spec_.max_settle_time, std::sqrt(2.0 * column_top_));
+  min_settle_time_ = fallen_time(spec_, column_top_);
   GuardLimits limits;
   limits.max_overlap = spec_.max_overlap;
   limits.z_max = column_top_ + 10.0;  // the grains start at rest below column_top

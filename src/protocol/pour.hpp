@@ -39,6 +39,7 @@ struct PourSpec {
   double ke_threshold = 1e-7;    // mean kinetic energy per grain, rho g d^4
   double max_settle_time = 100;  // sqrt(d/g)
   double check_interval = 0.5;   // sqrt(d/g) between kinetic-energy checks
+  double settle_damping = 0;     // sqrt(g/d): viscous drag rate once the column has fallen; 0: off
   double base_height = 0.6;      // grains below are frozen into the rough base
   std::uint64_t seed = 1;
   double max_overlap = GuardLimits{}.max_overlap;  // d: the pour stops when an overlap exceeds it
