@@ -49,7 +49,10 @@ ASLEEP_SHARE = ((0.04, 0.68), (1.0, 0.70), (5.0, 0.015))
 # with an awake partner); the yield pulls ran 1.7-3.6x faster. In a bed still creeping (the
 # 70,001-body bed of docs/benchmark.md, settled to 1e-4 only) awake grains are scattered through
 # the sleeping ones and c was 0.49. What a sleeping grain still costs: the scan of its pairs when
-# a partner is awake, and the integration's, lists' and checks' passes over every body.
+# a partner is awake, and the integration's, lists' and checks' passes over every body. Since
+# 2026-11-27 the checks take the held pairs' part once per held set, and in a 70,001-body bed at
+# rest (poured with settle_damping) a sleeping grain cost 0.03 of an awake one over the second
+# half of a yield pull (docs/benchmark.md); 0.22, measured on the study's kind of bed, is kept.
 SLEEPING_COST = 0.22
 
 
