@@ -55,7 +55,7 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
                  "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "stop_reason",
-                 "active_radius", "perturbation", "asleep", "sanity", "path"]
+                 "active_radius", "perturbation", "asleep", "settle_damping", "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
@@ -168,6 +168,7 @@ def read_run(path, system=None, root=None):
         region = {k: _pull_setting(f, path, k) for k in ("active_radius", "active_diameters")} if version >= 2 else {}
         active_radius = physics.active_radius(region, get["D"])
         perturbation = _pull_setting(f, path, "perturbation") if version >= 2 else 0.0
+        settle_damping = _pour_setting(f, path, "settle_damping") if version >= 2 else 0.0
         asleep = _asleep(obs, scale["grains"])
         sanity = _verdict(f, path)
     except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
@@ -215,8 +216,8 @@ def read_run(path, system=None, root=None):
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,
-            "active_radius": active_radius, "perturbation": perturbation, "asleep": asleep, "sanity": sanity,
-            "path": str(path)}
+            "active_radius": active_radius, "perturbation": perturbation, "asleep": asleep,
+            "settle_damping": settle_damping, "sanity": sanity, "path": str(path)}
 
 
 def _verdict(f, path):
@@ -359,6 +360,16 @@ def _pull_setting(f, path, key):
     value = pull.get(key, 0.0)
     if isinstance(value, (bool, str, list)):
         raise RunFileError(f"{path}: damaged run file: /parameters/pull attribute '{key}' "
+                           f"is not a number ({value!r})")
+    return float(value)
+
+
+def _pour_setting(f, path, key):
+    """A numeric pour setting of the run's bed that defaults to 0 (settle_damping: 0 the paper's
+    pour), also for beds from before the key, which record none."""
+    value = (_parameters(f, path).get("pour", {}) if "parameters" in f else {}).get(key, 0.0)
+    if isinstance(value, (bool, str, list)):
+        raise RunFileError(f"{path}: damaged run file: /parameters/pour attribute '{key}' "
                            f"is not a number ({value!r})")
     return float(value)
 

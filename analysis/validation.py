@@ -70,6 +70,12 @@ STUDIES = {
                            ("D", "h_requested", "mu", "kn", "gamman", "Fr"), "active radius (d)", True,
                            "the smallest active radius that agrees with every grain integrated, for each D",
                            also_judged=(("theta", "theta_err"),), also_reported=("n_contacts", "Z")),
+    # Beds poured with and without the settling damping (granudrag pour --settle_damping, systems
+    # that differ in it alone): the reference is 0, the paper's pour. Other beds, so the drags are
+    # compared as the points' means over their beds, with the bed scatter in their errors.
+    "settle_damping": Study("settle_damping", "settle_damping", "min",
+                            ("D", "h_requested", "mu", "kn", "gamman", "Fr"), "settle_damping (sqrt(g/d))", False,
+                            "whether beds poured with the settling damping pull as the paper's pour does"),
 }
 
 
@@ -295,6 +301,10 @@ def _answer(cmp, study):
             saved = ", ".join(f"{v:g} d: {100 * g.asleep.mean():.0f} %" for v, g in cmp.groupby("variant"))
             text += f" Mean fraction of the grains asleep over a pull: {saved}."
         return text
+    if study.name == "settle_damping":
+        ok = [f"{v:g}" for v, g in cmp.groupby("variant") if g.agrees.all()]
+        return ("Settling damping whose beds give the paper's pour's drag at every point: "
+                + (", ".join(ok) if ok else "none") + ".")
     # stiffness: the drag's change per decade of K_n, at each speed (regimes differ)
     cmp = cmp.assign(_per_decade=cmp.rel_diff / np.log10(cmp.variant / cmp.reference))
     by = "Fr" if "Fr" in cmp.columns and cmp.Fr.nunique() > 1 else None

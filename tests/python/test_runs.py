@@ -120,6 +120,7 @@ def test_scale_is_nan_when_the_file_does_not_record_it(tmp_path, version):
     row = read_run(p)
     assert all(np.isnan(row[k]) for k in ("lx", "ly", "grains")) and row["drag"] > 0
     assert row["active_radius"] == 0.0 and row["asleep"] == 0.0   # a pull that records no region
+    assert row["settle_damping"] == 0.0                            # nor its bed's pour
     # A bed of format version 1, or imported: the run has no /parameters/pour.
     q = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5", speed=1.5)
     with h5py.File(q, "a") as f:
@@ -195,7 +196,7 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     """A real pour and pull: every key comes back with its type, and the table's scale."""
     subprocess.run([str(BINARY), "pour", "--output", str(tmp_path / "bed.h5"), "--grains", "150",
                     "--lx", "5", "--ly", "4.5", "--intruder_diameter", "1.5", "--depth", "1.5",
-                    "--kn", "2e4", "--max_settle_time", "0.5", "--quiet"],
+                    "--kn", "2e4", "--max_settle_time", "0.5", "--settle_damping", "0.5", "--quiet"],
                    check=True, capture_output=True)
     run = tmp_path / "system~I" / "run.h5"
     run.parent.mkdir()
@@ -210,6 +211,7 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     assert (row["lx"], row["ly"], row["grains"]) == (5.0, 4.5, 150.0)
     assert row["active_radius"] == 3.0       # the validation of the active region compares by it
     assert row["perturbation"] == 0.0
+    assert row["settle_damping"] == 0.5      # the bed's, which its validation compares by
     # The radius in intruder diameters (D = 1.5), and a replica: read as the radius in d.
     replica = tmp_path / "system~R" / "run.h5"
     replica.parent.mkdir()

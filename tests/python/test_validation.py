@@ -117,6 +117,35 @@ def test_active_region_names_the_smallest_radius_that_agrees_for_each_D():
     assert "D = 2: none agrees" in val.conclusion(cmp, "active_region")
 
 
+def damped_runs(shift, beds=3, bed_scatter=0.05, seed=2):
+    """Runs of a settling-damping study: beds poured without (system I) and with the damping
+    (I_damped, other beds), at a yield speed and Fr = 1; the damped beds' drag is F0 (1 + shift)."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for sd in (0.0, 1.0):
+        system = "I" if sd == 0 else "I_damped"
+        for Fr in (0.03, 1.0):
+            for b in range(1, beds + 1):
+                F = 100 * (1 + Fr) * (1 + (shift if sd else 0.0)) * (1 + bed_scatter * rng.standard_normal())
+                rows.append(dict(system=system, D=2.0, h=6.4, h_requested=6.5, mu=0.5, kn=2e4, gamman=199.05,
+                                 Fr=Fr, V=Fr, seed=b, drag=F, drag_err=0.02 * F, theta=1.5, theta_err=0.01,
+                                 n_contacts=4.0, Z=4.5, kappa=1.0, settle_damping=sd, sanity="clean",
+                                 run=f"pulls/system~{system}/D~2/h~6.5/mu~0.5/kn~2e4/gn~199.05/seed~{b}/Fr~{Fr:g}"))
+    return pd.DataFrame(rows)
+
+
+def test_settle_damping_compares_other_beds_by_their_means_and_scatter():
+    cmp = val.compare(damped_runs(0.0), "settle_damping")
+    assert not cmp.paired.any() and set(cmp.reference) == {0.0} and set(cmp.variant) == {1.0}
+    assert len(cmp) == 2 and (cmp.beds == 3).all() and cmp.agrees.all()
+    assert "Settling damping whose beds give the paper's pour's drag at every point: 1." in \
+        val.conclusion(cmp, "settle_damping")
+    # A 30 % higher drag in the damped beds is far outside 5 % bed scatter over 3 beds.
+    cmp = val.compare(damped_runs(0.3), "settle_damping")
+    assert not cmp.agrees.any() and cmp.rel_diff.min() > 0.15
+    assert "at every point: none." in val.conclusion(cmp, "settle_damping")
+
+
 def test_flagged_runs_and_missing_variants_are_named(tmp_path):
     runs = yield_runs({0.01: 0.0, 0.03: 0.0, 0.1: 0.0})
     runs.loc[runs.V != 0.01, "sanity"] = "overlap 0.3 d > max_overlap"
