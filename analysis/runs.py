@@ -165,10 +165,11 @@ def read_run(path, system=None, root=None):
         Z, kappa = observable("bulk_coordination"), observable("kappa")
         kappa_err = _kappa_error(obs, kappa, n, transient / get["speed"] if get["speed"] > 0 else 0.0)
         scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
-        region = {k: _pull_setting(f, path, k) for k in ("active_radius", "active_diameters")} if version >= 2 else {}
+        region = ({k: _setting(f, path, "pull", k) for k in ("active_radius", "active_diameters")}
+                  if version >= 2 else {})
         active_radius = physics.active_radius(region, get["D"])
-        perturbation = _pull_setting(f, path, "perturbation") if version >= 2 else 0.0
-        settle_damping = _pour_setting(f, path, "settle_damping") if version >= 2 else 0.0
+        perturbation = _setting(f, path, "pull", "perturbation") if version >= 2 else 0.0
+        settle_damping = _setting(f, path, "pour", "settle_damping") if version >= 2 else 0.0
         asleep = _asleep(obs, scale["grains"])
         sanity = _verdict(f, path)
     except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
@@ -353,23 +354,13 @@ def _asleep(obs, grains):
     return float(counts.mean() / grains) if counts.size and grains > 0 else math.nan
 
 
-def _pull_setting(f, path, key):
-    """A numeric pull setting that defaults to 0 (active_radius, d: 0 every grain integrated;
-    perturbation: 0 not a replica), also for files from before the key, which record none."""
-    pull = _parameters(f, path).get("pull", {}) if "parameters" in f else {}
-    value = pull.get(key, 0.0)
+def _setting(f, path, block, key):
+    """A numeric setting of the run's pull (`block` "pull") or of its bed's pour ("pour") that
+    defaults to 0 (active_radius, d: 0 every grain integrated; perturbation: 0 not a replica;
+    settle_damping: 0 the paper's pour), also for files from before the key, which record none."""
+    value = (_parameters(f, path).get(block, {}) if "parameters" in f else {}).get(key, 0.0)
     if isinstance(value, (bool, str, list)):
-        raise RunFileError(f"{path}: damaged run file: /parameters/pull attribute '{key}' "
-                           f"is not a number ({value!r})")
-    return float(value)
-
-
-def _pour_setting(f, path, key):
-    """A numeric pour setting of the run's bed that defaults to 0 (settle_damping: 0 the paper's
-    pour), also for beds from before the key, which record none."""
-    value = (_parameters(f, path).get("pour", {}) if "parameters" in f else {}).get(key, 0.0)
-    if isinstance(value, (bool, str, list)):
-        raise RunFileError(f"{path}: damaged run file: /parameters/pour attribute '{key}' "
+        raise RunFileError(f"{path}: damaged run file: /parameters/{block} attribute '{key}' "
                            f"is not a number ({value!r})")
     return float(value)
 

@@ -89,6 +89,8 @@ class VerletContacts : public ContactLoop {
   const std::vector<int>& held_pair_contacts() const;
   double held_pairs_overlap(const Particles& p, const Box& box) const;
   double held_pairs_energy(const Particles& p, const Box& box, const ContactParams& c) const;
+  template <class Visit>
+  void for_held_touching_pairs(Visit&& visit) const;  // visit(i, j) for each such pair
   // Scans rows i0 .. i1 for touching pairs and adds their forces into f, tq.
   void scan_rows(const Particles& p, const Box& box, const ContactParams& c, double dt, bool update_history,
                  long i0, long i1, ContactBatch& b, Vec3* f, Vec3* tq);

@@ -16,8 +16,8 @@ namespace granudrag {
 // The checks below run every sample interval (the run guard, the coordination numbers): in
 // parallel over the rows, or on a study's interval of 40 steps they cost 7 % of a 2-thread pull.
 // With bodies held, they scan the pairs the step computes and add the held pairs' part, taken
-// once per held set and list (held_pairs()): exact for the overlap and the counts; the energy's
-// terms are summed in another order than without the region (its last bits differ).
+// once per held set and list (for_held_touching_pairs): exact for the overlap and the counts;
+// the energy's terms are summed in another order than without the region (its last bits differ).
 double VerletContacts::elastic_energy(const Particles& p, const Box& box, const ContactParams& c) const {
   auto pair_energy = [&](int i, int j) {
     ContactGeometry g;
@@ -40,19 +40,27 @@ double VerletContacts::elastic_energy(const Particles& p, const Box& box, const 
   return energy;
 }
 
+// The touching pairs of two held bodies, row by row (rows whose body is awake have none): the
+// pairs whose part the checks keep between changes of the held set or of the lists.
+template <class Visit>
+void VerletContacts::for_held_touching_pairs(Visit&& visit) const {
+  const PairList& pairs = list_.grain_pairs();
+  for (std::size_t i = 0; i < pairs.rows(); ++i) {
+    if (row_mode_[i] == kAll) continue;
+    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
+      if ((*held_)[pairs.partner[e]] && grain_history_.touching[e])
+        visit(static_cast<int>(i), pairs.partner[e]);
+  }
+}
+
 const std::vector<int>& VerletContacts::held_pair_contacts() const {
   HeldPairs& h = held_pairs_;
   if (h.counted) return h.contacts;
-  const PairList& pairs = list_.grain_pairs();
-  h.contacts.assign(pairs.rows(), 0);
-  for (std::size_t i = 0; i < pairs.rows(); ++i) {
-    if (row_mode_[i] == kAll) continue;  // an awake row: none of its pairs is held
-    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-      if ((*held_)[pairs.partner[e]] && grain_history_.touching[e]) {
-        ++h.contacts[i];
-        ++h.contacts[pairs.partner[e]];
-      }
-  }
+  h.contacts.assign(list_.grain_pairs().rows(), 0);
+  for_held_touching_pairs([&](int i, int j) {
+    ++h.contacts[i];
+    ++h.contacts[j];
+  });
   h.counted = true;
   return h.contacts;
 }
@@ -60,16 +68,10 @@ const std::vector<int>& VerletContacts::held_pair_contacts() const {
 double VerletContacts::held_pairs_overlap(const Particles& p, const Box& box) const {
   HeldPairs& h = held_pairs_;
   if (h.overlapped) return h.overlap;
-  const PairList& pairs = list_.grain_pairs();
   h.overlap = 0;
-  for (std::size_t i = 0; i < pairs.rows(); ++i) {
-    if (row_mode_[i] == kAll) continue;
-    for (int e = pairs.begin(i); e < pairs.end(i); ++e) {
-      const int j = pairs.partner[e];
-      if ((*held_)[j] && grain_history_.touching[e])
-        h.overlap = std::max(h.overlap, p.radius[i] + p.radius[j] - box.min_image(p.x[i] - p.x[j]).norm());
-    }
-  }
+  for_held_touching_pairs([&](int i, int j) {
+    h.overlap = std::max(h.overlap, p.radius[i] + p.radius[j] - box.min_image(p.x[i] - p.x[j]).norm());
+  });
   h.overlapped = true;
   return h.overlap;
 }
@@ -77,17 +79,11 @@ double VerletContacts::held_pairs_overlap(const Particles& p, const Box& box) co
 double VerletContacts::held_pairs_energy(const Particles& p, const Box& box, const ContactParams& c) const {
   HeldPairs& h = held_pairs_;
   if (h.energized) return h.energy;
-  const PairList& pairs = list_.grain_pairs();
-  h.energy = ordered_sum<double>(static_cast<long>(pairs.rows()), [&](long i) {
-    double row = 0.0;
-    if (row_mode_[i] == kAll) return row;
-    for (int e = pairs.begin(i); e < pairs.end(i); ++e) {
-      const int j = pairs.partner[e];
-      ContactGeometry g;
-      if ((*held_)[j] && grain_history_.touching[e] && pair_geometry(p, box, static_cast<int>(i), j, g))
-        row += hertz_normal_energy(c.kn, g.reff, g.contact_distance - g.r);
-    }
-    return row;
+  h.energy = 0;  // serial, in row order: the same bits for any thread count
+  for_held_touching_pairs([&](int i, int j) {
+    ContactGeometry g;
+    if (pair_geometry(p, box, i, j, g))
+      h.energy += hertz_normal_energy(c.kn, g.reff, g.contact_distance - g.r);
   });
   h.energized = true;
   return h.energy;

@@ -80,12 +80,10 @@ const KeyTable<PourSpec>& pour_keys() {
       Key::number("settle_damping")
           .unit("sqrt(g/d)")
           .at_least(0)
-          .help("a viscous drag -settle_damping m v (and torque -settle_damping I omega) on every grain once "
-                "the "
-                "top of the column could have fallen to the wall, as LAMMPS fix viscous: drains the slow "
-                "elastic breathing of a deep bed, which an active-region pull at the yield speed needs at "
-                "rest; "
-                "0: off (the paper's pour)")
+          .help("a viscous drag -settle_damping m v (and torque -settle_damping I omega) on every "
+                "grain once the top of the column could have fallen to the wall, as LAMMPS fix "
+                "viscous: drains the slow elastic breathing of a deep bed, which an active-region "
+                "pull at the yield speed needs at rest; 0: off (the paper's pour)")
           .field(&PourSpec::settle_damping),
       Key::number("base_height")
           .unit("d")
