@@ -48,11 +48,22 @@ def test_the_grains_outside_the_region_match_a_sampled_bed(radius, depth):
 
 
 def test_the_share_is_the_table_at_its_points_log_linear_between_and_flat_beyond():
-    table = ((0.1, 0.6), (10.0, 0.2))
-    assert region_cost.asleep_share(0.1, table) == pytest.approx(0.6)
-    assert region_cost.asleep_share(1.0, table) == pytest.approx(0.4)   # half-way in log Fr
-    assert region_cost.asleep_share(0.001, table) == pytest.approx(0.6)
-    assert region_cost.asleep_share(100.0, table) == pytest.approx(0.2)
+    table = {0.5: ((0.1, 0.6), (10.0, 0.2))}
+    assert region_cost.asleep_share(0.1, 0.5, table) == pytest.approx(0.6)
+    assert region_cost.asleep_share(1.0, 0.5, table) == pytest.approx(0.4)   # half-way in log Fr
+    assert region_cost.asleep_share(0.001, 0.5, table) == pytest.approx(0.6)
+    assert region_cost.asleep_share(100.0, 0.5, table) == pytest.approx(0.2)
+    assert region_cost.asleep_share(1.0, 0.0, table) == pytest.approx(0.4)   # one friction: for all
+
+
+def test_the_share_is_linear_in_friction_between_the_measured_ones_and_flat_beyond():
+    table = {0.0: ((0.1, 0.0), (10.0, 0.1)), 0.5: ((0.1, 0.6), (10.0, 0.2))}
+    assert region_cost.asleep_share(0.1, 0.0, table) == pytest.approx(0.0)
+    assert region_cost.asleep_share(0.1, 0.25, table) == pytest.approx(0.3)
+    assert region_cost.asleep_share(1.0, 0.1, table) == pytest.approx(0.8 * 0.05 + 0.2 * 0.4)
+    assert region_cost.asleep_share(0.1, 0.9, table) == pytest.approx(0.6)
+    # the default table: a frictionless bed at the yield speed hardly sleeps, a frictional one does
+    assert region_cost.asleep_share(0.03, 0.0) < 0.05 < 0.5 < region_cost.asleep_share(0.03, 0.5)
 
 
 def pulls(config):
@@ -70,7 +81,8 @@ def test_a_pull_with_the_region_costs_the_model_s_fraction_and_without_it_all():
         assert study.pull_cost(region, config) == study.pull_cost(ref, config)
         V = region.V
         Fr = float(physics.froude(V, 2))
-        by_hand = (region_cost.asleep_share(Fr) * region_cost.outside_fraction(6, 20, 20, 6400, 7)
+        by_hand = (region_cost.asleep_share(Fr, region.bed.value("mu"))
+                   * region_cost.outside_fraction(6, 20, 20, 6400, 7)
                    * (1 - region_cost.SLEEP_TIME_DEFAULT * V / 3))
         factor = 1 - (1 - region_cost.SLEEPING_COST) * max(by_hand, 0.0)
         assert study.expected_pull_cost(region, config) == pytest.approx(
@@ -92,18 +104,22 @@ def test_a_pull_shorter_than_the_rest_saves_nothing():
 
 
 def test_the_shares_measured_from_runs_are_recovered():
-    # Runs made to sleep at shares 0.6 (yield) and 0.2 (Fr = 1) of what their geometry allows.
+    # Runs made to sleep at shares 0.6 (yield) and 0.2 (Fr = 1) of what their geometry allows at
+    # mu = 0.5, and at a tenth of those at mu = 0.
     rows = []
-    for radius in (4, 6, 8):
-        for Fr, V, share in ((0.04, 0.03, 0.6), (1.0, 0.75, 0.2)):
-            allowed = region_cost.outside_fraction(radius, 20, 20, 6400, 7.1) * (1 - V / 3.0)
-            rows.append(dict(active_radius=radius, asleep=share * allowed, lx=20, ly=20, grains=6400,
-                             h=7.1, distance=3.0, V=V, Fr=Fr, D=2))
+    for mu, scale in ((0.5, 1.0), (0.0, 0.1)):
+        for radius in (4, 6, 8):
+            for Fr, V, share in ((0.04, 0.03, 0.6), (1.0, 0.75, 0.2)):
+                allowed = region_cost.outside_fraction(radius, 20, 20, 6400, 7.1) * (1 - V / 3.0)
+                rows.append(dict(active_radius=radius, asleep=scale * share * allowed, lx=20, ly=20,
+                                 grains=6400, h=7.1, distance=3.0, V=V, Fr=Fr, D=2, mu=mu))
     rows.append(dict(active_radius=0, asleep=0.0, lx=20, ly=20, grains=6400, h=7.1, distance=3.0,
-                     V=0.03, Fr=0.04, D=2))
+                     V=0.03, Fr=0.04, D=2, mu=0.5))
     shares = region_cost.measured_shares(pd.DataFrame(rows))
-    assert [fr for fr, _ in shares] == [0.04, 1.0]
-    assert [s for _, s in shares] == pytest.approx([0.6, 0.2], rel=1e-12)
+    assert sorted(shares) == [0.0, 0.5]
+    assert [fr for fr, _ in shares[0.5]] == [0.04, 1.0]
+    assert [s for _, s in shares[0.5]] == pytest.approx([0.6, 0.2], rel=1e-12)
+    assert [s for _, s in shares[0.0]] == pytest.approx([0.06, 0.02], rel=1e-12)
     with pytest.raises(ValueError, match="active region"):
         region_cost.measured_shares(pd.DataFrame(rows[-1:]))
 
@@ -136,10 +152,10 @@ def test_estimate_cost_prices_a_config_as_if_it_had_the_region(tmp_path):
     # the shares of a runs.csv replace the built-in ones: all asleep that can be, a larger saving
     runs = tmp_path / "runs.csv"
     pd.DataFrame([dict(active_radius=6, asleep=0.99, lx=20, ly=20, grains=6400, h=7, distance=3.0,
-                       V=v, Fr=fr, D=2) for fr, v in ((0.04, 0.03), (1.0, 0.75), (5.0, 3.75))]).to_csv(runs)
+                       V=v, Fr=fr, D=2, mu=0.5) for fr, v in ((0.04, 0.03), (1.0, 0.75), (5.0, 3.75))]).to_csv(runs)
     measured = run_estimate(path, "--active_radius", "6", "--asleep-from", str(runs))
     assert measured.returncode == 0, measured.stderr
-    assert "Fr 0.04: 1" in measured.stdout
+    assert "mu 0.5: Fr 0.04: 1" in measured.stdout
     assert core_hours(measured.stdout) < core_hours(region.stdout)
 
 

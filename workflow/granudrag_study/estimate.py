@@ -128,8 +128,9 @@ def _use_measured_shares(path):
     except (OSError, ValueError, AttributeError, KeyError) as exc:
         sys.exit(f"estimate_cost: --asleep-from {path}: {exc} (give a study's runs.csv with pulls "
                  f"that had an active region, e.g. results/validate/active_region/runs.csv)")
-    print("  sleeping share of the grains outside the region, measured in "
-          f"{path}: " + ", ".join(f"Fr {fr:g}: {share:.3g}" for fr, share in shares))
+    print(f"  sleeping share of the grains outside the region, measured in {path}: " + "; ".join(
+        f"mu {mu:g}: " + ", ".join(f"Fr {fr:g}: {share:.3g}" for fr, share in points)
+        for mu, points in shares.items()))
     region_cost.ASLEEP_SHARE = shares
 
 

@@ -6,12 +6,13 @@ not come to rest; a grain asleep still costs a little (its contacts with awake g
 lists, the checks). A pull's expected cost is then its particle-steps (cost.pull_cost) times
 
     factor = 1 - (1 - SLEEPING_COST) * asleep,
-    asleep = share(Fr) * outside(R) * max(0, 1 - sleep_time / T),
+    asleep = share(Fr, mu) * outside(R) * max(0, 1 - sleep_time / T),
 
 where outside(R) is the fraction of the bed's grains farther than R from the intruder (a sphere
 of radius R about it, cut by the bed's surface and base), T = travel / V the pull's duration (no
-grain falls asleep before it has rested sleep_time), and share(Fr) the fraction of those grains
-that do fall asleep, measured: the intruder's disturbance reaches farther the faster it goes.
+grain falls asleep before it has rested sleep_time), and share(Fr, mu) the fraction of those
+grains that do fall asleep, measured: the intruder's disturbance reaches farther the faster it
+goes, and a frictionless bed hardly comes to rest.
 (cost.expected_pull_cost). The scheduler's limits (cost.job_resources) keep the whole cost: a
 pull through a bed that does not sleep must not be killed for it.
 """
@@ -30,17 +31,23 @@ GRAINS_PER_VOLUME = 1.13
 # The region's settings when a config gives none: granudrag pull's defaults (its --help).
 SLEEP_TIME_DEFAULT = 1.0
 
-# share(Fr): of the grains outside the region, the fraction asleep on average once the first
-# sleep_time has passed, at these Froude numbers (linear in log Fr between them, constant
-# beyond). Measured with `estimate_cost.py --asleep-from RUNS.csv` on the active region's
-# validation runs of 2026-11-26 with the rest test relative to V (sleep_speed), in the 40 d x 40 d
-# box of config/validate/active_region_40_quick.yaml (mu = 0.5, D = 2 and 6, R = 6 and 12 d,
-# 3 beds; the paper's box): 0.68 in the yield pulls (V = 0.03: D = 2 at Fr 0.04 0.75, D = 6 at
-# Fr 0.03 0.61), 0.70 at Fr = 1. Those pulls last 2 d and 5 d, and the bed falls asleep over
-# several time units after the start, so a longer pull sleeps more: for the paper's pulls of a
-# box length these shares are low. Fr = 5 was pulled in the 20 d box only
-# (config/validate/active_region.yaml, absolute rest test): 0.015.
-ASLEEP_SHARE = ((0.04, 0.68), (1.0, 0.70), (5.0, 0.015))
+# share(Fr, mu): of the grains outside the region, the fraction asleep on average once the first
+# sleep_time has passed, per friction at these Froude numbers (linear in log Fr between them,
+# constant beyond; linear in mu between the measured frictions, constant beyond: an assumption,
+# mu = 0.1-0.4 and 0.6-0.9 were not pulled with the region). Measured with `estimate_cost.py
+# --asleep-from RUNS.csv` on the active region's validation runs with the rest test relative to V
+# (sleep_speed), in the 40 d x 40 d box:
+#  mu = 0.5, config/validate/active_region_40_quick.yaml (D = 2 and 6, R = 6 and 12 d, 3 beds):
+#    0.68 in the yield pulls (V = 0.03: D = 2 at Fr 0.04, D = 6 at Fr 0.03), 0.70 at Fr = 1; Fr = 5
+#    was pulled in the 20 d box only (config/validate/active_region.yaml, absolute rest test): 0.015.
+#  mu = 0, config/validate/active_region_40_d6.yaml (D = 6, R = 18 d, 5 beds): 0.002 in the yield
+#    pulls (a frictionless bed creeps faster than 1 % of V), 0.31 at Fr = 1; Fr = 5 as mu = 0.5's.
+# Those pulls last 2 d and 5 d, and the bed falls asleep over several time units after the start,
+# so a longer pull sleeps more: for the paper's pulls of a box length these shares are low.
+ASLEEP_SHARE = {
+    0.0: ((0.03, 0.002), (1.0, 0.31), (5.0, 0.015)),
+    0.5: ((0.04, 0.68), (1.0, 0.70), (5.0, 0.015)),
+}
 
 # A grain asleep costs this fraction of an awake one: c = 1 - (1 - t_region / t_without) / asleep.
 # Measured from the CPU times of the 40 d validation's yield pulls, each against the same bed's
@@ -76,12 +83,15 @@ def outside_fraction(radius, lx, ly, grains, depth):
     return max(0.0, 1.0 - inside / (lx * ly * height))
 
 
-def asleep_share(Fr, table=None):
-    """share(Fr): interpolated linearly in log Fr in the measured table (default ASLEEP_SHARE, as
-    it is at the call: estimate_cost.py --asleep-from replaces it), constant beyond."""
+def asleep_share(Fr, mu, table=None):
+    """share(Fr, mu): in the measured table (default ASLEEP_SHARE, as it is at the call:
+    estimate_cost.py --asleep-from replaces it; {mu: ((Fr, share), ...)}), interpolated linearly in
+    log Fr at each friction and then linearly in mu, constant beyond the measured points."""
     table = table or ASLEEP_SHARE
-    frs = np.log([f for f, _ in table])
-    return float(np.interp(math.log(max(float(Fr), 1e-12)), frs, [s for _, s in table]))
+    frictions = sorted(table)
+    at = [float(np.interp(math.log(max(float(Fr), 1e-12)), np.log([f for f, _ in table[m]]),
+                          [s for _, s in table[m]])) for m in frictions]
+    return float(np.interp(float(mu), frictions, at))
 
 
 def asleep_fraction(pull, config, travel, table=None):
@@ -98,14 +108,15 @@ def asleep_fraction(pull, config, travel, table=None):
     duration = travel / pull.V
     rest = float(settings.get("sleep_time", SLEEP_TIME_DEFAULT))
     outside = outside_fraction(radius, lx, ly, grains, depth)
-    return asleep_share(float(froude(pull.V, D)), table) * outside * max(0.0, 1.0 - rest / duration)
+    share = asleep_share(float(froude(pull.V, D)), pull.bed.value("mu"), table)
+    return share * outside * max(0.0, 1.0 - rest / duration)
 
 
 def measured_shares(runs):
-    """share(Fr) from runs with the region (a runs.csv of the validation: its asleep, active_radius,
-    lx, ly, grains, h, distance, V and D columns): per run, the asleep fraction over what the
-    geometry and duration allow (with the default sleep_time: runs.csv does not record it); the
-    median per Froude number. Returns ((Fr, share), ...)."""
+    """share(Fr, mu) from runs with the region (a runs.csv of the validation: its asleep,
+    active_radius, lx, ly, grains, h, distance, V, mu and D columns): per run, the asleep fraction
+    over what the geometry and duration allow (with the default sleep_time: runs.csv does not
+    record it); the median per friction and Froude number. Returns {mu: ((Fr, share), ...)}."""
     rows = runs[(runs.active_radius > 0) & runs.asleep.notna()]
     if rows.empty:
         raise ValueError("no pull with an active region (active_radius > 0) and a recorded asleep fraction")
@@ -114,5 +125,9 @@ def measured_shares(runs):
         allowed = outside_fraction(r.active_radius, r.lx, r.ly, r.grains, r.h) * max(
             0.0, 1.0 - SLEEP_TIME_DEFAULT * r.V / r.distance)
         if allowed > 0:
-            shares.setdefault(round(float(r.Fr), 3), []).append(min(1.0, r.asleep / allowed))
-    return tuple((fr, float(np.median(v))) for fr, v in sorted(shares.items()))
+            key = (round(float(r.mu), 3), round(float(r.Fr), 3))
+            shares.setdefault(key, []).append(min(1.0, r.asleep / allowed))
+    table = {}
+    for (mu, fr), v in sorted(shares.items()):
+        table.setdefault(mu, []).append((fr, float(np.median(v))))
+    return {mu: tuple(points) for mu, points in table.items()}
