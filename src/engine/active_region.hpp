@@ -44,7 +44,8 @@ namespace granudrag {
 struct ActiveRegionSettings {
   double radius = 0;             // d, from the intruder's centre; 0: off
   double sleep_distance = 0.01;  // d: moved less than this over sleep_time counts as at rest
-                                 // (a pull sets it: sleep_speed V sleep_time)
+                                 // (a pull sets it: min(sleep_speed V, sleep_speed_max)
+                                 // sleep_time)
   double sleep_time = 1.0;       // sqrt(d/g): at rest for this long before falling asleep
   double wake_force = 0.5;       // fraction of the grain's weight m g
   double check_interval = 0.25;  // sqrt(d/g) between decisions (the pull derives it)

@@ -25,9 +25,10 @@ Settings pull_settings(const Bed& bed, const PullSpec& spec) {
   // Decisions four times per dwell, and before the intruder has moved half a grain diameter.
   s.active.check_interval = std::max(bed.dt, std::min(0.25 * spec.active.sleep_time, 0.5 / spec.speed));
   // At rest relative to V: around a yield pull the grains creep at a few percent of V, and an
-  // absolute threshold held them and stiffened the bed (docs/pour-and-pull.md, active region).
-  s.active.sleep_distance =
-      spec.sleep_speed * spec.speed * std::max(spec.active.sleep_time, s.active.check_interval);
+  // absolute threshold held them and stiffened the bed; but no faster than sleep_speed_max, as
+  // the wake of a fast pull still moving was held too (docs/pour-and-pull.md, active region).
+  s.active.sleep_distance = std::min(spec.sleep_speed * spec.speed, spec.sleep_speed_max) *
+                            std::max(spec.active.sleep_time, s.active.check_interval);
   return s;
 }
 }  // namespace

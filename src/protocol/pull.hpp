@@ -48,6 +48,10 @@ struct PullSpec {
   // The region's rest test, relative to V: a grain is at rest when it moves slower than this
   // fraction of V over sleep_time (the pull sets active.sleep_distance from it).
   double sleep_speed = 0.01;
+  // ... and at most this speed, d per sqrt(d/g): relative to V alone, a fast pull held grains of
+  // its wake still moving at a few hundredths of a grain diameter per time unit, and the drag
+  // rose (config/validate/active_region_40_fast.yaml).
+  double sleep_speed_max = 0.014;
 
   // Every field within its key's range (pull_keys()); throws Error naming the key.
   void validate() const;

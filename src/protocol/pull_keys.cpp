@@ -80,6 +80,12 @@ const KeyTable<PullSpec>& pull_keys() {
                 "sleep_time is at rest (relative to V: the grains creeping around a slow intruder must stay "
                 "awake, the far field vibrates at 1e-4 d)")
           .field(&PullSpec::sleep_speed),
+      Key::number("sleep_speed_max")
+          .unit("sqrt(g d)")
+          .above(0)
+          .help("active region: the rest test's speed, sleep_speed V, is at most this (a fast pull's wake "
+                "still moves at a few hundredths of d per time unit and must not be held)")
+          .field(&PullSpec::sleep_speed_max),
       Key::number("sleep_time")
           .unit("sqrt(d/g)")
           .at_least(0)

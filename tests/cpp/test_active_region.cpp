@@ -60,6 +60,7 @@ PullSpec sleeping_pull() {
   spec.active.radius = 3;
   spec.active.sleep_time = 0.2;
   spec.sleep_speed = 0.5;
+  spec.sleep_speed_max = 1.0;  // a rest test loose enough for a small bed still settling
   return spec;
 }
 
@@ -193,6 +194,12 @@ TEST(ActiveRegion, ThePullSetsTheRestDistanceFromItsSpeed) {
     spec.speed = speed;
     Pull pull(small_bed(), spec);
     EXPECT_DOUBLE_EQ(pull.simulation().active_region()->settings().sleep_distance, 0.01 * speed * 1.0);
+  }
+  {
+    // A fast pull: the rest test's speed is capped at sleep_speed_max (0.014 d per time unit).
+    spec.speed = 5.0;
+    Pull pull(small_bed(), spec);
+    EXPECT_DOUBLE_EQ(pull.simulation().active_region()->settings().sleep_distance, 0.014 * 1.0);
   }
   spec.active.sleep_time = 0;  // a check every step: the window is one step
   spec.speed = 0.5;

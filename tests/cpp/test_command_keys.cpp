@@ -67,6 +67,7 @@ TEST(CommandKeys, PullSpecDefaultsAreTheKeysDefaults) {
   EXPECT_EQ(p.number("active_radius"), s.active.radius);
   EXPECT_FALSE(s.active.enabled());  // off unless asked for
   EXPECT_EQ(p.number("sleep_speed"), s.sleep_speed);
+  EXPECT_EQ(p.number("sleep_speed_max"), s.sleep_speed_max);
   EXPECT_EQ(p.number("sleep_time"), s.active.sleep_time);
   EXPECT_EQ(p.number("wake_force"), s.active.wake_force);
 }
