@@ -72,7 +72,8 @@ const KeyTable<PullSpec>& pull_keys() {
           .unit("D")
           .at_least(0)
           .help("or: the active region's radius in intruder diameters, active_radius = this D (3 is "
-                "validated for D = 2 and 6 at mu = 0.5, the yield speed and Fr = 1: docs/pour-and-pull.md)"),
+                "validated for D = 2 and 6 at mu = 0 and 0.5, the yield speed to Fr = 10: "
+                "docs/pour-and-pull.md)"),
       Key::number("sleep_speed")
           .unit("V")
           .above(0)
