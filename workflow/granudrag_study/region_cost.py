@@ -45,8 +45,8 @@ SLEEP_TIME_DEFAULT = 1.0
 #    sleep_speed_max, D = 2 and 6, 5 beds, 30 and 40 d of travel; the median over both D, whose
 #    shares differ 3-20x: D = 6's region is most of the box): mu = 0.5 0.25 and 0.052, mu = 0
 #    0.073 and 0.008.
-# The shares at Fr <= 1 were measured before the cap, which changes nothing below V = 1.4 and holds
-# fewer grains above it (D = 6 at Fr = 1: a rest speed of 0.014 instead of 0.024 d per time unit).
+# The shares at Fr <= 1 were measured before the cap, which changes nothing below V = 1.4 (Fr = 1
+# is V = 0.75-1.23 for D = 2-10), so they stand.
 ASLEEP_SHARE = {
     0.0: ((0.03, 0.002), (1.0, 0.31), (5.0, 0.073), (10.0, 0.008)),
     0.5: ((0.04, 0.68), (1.0, 0.70), (5.0, 0.25), (10.0, 0.052)),
