@@ -55,6 +55,10 @@ class Study:
     # reported as a relative difference (the run table gives them no error).
     also_judged: tuple = ()
     also_reported: tuple = ()
+    # A variant's own settings (columns) that tell apart variants of the same value, each compared
+    # with the reference on its own; the reference has none (the active region's wake_force: two
+    # regions of one radius may wake their grains differently).
+    settings: tuple = ()
 
 
 STUDIES = {
@@ -69,7 +73,8 @@ STUDIES = {
     "active_region": Study("active_region", "active_radius", "min",
                            ("D", "h_requested", "mu", "kn", "gamman", "Fr"), "active radius (d)", True,
                            "the smallest active radius that agrees with every grain integrated, for each D",
-                           also_judged=(("theta", "theta_err"),), also_reported=("n_contacts", "Z")),
+                           also_judged=(("theta", "theta_err"),), also_reported=("n_contacts", "Z"),
+                           settings=("wake_force",)),
     # Beds poured with and without the settling damping (granudrag pour --settle_damping, systems
     # that differ in it alone): the reference is 0, the paper's pour. Other beds, so the drags are
     # compared as the points' means over their beds, with the bed scatter in their errors.
@@ -126,12 +131,40 @@ def compare(runs, study):
         replicas = replicas[replicas[f"_{study.variant}"] == ref]
         for v in values[values != ref]:
             other = g[g[f"_{study.variant}"] == v]
-            rows.append(_difference(base, other, study, keys, ref, v, replicas))
+            for setting, variant in _by_settings(other, study):
+                rows.append(_difference(base, variant, study, keys, ref, v, replicas) | setting)
     if not rows:
         raise ValidationError(
             f"{study.name}: no point was run at two or more values of {study.variant} "
             f"(points are told apart by {', '.join(keys)})")
     return pd.DataFrame(rows)
+
+
+def _settings(df, study):
+    """The study's settings columns that the table has and that are set somewhere."""
+    return [c for c in study.settings if c in df.columns and df[c].notna().any()]
+
+
+def _by_settings(other, study):
+    """(settings as a dict, runs) for each combination of the study's settings among one
+    variant's runs; ({}, all of them) for a study without settings."""
+    cols = _settings(other, study)
+    if not cols:
+        return [({}, other)]
+    return [(dict(zip(cols, key if isinstance(key, tuple) else (key,))), g)
+            for key, g in other.groupby(cols, dropna=False, sort=True)]
+
+
+def _variants(cmp, study):
+    """The comparison's rows grouped by variant, as (label, rows): the value, and the settings
+    that tell variants of one value apart (\"6 (wake_force 1)\")."""
+    cols = _settings(cmp, study)
+    out = []
+    for key, g in cmp.groupby(["variant", *cols], dropna=False, sort=True):
+        key = key if isinstance(key, tuple) else (key,)
+        extra = ", ".join(f"{c} {v:g}" for c, v in zip(cols, key[1:]) if pd.notna(v))
+        out.append((f"{key[0]:g}" + (f" ({extra})" if extra else ""), g))
+    return out
 
 
 def _difference(base, other, study, keys, ref, v, replicas=None):
@@ -235,9 +268,9 @@ def conclusion(cmp, study):
     if isinstance(study, str):
         study = STUDIES[study]
     parts = []
-    for v, g in cmp.groupby("variant"):
+    for v, g in _variants(cmp, study):
         ref = g.reference.iloc[0]
-        parts.append(f"{study.variant} = {v:g} against {ref:g}: agrees at {int(g.agrees.sum())} of {len(g)} "
+        parts.append(f"{study.variant} = {v} against {ref:g}: agrees at {int(g.agrees.sum())} of {len(g)} "
                      f"points (largest |z| {np.abs(g.z).max():.2g}; relative difference "
                      f"{100 * g.rel_diff.mean():+.1f} % on average, "
                      f"{100 * g.rel_diff.min():+.1f} % to {100 * g.rel_diff.max():+.1f} %)")
@@ -279,14 +312,17 @@ def _answer(cmp, study):
         return "Smallest box that agrees: " + ", ".join(out) + "."
     if study.name == "active_region":
         out = []
-        for D, g in cmp.groupby("D"):
+        cols = _settings(cmp, study)
+        for key, g in cmp.groupby(["D", *cols], dropna=False, sort=True):
+            key = key if isinstance(key, tuple) else (key,)
             smallest = None
             for v in sorted(g.variant.unique(), reverse=True):   # agreeing radii: contiguous from the widest
                 if not g[g.variant == v].agrees.all():
                     break
                 smallest = v
-            out.append(f"D = {D:g}: " + ("none agrees" if smallest is None
-                                         else f"{smallest:g} d ({smallest / D:.3g} D)"))
+            extra = ", ".join(f"{c} {w:g}" for c, w in zip(cols, key[1:]) if pd.notna(w))
+            out.append(f"D = {key[0]:g}" + (f" ({extra})" if extra else "") + ": "
+                       + ("none agrees" if smallest is None else f"{smallest:g} d ({smallest / key[0]:.3g} D)"))
         judged = ", ".join(["drag"] + [c for c, _ in study.also_judged])
         text = (f"Smallest active radius at which {judged} agree with every grain integrated at every "
                 f"point: " + ", ".join(out) + ".")
@@ -298,7 +334,7 @@ def _answer(cmp, study):
                      "differ by chaos alone by (per run, over the points) " + ", ".join(chaos) +
                      ", and a paired error is never taken below that.")
         if "asleep" in cmp.columns:      # what each radius saves: the grains it holds asleep
-            saved = ", ".join(f"{v:g} d: {100 * g.asleep.mean():.0f} %" for v, g in cmp.groupby("variant"))
+            saved = ", ".join(f"{v} d: {100 * g.asleep.mean():.0f} %" for v, g in _variants(cmp, study))
             text += f" Mean fraction of the grains asleep over a pull: {saved}."
         return text
     if study.name == "settle_damping":
@@ -327,6 +363,7 @@ def draw(cmp, study, outdir):
     plt.switch_backend("Agg")
     fig, ax = plt.subplots(figsize=(5.5, 3.8), layout="constrained")
     keys = [k for k in study.keys if k in cmp.columns and cmp[k].nunique() > 1]
+    keys += [c for c in _settings(cmp, study) if cmp[c].nunique() > 1]   # one series per setting
     groups = cmp.groupby(keys[0] if len(keys) == 1 else keys, sort=True) if keys else [((), cmp)]
     for i, (key, g) in enumerate(groups):
         key = key if isinstance(key, tuple) else (key,)

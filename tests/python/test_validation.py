@@ -117,6 +117,26 @@ def test_active_region_names_the_smallest_radius_that_agrees_for_each_D():
     assert "D = 2: none agrees" in val.conclusion(cmp, "active_region")
 
 
+def test_active_region_tells_apart_regions_of_one_radius_with_other_wake_tests():
+    """Two regions of one radius that wake their grains differently are two variants, each
+    against the reference: a shift in one does not hide in a mean with the other."""
+    runs = region_runs({0.0: 0.0, 4.0: 0.0, 8.0: 0.0, 12.0: 0.0}, beds=3)
+    runs = runs[runs.active_radius.isin([0.0, 8.0])].assign(wake_force=lambda r: np.where(r.active_radius > 0, 0.5, np.nan))
+    shifted = runs[runs.active_radius == 8.0].assign(wake_force=1.0, system="R8_w1")
+    shifted = shifted.assign(drag=shifted.drag * 1.2)
+    cmp = val.compare(pd.concat([runs, shifted], ignore_index=True), "active_region")
+    assert len(cmp) == 8 and set(cmp.wake_force) == {0.5, 1.0} and (cmp.beds == 3).all()
+    assert cmp[cmp.wake_force == 0.5].agrees.all() and not cmp[cmp.wake_force == 1.0].agrees.any()
+    assert cmp[cmp.wake_force == 1.0].rel_diff.to_numpy() == pytest.approx(0.2, abs=0.03)
+    text = val.conclusion(cmp, "active_region")
+    assert "active_radius = 8 (wake_force 0.5) against 0: agrees at 4 of 4" in text, text
+    assert "active_radius = 8 (wake_force 1) against 0: agrees at 0 of 4" in text, text
+    assert "D = 2 (wake_force 0.5): 8 d (4 D)" in text and "D = 2 (wake_force 1): none agrees" in text, text
+    # One wake test only: the sentences stay as they were.
+    assert "wake_force" not in val.conclusion(val.compare(runs.drop(columns="wake_force"), "active_region"),
+                                             "active_region")
+
+
 def damped_runs(shift, beds=3, bed_scatter=0.05, seed=2):
     """Runs of a settling-damping study: beds poured without (system I) and with the damping
     (I_damped, other beds), at a yield speed and Fr = 1; the damped beds' drag is F0 (1 + shift)."""
