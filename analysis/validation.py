@@ -151,19 +151,23 @@ def _by_settings(other, study):
     cols = _settings(other, study)
     if not cols:
         return [({}, other)]
-    return [(dict(zip(cols, key if isinstance(key, tuple) else (key,))), g)
-            for key, g in other.groupby(cols, dropna=False, sort=True)]
+    return [(dict(zip(cols, key)), g) for key, g in _grouped(other, cols)]
 
 
-def _variants(cmp, study):
-    """The comparison's rows grouped by variant, as (label, rows): the value, and the settings
-    that tell variants of one value apart (\"6 (wake_force 1)\")."""
+def _grouped(df, cols):
+    """(key as a tuple, rows) per combination of `cols`, NaN a value like any other."""
+    for key, g in df.groupby(cols if len(cols) > 1 else cols[0], dropna=False, sort=True):
+        yield (key if isinstance(key, tuple) else (key,)), g
+
+
+def _variants(cmp, study, unit=""):
+    """The comparison's rows grouped by variant, as (label, rows): the value with `unit`, and the
+    settings that tell variants of one value apart ("6 d (wake_force 1)")."""
     cols = _settings(cmp, study)
     out = []
-    for key, g in cmp.groupby(["variant", *cols], dropna=False, sort=True):
-        key = key if isinstance(key, tuple) else (key,)
+    for key, g in _grouped(cmp, ["variant", *cols]):
         extra = ", ".join(f"{c} {v:g}" for c, v in zip(cols, key[1:]) if pd.notna(v))
-        out.append((f"{key[0]:g}" + (f" ({extra})" if extra else ""), g))
+        out.append((f"{key[0]:g}{unit}" + (f" ({extra})" if extra else ""), g))
     return out
 
 
@@ -313,8 +317,7 @@ def _answer(cmp, study):
     if study.name == "active_region":
         out = []
         cols = _settings(cmp, study)
-        for key, g in cmp.groupby(["D", *cols], dropna=False, sort=True):
-            key = key if isinstance(key, tuple) else (key,)
+        for key, g in _grouped(cmp, ["D", *cols]):
             smallest = None
             for v in sorted(g.variant.unique(), reverse=True):   # agreeing radii: contiguous from the widest
                 if not g[g.variant == v].agrees.all():
@@ -334,7 +337,7 @@ def _answer(cmp, study):
                      "differ by chaos alone by (per run, over the points) " + ", ".join(chaos) +
                      ", and a paired error is never taken below that.")
         if "asleep" in cmp.columns:      # what each radius saves: the grains it holds asleep
-            saved = ", ".join(f"{v} d: {100 * g.asleep.mean():.0f} %" for v, g in _variants(cmp, study))
+            saved = ", ".join(f"{v}: {100 * g.asleep.mean():.0f} %" for v, g in _variants(cmp, study, " d"))
             text += f" Mean fraction of the grains asleep over a pull: {saved}."
         return text
     if study.name == "settle_damping":

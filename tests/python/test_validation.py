@@ -121,7 +121,8 @@ def test_active_region_tells_apart_regions_of_one_radius_with_other_wake_tests()
     """Two regions of one radius that wake their grains differently are two variants, each
     against the reference: a shift in one does not hide in a mean with the other."""
     runs = region_runs({0.0: 0.0, 4.0: 0.0, 8.0: 0.0, 12.0: 0.0}, beds=3)
-    runs = runs[runs.active_radius.isin([0.0, 8.0])].assign(wake_force=lambda r: np.where(r.active_radius > 0, 0.5, np.nan))
+    runs = runs[runs.active_radius.isin([0.0, 8.0])]
+    runs = runs.assign(wake_force=np.where(runs.active_radius > 0, 0.5, np.nan))
     shifted = runs[runs.active_radius == 8.0].assign(wake_force=1.0, system="R8_w1")
     shifted = shifted.assign(drag=shifted.drag * 1.2)
     cmp = val.compare(pd.concat([runs, shifted], ignore_index=True), "active_region")
