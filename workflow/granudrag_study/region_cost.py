@@ -33,9 +33,8 @@ SLEEP_TIME_DEFAULT = 1.0
 
 # share(Fr, mu): of the grains outside the region, the fraction asleep on average once the first
 # sleep_time has passed, per friction at these Froude numbers (linear in log Fr between them,
-# constant beyond; linear in mu between the measured frictions, constant beyond: an assumption,
-# mu = 0.1-0.4 and 0.6-0.9 were not pulled with the region). Measured with `estimate_cost.py
-# --asleep-from RUNS.csv` on the active region's validation runs with the rest test relative to V
+# constant beyond; linear in mu between the measured frictions, constant beyond). Measured with
+# `estimate_cost.py --asleep-from RUNS.csv` on the active region's validation runs with the rest test relative to V
 # (sleep_speed), in the 40 d x 40 d box:
 #  mu = 0.5, config/validate/active_region_40_quick.yaml (D = 2 and 6, R = 6 and 12 d, 3 beds):
 #    0.68 in the yield pulls (V = 0.03: D = 2 at Fr 0.04, D = 6 at Fr 0.03), 0.70 at Fr = 1.
@@ -45,11 +44,18 @@ SLEEP_TIME_DEFAULT = 1.0
 #    sleep_speed_max, D = 2 and 6, 5 beds, 30 and 40 d of travel; the median over both D, whose
 #    shares differ 3-20x: D = 6's region is most of the box): mu = 0.5 0.25 and 0.052, mu = 0
 #    0.073 and 0.008.
+#  mu = 0.25 and 0.8, config/validate/active_region_40_mu.yaml (D = 2, R = 3 D, 2 beds poured with
+#    settle_damping 1, both wake tests): 0.88 in the mu = 0.25 yield pull (V = 0.03), 0.84 at
+#    Fr = 1; 0.81 in the mu = 0.8 yield pull (V = 0.1, Fr 0.13), 0.78 at Fr = 1. Not pulled at
+#    Fr = 5 and 10: mu = 0.25 takes there the line between mu = 0 and 0.5, mu = 0.8 mu = 0.5's (the
+#    lower of what its neighbours suggest).
 # The shares at Fr <= 1 were measured before the cap, which changes nothing below V = 1.4 (Fr = 1
 # is V = 0.75-1.23 for D = 2-10), so they stand.
 ASLEEP_SHARE = {
     0.0: ((0.03, 0.002), (1.0, 0.31), (5.0, 0.073), (10.0, 0.008)),
+    0.25: ((0.04, 0.88), (1.0, 0.84), (5.0, 0.16), (10.0, 0.030)),
     0.5: ((0.04, 0.68), (1.0, 0.70), (5.0, 0.25), (10.0, 0.052)),
+    0.8: ((0.13, 0.81), (1.0, 0.78), (5.0, 0.25), (10.0, 0.052)),
 }
 
 # A grain asleep costs this fraction of an awake one: c = 1 - (1 - t_region / t_without) / asleep.
