@@ -160,14 +160,19 @@ def _grouped(df, cols):
         yield (key if isinstance(key, tuple) else (key,)), g
 
 
+def _setting_label(cols, values):
+    """" (wake_force 1)" for the settings that are set, "" for none."""
+    text = ", ".join(f"{c} {v:g}" for c, v in zip(cols, values) if pd.notna(v))
+    return f" ({text})" if text else ""
+
+
 def _variants(cmp, study, unit=""):
     """The comparison's rows grouped by variant, as (label, rows): the value with `unit`, and the
     settings that tell variants of one value apart ("6 d (wake_force 1)")."""
     cols = _settings(cmp, study)
     out = []
     for key, g in _grouped(cmp, ["variant", *cols]):
-        extra = ", ".join(f"{c} {v:g}" for c, v in zip(cols, key[1:]) if pd.notna(v))
-        out.append((f"{key[0]:g}{unit}" + (f" ({extra})" if extra else ""), g))
+        out.append((f"{key[0]:g}{unit}" + _setting_label(cols, key[1:]), g))
     return out
 
 
@@ -323,8 +328,7 @@ def _answer(cmp, study):
                 if not g[g.variant == v].agrees.all():
                     break
                 smallest = v
-            extra = ", ".join(f"{c} {w:g}" for c, w in zip(cols, key[1:]) if pd.notna(w))
-            out.append(f"D = {key[0]:g}" + (f" ({extra})" if extra else "") + ": "
+            out.append(f"D = {key[0]:g}" + _setting_label(cols, key[1:]) + ": "
                        + ("none agrees" if smallest is None else f"{smallest:g} d ({smallest / key[0]:.3g} D)"))
         judged = ", ".join(["drag"] + [c for c, _ in study.also_judged])
         text = (f"Smallest active radius at which {judged} agree with every grain integrated at every "
