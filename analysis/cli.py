@@ -5,6 +5,7 @@
     python -m analysis report TABLE.csv --fits fits.json --output-dir DIR [--trace trace.csv ...]
     python -m analysis predict --fits fits.json --D 4 --h 50 --mu 0.5 --V 2
     python -m analysis validate {yield_speed,box_size,stiffness,pull_length} RUNS.csv --output-dir DIR
+    python -m analysis pool active_region results/validate/*/validate_active_region.csv --output-dir DIR
     python -m analysis ladder collect --config config/ladder/X.yaml --results results/ladder/X
                                       --wall-seconds 1234 --cores 2 [--started ISO] [--out DIR]
     python -m analysis ladder table results/reproduction [--n-boot 100] [--seed 0]
@@ -15,7 +16,8 @@ analysis/README.md. `report` draws every figure and writes report.md and report.
 workflow's figure and report rules do (figures whose data are not given are listed as not
 drawn). `predict` is `python -m analysis.predict`. `validate` compares a validation study's
 runs with the reference protocol (analysis.validation), or finds how long pulls must be
-(analysis.pull_length), and writes a figure, the comparison table and a sentence. `ladder`
+(analysis.pull_length), and writes a figure, the comparison table and a sentence; `pool` pools
+one study's comparison tables over several studies (analysis.validation_pool). `ladder`
 keeps the reproduction ladder (analysis.ladder): `collect` copies a finished study's small
 files into a rung directory (default results/reproduction/<config stem>), `table` writes the
 claims-by-rungs table, its figures and README section. Errors go to standard error with exit
@@ -98,6 +100,14 @@ def _validate(args):
     return 0
 
 
+def _pool(args):
+    from .validation_pool import write
+
+    paths = write(args.tables, args.study, args.output_dir)
+    print(paths[-1].read_text().split("\n\n")[-1].strip())
+    return 0
+
+
 def _ladder(args):
     from . import ladder
 
@@ -125,7 +135,7 @@ def _predict(argv):
 
 def parser():
     ap = argparse.ArgumentParser(prog="python -m analysis", description=__doc__.split("\n")[0])
-    sub = ap.add_subparsers(dest="command", required=True, metavar="{fit,report,predict,validate,ladder}")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="{fit,report,predict,validate,pool,ladder}")
     f = sub.add_parser("fit", help="every fit of the report -> fits.json")
     f.add_argument("table", help="pull table (CSV with the columns of results/table.csv)")
     f.add_argument("--output", required=True, help="fit file to write (JSON, analysis/README.md)")
@@ -147,11 +157,16 @@ def parser():
                        ("coordination", "P(Z) CSV (Fig. 7)"), ("flow", "velocity-field CSV (Fig. 9)")):
         r.add_argument(f"--{name}", help=what)
     v = sub.add_parser("validate", help="a validation study: does a cheaper protocol agree?")
-    from .validation import NAMES
+    from .validation import NAMES, STUDIES
 
     v.add_argument("study", choices=NAMES, help="what is varied")
     v.add_argument("table", help="run table (results/.../runs.csv; or the point table)")
     v.add_argument("--output-dir", required=True, help="directory of validate_<study>.png/.csv/.md")
+
+    pl = sub.add_parser("pool", help="one validation's comparisons pooled over its studies: a shift too small for one")
+    pl.add_argument("study", choices=list(STUDIES), help="the validation the tables compare")
+    pl.add_argument("tables", nargs="+", help="comparison tables (validate_<study>.csv), one per study")
+    pl.add_argument("--output-dir", required=True, help="directory of pool_<study>.csv/.md")
     sub.add_parser("predict", help="drag from a fit file (python -m analysis predict --help)",
                    add_help=False)
     _ladder_parser(sub)
@@ -185,7 +200,8 @@ def main(argv=None):
     from .table import TableError
 
     try:
-        return {"fit": _fit, "report": _report, "validate": _validate, "ladder": _ladder}[args.command](args)
+        commands = {"fit": _fit, "report": _report, "validate": _validate, "pool": _pool, "ladder": _ladder}
+        return commands[args.command](args)
     except (TableError, FitFileError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
