@@ -95,6 +95,22 @@ def test_a_pull_with_the_region_costs_the_model_s_fraction_and_without_it_all():
     assert s["pull_particle_steps"] < s["pull_particle_steps_whole"]
 
 
+def test_a_sleeping_grain_in_a_damped_bed_costs_the_damped_beds_measured_share():
+    config = copy.deepcopy(CONFIG)
+    plan0, by = pulls(config)
+    undamped = by[("R", "V~0.03")]
+    assert region_cost.sleeping_cost(undamped, plan0.config) == region_cost.SLEEPING_COST
+    config["systems"]["I"]["pour"] = {"settle_damping": 1}
+    plan, by = pulls(config)
+    damped = by[("R", "V~0.03")]        # R's beds come from I: I's pour decides
+    assert region_cost.sleeping_cost(damped, plan.config) == region_cost.SLEEPING_COST_DAMPED
+    asleep = region_cost.asleep_fraction(damped, plan.config, 3)
+    assert asleep > 0.3
+    assert study.expected_pull_cost(damped, plan.config) == pytest.approx(
+        (1 - (1 - region_cost.SLEEPING_COST_DAMPED) * asleep) * study.pull_cost(damped, plan.config), rel=1e-12)
+    assert study.expected_pull_cost(damped, plan.config) < study.expected_pull_cost(undamped, plan0.config)
+
+
 def test_a_pull_shorter_than_the_rest_saves_nothing():
     config = copy.deepcopy(CONFIG)
     config["systems"]["I"]["pull"] = {"distance": 0.5}   # at Fr = 5 (V = 3.2): 0.16 time units

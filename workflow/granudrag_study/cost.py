@@ -1,16 +1,17 @@
 """Estimated cost of the study's jobs (particle-steps, wall time) and their scheduler resources.
 
 A pull costs grains x travel / (V dt) particle-steps, a pour at most grains x max_settle_time
-/ dt; dt is the config's, or granudrag's default (analysis.physics.default_dt). The wall time
-of a job is its particle-steps over the config's `throughput` (particle-steps per second of
-one job on `threads` threads).
+/ dt and is expected to cost grains x its expected settling time / dt; dt is the config's, or
+granudrag's default (analysis.physics.default_dt). The wall time of a job is its
+particle-steps over the config's `throughput` (particle-steps per second of one job on
+`threads` threads).
 """
 
 import math
 
 from analysis.physics import default_dt, froude
 
-from .region_cost import SLEEPING_COST, asleep_fraction
+from .region_cost import asleep_fraction, sleeping_cost
 
 # Sequential stopping (a pull's `target_error`): the drag's relative standard error after L d of
 # travel past the transient is about c(Fr) / sqrt(L), and the stopping rule wants at least
@@ -40,8 +41,52 @@ def bed_dt(bed, config):
 def bed_cost(bed, config):
     """Upper bound of a pour's particle-steps: every grain for the whole settling time."""
     sysc = config["systems"][bed.system]
-    t = float((sysc.get("pour") or {}).get("max_settle_time", 100.0))
-    return int(sysc["grains"]) * t / bed_dt(bed, config)
+    return int(sysc["grains"]) * _settle_limit(sysc) / bed_dt(bed, config)
+
+
+def _settle_limit(sysc):
+    return float((sysc.get("pour") or {}).get("max_settle_time", 100.0))
+
+
+# When a pour stops: when the grains' kinetic energy falls below ke_threshold, else at
+# max_settle_time. Measured with settle_damping 1 (docs/study-outcomes.md, "Damped pours"): in
+# 10 d x 10 d columns as deep as faithful.yaml's system I (43.75 grains per d^2, K_n = 2e5,
+# ke_threshold 1e-7) mu = 0.1 stops after 37.0 time units, 0.25 after 25.5, 0.5 after 26.5; the
+# validation studies' shallower 40 d beds (16 grains per d^2, 1e-6, mu = 0.25-0.8) after 24.0-28.0
+# over 15 beds; as deep as system II (93.75 per d^2) mu = 0.5 after 40.0, 1.51x system I's 26.5,
+# taken for every friction. Frictionless beds creep in bursts, damped or not (mu = 0, system I's
+# depth: 1.2e-7 per grain at 100), and undamped beds breathe (system I, mu = 0.5: at 40 of 40):
+# both run to max_settle_time, as do frictions below 0.1, other dampings and lower thresholds
+# (not measured).
+DAMPED_STOP_MU = ((0.1, 37.0), (0.25, 28.0))     # (mu, settling time at system I's depth); 28: the slowest above
+DAMPED_STOP_DEPTH = ((43.75, 1.0), (93.75, 40.0 / 26.5))   # (grains per d^2, factor)
+DAMPED_STOP_MEASURED = {"settle_damping": 1.0, "ke_threshold": 1e-7}
+
+
+def _between(points, x):
+    """Linear interpolation between two (x, y) points, held at the ends' y beyond them."""
+    (x0, y0), (x1, y1) = points
+    return y0 + (min(max(x, x0), x1) - x0) * (y1 - y0) / (x1 - x0)
+
+
+def expected_settle_time(bed, config):
+    """Simulated time a pour is expected to run (DAMPED_STOP_*), at most its max_settle_time."""
+    sysc = config["systems"][bed.system]
+    pour, limit = sysc.get("pour") or {}, _settle_limit(sysc)
+    damped = float(pour.get("settle_damping", 0.0) or 0.0) == DAMPED_STOP_MEASURED["settle_damping"]
+    threshold = float(pour.get("ke_threshold", 0.0) or 0.0)
+    mu = bed.value("mu")
+    if not damped or threshold < DAMPED_STOP_MEASURED["ke_threshold"] or mu < DAMPED_STOP_MU[0][0]:
+        return limit
+    density = int(sysc["grains"]) / (float(sysc["lx"]) * float(sysc["ly"]))
+    return min(limit, _between(DAMPED_STOP_MU, mu) * _between(DAMPED_STOP_DEPTH, density))
+
+
+def expected_bed_cost(bed, config):
+    """Particle-steps a pour is expected to cost: bed_cost for its expected settling time, the
+    cost of a study's estimate; the scheduler's limits take bed_cost."""
+    sysc = config["systems"][bed.system]
+    return int(sysc["grains"]) * expected_settle_time(bed, config) / bed_dt(bed, config)
 
 
 def pull_distance(pull, config):
@@ -71,7 +116,7 @@ def expected_pull_cost(pull, config):
     """Particle-steps a pull is expected to cost: pull_cost less what the active region saves
     (region_cost), the cost of a study's estimate; the scheduler's limits take pull_cost."""
     asleep = asleep_fraction(pull, config, pull_distance(pull, config))
-    return pull_cost(pull, config) * (1.0 - (1.0 - SLEEPING_COST) * asleep)
+    return pull_cost(pull, config) * (1.0 - (1.0 - sleeping_cost(pull, config)) * asleep)
 
 
 def job_seconds(particle_steps, config):
@@ -126,10 +171,12 @@ def bed_retries(plan_):
 
 
 def summary(plan_):
-    """Numbers of jobs and estimated particle-steps and core-hours (the pulls' expected cost; their
-    whole cost, without the active region's saving, as pull_particle_steps_whole)."""
+    """Numbers of jobs and estimated particle-steps and core-hours: the expected cost of the beds
+    and pulls; the beds' upper bound (every pour to its max_settle_time) as bed_particle_steps_bound,
+    the pulls' whole cost (without the active region's saving) as pull_particle_steps_whole."""
     config = plan_.config
-    bed_ps = sum(bed_cost(b, config) for b in plan_.beds.values())
+    bed_ps = sum(expected_bed_cost(b, config) for b in plan_.beds.values())
+    bound = sum(bed_cost(b, config) for b in plan_.beds.values())
     pull_ps = sum(expected_pull_cost(p, config) for p in plan_.pulls.values())
     whole = sum(pull_cost(p, config) for p in plan_.pulls.values())
     threads = int(config["threads"])
@@ -138,6 +185,7 @@ def summary(plan_):
         "beds": len(plan_.beds),
         "pulls": len(plan_.pulls),
         "bed_particle_steps": bed_ps,
+        "bed_particle_steps_bound": bound,
         "pull_particle_steps": pull_ps,
         "pull_particle_steps_whole": whole,
         "core_hours": core_h,

@@ -4,12 +4,13 @@
         [--by-figure] [--measure [--grains G] [--binary build/granudrag]]
 
 Cost model (granudrag_study.cost): a pull costs grains x travel / (V dt)
-particle-steps, a pour at most grains x max_settle_time / dt (pours that reach
-the kinetic-energy threshold stop earlier, so the bed figures are upper
-bounds). dt is the config's, or granudrag's default (analysis.physics.default_dt,
-proportional to K_n^-0.4). Core-hours = particle-steps / throughput x threads, where
-throughput is the particle-steps per second of one job on `threads` threads
-(the config's `throughput`, measured with `granudrag pull`, which prints it).
+particle-steps, a pour at most grains x max_settle_time / dt, and is expected to stop
+at the kinetic-energy threshold as measured (damped frictional beds: after about a
+quarter of faithful.yaml's limits; others run to the limit). dt is the config's, or
+granudrag's default (analysis.physics.default_dt, proportional to K_n^-0.4).
+Core-hours = particle-steps / throughput x threads, where throughput is the
+particle-steps per second of one job on `threads` threads (the config's `throughput`,
+measured with `granudrag pull`, which prints it).
 Wall time on N cores (default: this machine's) assumes N / threads jobs at a time, perfectly
 packed; on fewer cores than a job's threads, the jobs run one at a time on N threads at the
 throughput's rate per thread (the core-hours over N), never at the rate of the job's own node.
@@ -190,17 +191,24 @@ def main(argv=None):
     s = study.summary(plan)
     tp, threads = float(config["throughput"]), s["threads"]
     total = s["bed_particle_steps"] + s["pull_particle_steps"]
+    bound = s["bed_particle_steps_bound"] + s["pull_particle_steps"]
     parallel, wall, squeezed = wall_seconds(total, tp, threads, args.cores)
+    wall_bound = wall_seconds(bound, tp, threads, args.cores)[1]
+    ch = tp / threads * 3600.0    # particle-steps per core-hour
     print(f"{args.config}: {s['beds']} beds + {s['pulls']} pulls = {s['beds'] + s['pulls']} "
           f"simulation jobs (+ table, restitution, force trace, report)")
-    print(f"  particle-steps: beds <= {s['bed_particle_steps']:.3g}, pulls {s['pull_particle_steps']:.3g}")
+    print(f"  particle-steps: beds {s['bed_particle_steps']:.3g} expected (<= {s['bed_particle_steps_bound']:.3g}), "
+          f"pulls {s['pull_particle_steps']:.3g}")
     print(f"  throughput {tp:.3g} particle-steps/s per job on {threads} thread(s) ({how})")
-    print(f"  cost: {s['core_hours']:.3g} core-hours "
-          f"(beds <= {s['bed_particle_steps'] / tp * threads / 3600:.3g}, "
-          f"pulls {s['pull_particle_steps'] / tp * threads / 3600:.3g})")
+    print(f"  cost: {s['core_hours']:.3g} core-hours (beds {s['bed_particle_steps'] / ch:.3g}, "
+          f"pulls {s['pull_particle_steps'] / ch:.3g}); at most {bound / ch:.3g} if every pour runs to its "
+          f"max_settle_time (beds {s['bed_particle_steps_bound'] / ch:.3g})")
+    if s["bed_particle_steps"] < s["bed_particle_steps_bound"]:
+        print("  pours: damped frictional beds are expected to stop at the kinetic-energy threshold early "
+              "(measured settling times: workflow/granudrag_study/cost.py, DAMPED_STOP_MU and _DEPTH)")
     packing = (f"each {threads}-thread job on {args.cores} cores, one at a time: the core-hours / {args.cores}"
                if squeezed else f"{parallel} job(s) at a time")
-    print(f"  wall time on {args.cores} cores ({packing}): <= {hours(wall)}")
+    print(f"  wall time on {args.cores} cores ({packing}): about {hours(wall)} (<= {hours(wall_bound)})")
     if s["pull_particle_steps"] < s["pull_particle_steps_whole"]:
         region = [p for p in plan.pulls.values() if study.expected_pull_cost(p, config) < study.pull_cost(p, config)]
         print(f"  active region: {len(region)} of {s['pulls']} pulls sleep, expected to save "

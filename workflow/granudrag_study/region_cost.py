@@ -5,15 +5,16 @@ A pull with the region integrates every grain within R of the intruder and every
 not come to rest; a grain asleep still costs a little (its contacts with awake grains, the
 lists, the checks). A pull's expected cost is then its particle-steps (cost.pull_cost) times
 
-    factor = 1 - (1 - SLEEPING_COST) * asleep,
+    factor = 1 - (1 - c) * asleep,
     asleep = share(Fr, mu) * outside(R) * max(0, 1 - sleep_time / T),
 
 where outside(R) is the fraction of the bed's grains farther than R from the intruder (a sphere
 of radius R about it, cut by the bed's surface and base), T = travel / V the pull's duration (no
 grain falls asleep before it has rested sleep_time), and share(Fr, mu) the fraction of those
 grains that do fall asleep, measured: the intruder's disturbance reaches farther the faster it
-goes, and a frictionless bed hardly comes to rest.
-(cost.expected_pull_cost). The scheduler's limits (cost.job_resources) keep the whole cost: a
+goes, and a frictionless bed hardly comes to rest; c is what a sleeping grain still costs
+(sleeping_cost: less in a bed poured with settling damping, at rest), in
+cost.expected_pull_cost. The scheduler's limits (cost.job_resources) keep the whole cost: a
 pull through a bed that does not sleep must not be killed for it.
 """
 
@@ -59,17 +60,29 @@ ASLEEP_SHARE = {
 }
 
 # A grain asleep costs this fraction of an awake one: c = 1 - (1 - t_region / t_without) / asleep.
-# Measured from the CPU times of the 40 d validation's yield pulls, each against the same bed's
-# pull without the region (Snakemake's benchmark files, 1 thread): median 0.22 over the 8 pairs
-# (0.10-0.18 for D = 2, 0.26-0.41 for D = 6, whose wider disturbance leaves more sleeping grains
-# with an awake partner); the yield pulls ran 1.7-3.6x faster. In a bed still creeping (the
-# 70,001-body bed of docs/benchmark.md, settled to 1e-4 only) awake grains are scattered through
-# the sleeping ones and c was 0.49. What a sleeping grain still costs: the scan of its pairs when
-# a partner is awake, and the integration's, lists' and checks' passes over every body. Since
-# 2026-11-27 the checks take the held pairs' part once per held set, and in a 70,001-body bed at
-# rest (poured with settle_damping) a sleeping grain cost 0.03 of an awake one over the second
-# half of a yield pull (docs/benchmark.md); 0.22, measured on the study's kind of bed, is kept.
+# In beds poured without settling damping (the paper's pour), measured from the CPU times of the
+# 40 d validation's yield pulls, each against the same bed's pull without the region (Snakemake's
+# benchmark files, 1 thread): median 0.22 over the 8 pairs (0.10-0.18 for D = 2, 0.26-0.41 for
+# D = 6, whose wider disturbance leaves more sleeping grains with an awake partner); in a bed
+# still creeping (the 70,001-body bed of docs/benchmark.md, settled to 1e-4 only) awake grains are
+# scattered through the sleeping ones and c was 0.49. What a sleeping grain still costs: the scan
+# of its pairs when a partner is awake, and the integration's, lists' and checks' passes over
+# every body. In beds poured with settle_damping, at rest, a held grain none of whose partners is
+# awake is quiet and costs nothing until a list build (docs/pour-and-pull.md): c was 0.03 over the
+# second half of a yield pull through a 70,001-body bed (docs/benchmark.md), and over whole yield
+# pulls through the 40 d beds (D = 2, R = 3 and 6 D) median -0.01 over 10 pairs (-0.04 to +0.05;
+# active_region_40_long.yaml, 5 d at V = 0.03, 69-84 % asleep, 3.0-7.6x faster) and -0.04 over 8
+# (-0.21 to +0.00; active_region_40_mu.yaml, mu = 0.25 and 0.8, 72-84 % asleep, 5.0-7.7x): the
+# bench's 0.03 is taken. (Their Fr = 1 pulls, 10-23 s each, are too short to time.)
 SLEEPING_COST = 0.22
+SLEEPING_COST_DAMPED = 0.03
+
+
+def sleeping_cost(pull, config):
+    """What a sleeping grain costs in this pull's bed: SLEEPING_COST_DAMPED if it was poured with
+    settling damping (at rest), else SLEEPING_COST."""
+    pour = config["systems"][pull.bed.system].get("pour") or {}
+    return SLEEPING_COST_DAMPED if float(pour.get("settle_damping", 0.0) or 0.0) > 0 else SLEEPING_COST
 
 
 def bed_height(grains, lx, ly):
