@@ -201,10 +201,10 @@ def test_a_damped_frictional_pour_is_expected_to_stop_at_its_measured_settling_t
     # 800 grains on 64 d^2, 12.5 per d^2: shallower than system I, its 28 time units at mu >= 0.25.
     assert study.expected_settle_time(frictional, config) == pytest.approx(28.0)
     assert study.expected_settle_time(frictionless, config) == 150      # creeps: to the limit
-    sysc["grains"] = int(93.75 * 64)                   # system II's depth: x 40 / 26.5
-    assert study.expected_settle_time(frictional, config) == pytest.approx(28.0 * 40 / 26.5)
+    sysc["grains"] = int(93.75 * 64)                   # system II's depth: 40
+    assert study.expected_settle_time(frictional, config) == pytest.approx(40.0)
     sysc["grains"] = int(68.75 * 64)                   # half way between I and II
-    assert study.expected_settle_time(frictional, config) == pytest.approx(28.0 * (1 + 40 / 26.5) / 2)
+    assert study.expected_settle_time(frictional, config) == pytest.approx((28.0 + 40.0) / 2)
     sysc["grains"] = 800
     config["sweeps"][1]["mu"] = [0.1, 0.175, 0.05]     # mu = 0.1: 37; half way to 0.25: 32.5; below: the limit
     times = {b.value("mu"): study.expected_settle_time(b, config) for b in study.plan(config).beds.values()}

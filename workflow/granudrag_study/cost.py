@@ -49,17 +49,19 @@ def _settle_limit(sysc):
 
 
 # When a pour stops: when the grains' kinetic energy falls below ke_threshold, else at
-# max_settle_time. Measured with settle_damping 1 (docs/study-outcomes.md, "Damped pours"): in
-# 10 d x 10 d columns as deep as faithful.yaml's system I (43.75 grains per d^2, K_n = 2e5,
-# ke_threshold 1e-7) mu = 0.1 stops after 37.0 time units, 0.25 after 25.5, 0.5 after 26.5; the
-# validation studies' shallower 40 d beds (16 grains per d^2, 1e-6, mu = 0.25-0.8) after 24.0-28.0
-# over 15 beds; as deep as system II (93.75 per d^2) mu = 0.5 after 40.0, 1.51x system I's 26.5,
-# taken for every friction. Frictionless beds creep in bursts, damped or not (mu = 0, system I's
-# depth: 1.2e-7 per grain at 100), and undamped beds breathe (system I, mu = 0.5: at 40 of 40):
-# both run to max_settle_time, as do frictions below 0.1, other dampings and lower thresholds
-# (not measured).
-DAMPED_STOP_MU = ((0.1, 37.0), (0.25, 28.0))     # (mu, settling time at system I's depth); 28: the slowest above
-DAMPED_STOP_DEPTH = ((43.75, 1.0), (93.75, 40.0 / 26.5))   # (grains per d^2, factor)
+# max_settle_time. Measured with settle_damping 1 (docs/study-outcomes.md, "Damped pours"), in
+# 10 d x 10 d columns as deep as faithful.yaml's systems (K_n = 2e5, ke_threshold 1e-7): at system
+# I's depth (43.75 grains per d^2) mu = 0.1 stops after 37.0 time units, 0.25 after 25.5, 0.5
+# after 26.5 (the validation studies' shallower 40 d beds, 16 grains per d^2, 1e-6, mu = 0.25-0.8:
+# 24.0-28.0 over 15 beds; 28, the slowest, is taken from mu = 0.25 on); at system II's (93.75 per
+# d^2) mu = 0.1 after 42.0, 0.5 after 40.0. Linear in mu at each depth, then in depth, held beyond
+# the measured points. Frictionless beds creep in bursts, damped or not (mu = 0, system I's depth:
+# 1.2e-7 per grain at 100), and undamped beds breathe (system I, mu = 0.5: at 40 of 40): both run
+# to max_settle_time, as do frictions below 0.1, other dampings and lower thresholds (not measured).
+DAMPED_STOP = (                                   # (grains per d^2, ((mu, settling time), ...))
+    (43.75, ((0.1, 37.0), (0.25, 28.0))),
+    (93.75, ((0.1, 42.0), (0.5, 40.0))),
+)
 DAMPED_STOP_MEASURED = {"settle_damping": 1.0, "ke_threshold": 1e-7}
 
 
@@ -70,16 +72,17 @@ def _between(points, x):
 
 
 def expected_settle_time(bed, config):
-    """Simulated time a pour is expected to run (DAMPED_STOP_*), at most its max_settle_time."""
+    """Simulated time a pour is expected to run (DAMPED_STOP), at most its max_settle_time."""
     sysc = config["systems"][bed.system]
     pour, limit = sysc.get("pour") or {}, _settle_limit(sysc)
     damped = float(pour.get("settle_damping", 0.0) or 0.0) == DAMPED_STOP_MEASURED["settle_damping"]
     threshold = float(pour.get("ke_threshold", 0.0) or 0.0)
     mu = bed.value("mu")
-    if not damped or threshold < DAMPED_STOP_MEASURED["ke_threshold"] or mu < DAMPED_STOP_MU[0][0]:
+    if not damped or threshold < DAMPED_STOP_MEASURED["ke_threshold"] or mu < DAMPED_STOP[0][1][0][0]:
         return limit
     density = int(sysc["grains"]) / (float(sysc["lx"]) * float(sysc["ly"]))
-    return min(limit, _between(DAMPED_STOP_MU, mu) * _between(DAMPED_STOP_DEPTH, density))
+    at_depths = [(n, _between(points, mu)) for n, points in DAMPED_STOP]
+    return min(limit, _between(at_depths, density))
 
 
 def expected_bed_cost(bed, config):

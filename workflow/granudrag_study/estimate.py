@@ -205,7 +205,7 @@ def main(argv=None):
           f"max_settle_time (beds {s['bed_particle_steps_bound'] / ch:.3g})")
     if s["bed_particle_steps"] < s["bed_particle_steps_bound"]:
         print("  pours: damped frictional beds are expected to stop at the kinetic-energy threshold early "
-              "(measured settling times: workflow/granudrag_study/cost.py, DAMPED_STOP_MU and _DEPTH)")
+              "(measured settling times: workflow/granudrag_study/cost.py, DAMPED_STOP)")
     packing = (f"each {threads}-thread job on {args.cores} cores, one at a time: the core-hours / {args.cores}"
                if squeezed else f"{parallel} job(s) at a time")
     print(f"  wall time on {args.cores} cores ({packing}): about {hours(wall)} (<= {hours(wall_bound)})")
