@@ -227,6 +227,20 @@ def test_estimate_cost_prints_jobs_and_core_hours():
     assert "simulation jobs" in out.stdout and "core-hours" in out.stdout
 
 
+@pytest.mark.parametrize("text, message", [
+    ("systems:\n  I:\n    description: a: b\n", "is not valid YAML (quote a value that holds ': ')"),
+    ("- 1\n", "is not a study config"),
+    (None, "cannot read the config"),
+])
+def test_estimate_cost_names_a_config_it_cannot_read(tmp_path, text, message):
+    path = tmp_path / "c.yaml"
+    if text is not None:
+        path.write_text(text)
+    out = subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"), str(path)],
+                         capture_output=True, text=True)
+    assert out.returncode == 1 and message in out.stderr and "Traceback" not in out.stderr
+
+
 def test_wall_time_on_fewer_cores_than_a_job_has_threads_is_the_core_hours_over_the_cores():
     # faithful.yaml prices 16-thread jobs at a 16-thread node's throughput; on 2 cores that
     # throughput is not available: the wall time is its core-hours / 2, not particle-steps / rate.

@@ -158,8 +158,16 @@ def main(argv=None):
     ap.add_argument("--grains", type=int, help="grains of the --measure bed (default: smallest system's, <= 70000)")
     ap.add_argument("--binary", help="granudrag for --measure (default: the config's `granudrag`)")
     args = ap.parse_args(argv)
-    with open(args.config) as fh:
-        config = yaml.safe_load(fh)
+    try:
+        with open(args.config) as fh:
+            config = yaml.safe_load(fh)
+    except OSError as exc:
+        sys.exit(f"estimate_cost: cannot read the config {args.config}: {exc.strerror}")
+    except yaml.YAMLError as exc:
+        sys.exit(f"estimate_cost: {args.config} is not valid YAML (quote a value that holds ': '): {exc}")
+    if not isinstance(config, dict):
+        sys.exit(f"estimate_cost: {args.config} is not a study config (a YAML mapping of keys such as "
+                 f"systems and sweeps)")
     if args.active_radius is not None and args.active_diameters is not None:
         sys.exit("estimate_cost: give --active_radius (d) or --active_diameters (D), not both")
     for key, value in (("active_radius", args.active_radius), ("active_diameters", args.active_diameters)):
