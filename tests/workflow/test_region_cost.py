@@ -105,6 +105,14 @@ def test_a_sleeping_grain_in_a_damped_bed_costs_the_damped_beds_measured_share()
     damped = by[("R", "V~0.03")]        # R's beds come from I: I's pour decides
     assert region_cost.sleeping_cost(damped, plan.config) == region_cost.SLEEPING_COST_DAMPED
     asleep = region_cost.asleep_fraction(damped, plan.config, 3)
+    # a bed at rest sleeps by its own table (more than the paper's pour)
+    Fr = float(physics.froude(damped.V, 2))
+    assert asleep == pytest.approx(region_cost.asleep_fraction(
+        damped, plan.config, 3, region_cost.ASLEEP_SHARE_DAMPED), rel=1e-12)
+    assert asleep / region_cost.asleep_fraction(undamped, plan0.config, 3) == pytest.approx(
+        region_cost.asleep_share(Fr, 0.5, region_cost.ASLEEP_SHARE_DAMPED)
+        / region_cost.asleep_share(Fr, 0.5, region_cost.ASLEEP_SHARE), rel=1e-12)
+    assert region_cost.asleep_share(Fr, 0.5, region_cost.ASLEEP_SHARE_DAMPED) > region_cost.asleep_share(Fr, 0.5)
     assert asleep > 0.3
     assert study.expected_pull_cost(damped, plan.config) == pytest.approx(
         (1 - (1 - region_cost.SLEEPING_COST_DAMPED) * asleep) * study.pull_cost(damped, plan.config), rel=1e-12)

@@ -132,7 +132,7 @@ def _use_measured_shares(path):
     print(f"  sleeping share of the grains outside the region, measured in {path}: " + "; ".join(
         f"mu {mu:g}: " + ", ".join(f"Fr {fr:g}: {share:.3g}" for fr, share in points)
         for mu, points in shares.items()))
-    region_cost.ASLEEP_SHARE = shares
+    region_cost.ASLEEP_SHARE = region_cost.ASLEEP_SHARE_DAMPED = shares   # whichever pour the beds had
 
 
 def main(argv=None):
