@@ -55,7 +55,8 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
                  "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "stop_reason",
-                 "active_radius", "wake_force", "perturbation", "asleep", "settle_damping", "sanity", "path"]
+                 "active_radius", "wake_force", "sleep_speed", "perturbation", "asleep", "settle_damping", "sanity",
+                 "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
@@ -168,8 +169,9 @@ def read_run(path, system=None, root=None):
         region = ({k: _setting(f, path, "pull", k) for k in ("active_radius", "active_diameters")}
                   if version >= 2 else {})
         active_radius = physics.active_radius(region, get["D"])
-        # The region's wake test, with it on only (NaN without: every grain is awake).
-        wake_force = (_setting(f, path, "pull", "wake_force") or math.nan) if active_radius > 0 else math.nan
+        # The region's wake and rest tests, with it on only (NaN without: every grain is awake).
+        wake_force, sleep_speed = ((_setting(f, path, "pull", k) or math.nan) if active_radius > 0 else math.nan
+                                   for k in ("wake_force", "sleep_speed"))
         perturbation = _setting(f, path, "pull", "perturbation") if version >= 2 else 0.0
         settle_damping = _setting(f, path, "pour", "settle_damping") if version >= 2 else 0.0
         asleep = _asleep(obs, scale["grains"])
@@ -219,7 +221,8 @@ def read_run(path, system=None, root=None):
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,
-            "active_radius": active_radius, "wake_force": wake_force, "perturbation": perturbation, "asleep": asleep,
+            "active_radius": active_radius, "wake_force": wake_force, "sleep_speed": sleep_speed,
+            "perturbation": perturbation, "asleep": asleep,
             "settle_damping": settle_damping, "sanity": sanity, "path": str(path)}
 
 

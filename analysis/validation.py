@@ -56,8 +56,8 @@ class Study:
     also_judged: tuple = ()
     also_reported: tuple = ()
     # A variant's own settings (columns) that tell apart variants of the same value, each compared
-    # with the reference on its own; the reference has none (the active region's wake_force: two
-    # regions of one radius may wake their grains differently).
+    # with the reference on its own; the reference has none (the active region's wake_force and
+    # sleep_speed: two regions of one radius may wake or rest their grains differently).
     settings: tuple = ()
 
 
@@ -74,7 +74,7 @@ STUDIES = {
                            ("D", "h_requested", "mu", "kn", "gamman", "Fr"), "active radius (d)", True,
                            "the smallest active radius that agrees with every grain integrated, for each D",
                            also_judged=(("theta", "theta_err"),), also_reported=("n_contacts", "Z"),
-                           settings=("wake_force",)),
+                           settings=("wake_force", "sleep_speed")),
     # Beds poured with and without the settling damping (granudrag pour --settle_damping, systems
     # that differ in it alone): the reference is 0, the paper's pour. Other beds, so the drags are
     # compared as the points' means over their beds, with the bed scatter in their errors.
@@ -82,6 +82,12 @@ STUDIES = {
                             ("D", "h_requested", "mu", "kn", "gamman", "Fr"), "settle_damping (sqrt(g/d))", False,
                             "whether beds poured with the settling damping pull as the paper's pour does"),
 }
+
+
+# granudrag pull's defaults of the settings a study tells variants apart by
+# (src/engine/active_region.hpp): a label leaves out a setting at its default everywhere, and
+# comparison tables of studies run before a setting was recorded ran at it.
+SETTING_DEFAULTS = {"wake_force": 0.5, "sleep_speed": 0.01}
 
 
 # Every study `validate` runs: the comparisons above, and the pull length (analysis.pull_length),
@@ -160,19 +166,26 @@ def _grouped(df, cols):
         yield (key if isinstance(key, tuple) else (key,)), g
 
 
-def _setting_label(cols, values):
-    """" (wake_force 1)" for the settings that are set, "" for none."""
-    text = ", ".join(f"{c} {v:g}" for c, v in zip(cols, values) if pd.notna(v))
+def _shown(cmp, study):
+    """The settings a label names: those that vary in the comparison or differ from granudrag's
+    default somewhere (a setting at its default everywhere says nothing)."""
+    return {c for c in _settings(cmp, study)
+            if cmp[c].nunique() > 1 or (cmp[c].dropna() != SETTING_DEFAULTS.get(c, np.nan)).any()}
+
+
+def _setting_label(cols, values, shown=None):
+    """" (wake_force 1)" for the settings that are set (and in `shown`, if given), "" for none."""
+    text = ", ".join(f"{c} {v:g}" for c, v in zip(cols, values) if pd.notna(v) and (shown is None or c in shown))
     return f" ({text})" if text else ""
 
 
 def _variants(cmp, study, unit=""):
     """The comparison's rows grouped by variant, as (label, rows): the value with `unit`, and the
     settings that tell variants of one value apart ("6 d (wake_force 1)")."""
-    cols = _settings(cmp, study)
+    cols, shown = _settings(cmp, study), _shown(cmp, study)
     out = []
     for key, g in _grouped(cmp, ["variant", *cols]):
-        out.append((f"{key[0]:g}{unit}" + _setting_label(cols, key[1:]), g))
+        out.append((f"{key[0]:g}{unit}" + _setting_label(cols, key[1:], shown), g))
     return out
 
 
@@ -328,7 +341,7 @@ def _answer(cmp, study):
                 if not g[g.variant == v].agrees.all():
                     break
                 smallest = v
-            out.append(f"D = {key[0]:g}" + _setting_label(cols, key[1:]) + ": "
+            out.append(f"D = {key[0]:g}" + _setting_label(cols, key[1:], _shown(cmp, study)) + ": "
                        + ("none agrees" if smallest is None else f"{smallest:g} d ({smallest / key[0]:.3g} D)"))
         judged = ", ".join(["drag"] + [c for c, _ in study.also_judged])
         text = (f"Smallest active radius at which {judged} agree with every grain integrated at every "

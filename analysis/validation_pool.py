@@ -31,15 +31,12 @@ import pandas as pd
 
 from .agreement import Z_AGREE, ValidationError
 from .table import write_csv
-from .validation import STUDIES
+from .validation import SETTING_DEFAULTS, STUDIES
 
 # What a study's variant is measured against, to put its studies on one scale: the active radius
 # in units of D (R = 3 D is one radius whatever D is).
 SCALE = {"active_region": ("D", "R_over_D")}
 
-# granudrag pull's defaults of the settings (src/engine/active_region.hpp): the comparison tables
-# of studies run before the runs table recorded a setting have no column for it.
-SETTING_DEFAULTS = {"wake_force": 0.5}
 
 # How the sentence writes each observable's difference: (factor, unit).
 UNITS = {"drag": (100, " %"), "theta": (1, " rad")}
@@ -128,8 +125,11 @@ def conclusion(pooled, study):
     unit = " D" if col == "R_over_D" else ""
     names = ["drag"] + [c for c, _ in study.also_judged if f"{c}_diff" in pooled.columns]
     parts, resolved = [], []
+    # A setting is named where it varies over the groups or leaves its default somewhere.
+    shown = [c for c in study.settings if c in pooled.columns
+             and (pooled[c].nunique() > 1 or (pooled[c] != SETTING_DEFAULTS.get(c)).any())]
     for _, r in pooled.iterrows():
-        label = f"{r[col]:g}{unit}" + "".join(f", {c} {r[c]:g}" for c in study.settings if c in pooled.columns)
+        label = f"{r[col]:g}{unit}" + "".join(f", {c} {r[c]:g}" for c in shown)
         obs = []
         for name in names:
             if np.isnan(r[f"{name}_diff"]):

@@ -120,7 +120,7 @@ def test_scale_is_nan_when_the_file_does_not_record_it(tmp_path, version):
     row = read_run(p)
     assert all(np.isnan(row[k]) for k in ("lx", "ly", "grains")) and row["drag"] > 0
     assert row["active_radius"] == 0.0 and row["asleep"] == 0.0   # a pull that records no region
-    assert np.isnan(row["wake_force"])                             # so no wake test either
+    assert np.isnan(row["wake_force"]) and np.isnan(row["sleep_speed"])   # so no wake or rest test either
     assert row["settle_damping"] == 0.0                            # nor its bed's pour
     # A bed of format version 1, or imported: the run has no /parameters/pour.
     q = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5", speed=1.5)
@@ -212,6 +212,7 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     assert (row["lx"], row["ly"], row["grains"]) == (5.0, 4.5, 150.0)
     assert row["active_radius"] == 3.0       # the validation of the active region compares by it
     assert row["wake_force"] == 0.5          # the default wake test, and its setting tells variants apart
+    assert row["sleep_speed"] == 0.01        # the default rest test, likewise
     assert row["perturbation"] == 0.0
     assert row["settle_damping"] == 0.5      # the bed's, which its validation compares by
     # The radius in intruder diameters (D = 1.5), and a replica: read as the radius in d.
@@ -219,10 +220,11 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     replica.parent.mkdir()
     subprocess.run([str(BINARY), "pull", "--bed", str(tmp_path / "bed.h5"), "--output", str(replica),
                     "--distance", "0.5", "--active_diameters", "2", "--perturbation", "1e-9", "--wake_force", "1",
-                    "--quiet"],
+                    "--sleep_speed", "0.002", "--quiet"],
                    check=True, capture_output=True)
     again = read_run(replica)
     assert again["active_radius"] == 3.0 and again["perturbation"] == 1e-9 and again["wake_force"] == 1.0
+    assert again["sleep_speed"] == 0.002
     assert read_parameters(replica)["pull"]["active_diameters"] == 2.0
     with h5py.File(run) as f:
         counts = f["observables/sleeping_grains/value"][()]

@@ -138,6 +138,22 @@ def test_active_region_tells_apart_regions_of_one_radius_with_other_wake_tests()
                                              "active_region")
 
 
+def test_active_region_tells_apart_rest_tests_and_names_only_settings_off_their_default():
+    runs = region_runs({0.0: 0.0, 4.0: 0.0, 8.0: 0.0, 12.0: 0.0}, beds=3)
+    runs = runs[runs.active_radius.isin([0.0, 8.0])]
+    on = runs.active_radius > 0
+    runs = runs.assign(wake_force=np.where(on, 0.5, np.nan), sleep_speed=np.where(on, 0.01, np.nan))
+    strict = runs[runs.active_radius == 8.0].assign(sleep_speed=0.001, system="R8_strict")
+    strict = strict.assign(drag=strict.drag * 1.2)
+    cmp = val.compare(pd.concat([runs, strict], ignore_index=True), "active_region")
+    assert set(cmp.sleep_speed) == {0.01, 0.001} and set(cmp.wake_force) == {0.5}
+    assert not cmp[cmp.sleep_speed == 0.001].agrees.any() and cmp[cmp.sleep_speed == 0.01].agrees.all()
+    text = val.conclusion(cmp, "active_region")
+    # sleep_speed varies: named; wake_force is 0.5, the default, everywhere: not named
+    assert "active_radius = 8 (sleep_speed 0.001) against 0: agrees at 0 of 4" in text, text
+    assert "active_radius = 8 (sleep_speed 0.01) against 0" in text and "wake_force" not in text, text
+
+
 def damped_runs(shift, beds=3, bed_scatter=0.05, seed=2):
     """Runs of a settling-damping study: beds poured without (system I) and with the damping
     (I_damped, other beds), at a yield speed and Fr = 1; the damped beds' drag is F0 (1 + shift)."""

@@ -47,6 +47,14 @@ def test_rows_of_other_wake_tests_are_never_pooled_together(tmp_path):
     assert out.loc[1.0].rows == 1 and out.loc[1.0].drag_diff == pytest.approx(0.08)
 
 
+def test_rows_of_other_rest_tests_are_pooled_apart_and_named(tmp_path):
+    a = comparison(tmp_path / "a", [row(2, 6, 0.02, 0.01, sleep_speed=0.01), row(2, 6, 0.0, 0.01, sleep_speed=0.001)])
+    out = pool.pool(pool.load([a]), "active_region")
+    assert sorted(out.sleep_speed) == [0.001, 0.01] and (out.rows == 1).all()
+    text = pool.conclusion(out, "active_region")
+    assert "3 D, sleep_speed 0.001 (1 rows" in text and "wake_force" not in text, text
+
+
 def test_a_common_shift_below_every_rows_error_is_resolved_by_their_scatter(tmp_path):
     # Sixteen rows, each +1.5 % +- 0.2 % of scatter but with 4 % errors (the paired errors are
     # upper bounds): z stays below 2, the rows' own scatter says t >> 2.
@@ -60,8 +68,8 @@ def test_a_common_shift_below_every_rows_error_is_resolved_by_their_scatter(tmp_
     assert abs(out.theta_t) < 4
     text = pool.conclusion(pool.pool(pool.load([tmp_path / "a" / "validate_active_region.csv"]), "active_region"),
                            "active_region")
-    assert "3 D, wake_force 0.5 (16 rows, 1 study): drag +1.5" in text
-    assert "rows' own scatter resolves" in text and "drag at 3 D, wake_force 0.5" in text
+    assert "3 D (16 rows, 1 study): drag +1.5" in text      # settings at their defaults go unnamed
+    assert "rows' own scatter resolves" in text and "drag at 3 D." in text
     assert "theta at" not in text
 
 
