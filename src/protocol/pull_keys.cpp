@@ -72,8 +72,9 @@ const KeyTable<PullSpec>& pull_keys() {
           .unit("D")
           .at_least(0)
           .help("or: the active region's radius in intruder diameters, active_radius = this D (3 agrees "
-                "within errors for D = 1, 2, 4, 6 at mu = 0-0.8, the yield speed to Fr = 10, but its drag "
-                "reads 2-4 % high where grains sleep, 8 % for D = 1: keep R >= 6 d; docs/pour-and-pull.md)"),
+                "within errors for D = 1, 2, 4, 6 at mu = 0-0.8, the yield speed to Fr = 10, but with the "
+                "default sleep_speed its drag reads 2-4 % high where grains sleep, 8 % for D = 1; with "
+                "sleep_speed 0.003 it does not: docs/pour-and-pull.md)"),
       Key::number("sleep_speed")
           .unit("V")
           .above(0)
