@@ -146,7 +146,7 @@ def compare(runs, study):
     return pd.DataFrame(rows)
 
 
-def _settings(df, study):
+def settings_set(df, study):
     """The study's settings columns that the table has and that are set somewhere."""
     return [c for c in study.settings if c in df.columns and df[c].notna().any()]
 
@@ -154,7 +154,7 @@ def _settings(df, study):
 def _by_settings(other, study):
     """(settings as a dict, runs) for each combination of the study's settings among one
     variant's runs; ({}, all of them) for a study without settings."""
-    cols = _settings(other, study)
+    cols = settings_set(other, study)
     if not cols:
         return [({}, other)]
     return [(dict(zip(cols, key)), g) for key, g in _grouped(other, cols)]
@@ -166,10 +166,10 @@ def _grouped(df, cols):
         yield (key if isinstance(key, tuple) else (key,)), g
 
 
-def _shown(cmp, study):
+def shown_settings(cmp, study):
     """The settings a label names: those that vary in the comparison or differ from granudrag's
     default somewhere (a setting at its default everywhere says nothing)."""
-    return {c for c in _settings(cmp, study)
+    return {c for c in settings_set(cmp, study)
             if cmp[c].nunique() > 1 or (cmp[c].dropna() != SETTING_DEFAULTS.get(c, np.nan)).any()}
 
 
@@ -182,7 +182,7 @@ def _setting_label(cols, values, shown=None):
 def _variants(cmp, study, unit=""):
     """The comparison's rows grouped by variant, as (label, rows): the value with `unit`, and the
     settings that tell variants of one value apart ("6 d (wake_force 1)")."""
-    cols, shown = _settings(cmp, study), _shown(cmp, study)
+    cols, shown = settings_set(cmp, study), shown_settings(cmp, study)
     out = []
     for key, g in _grouped(cmp, ["variant", *cols]):
         out.append((f"{key[0]:g}{unit}" + _setting_label(cols, key[1:], shown), g))
@@ -334,14 +334,14 @@ def _answer(cmp, study):
         return "Smallest box that agrees: " + ", ".join(out) + "."
     if study.name == "active_region":
         out = []
-        cols = _settings(cmp, study)
+        cols, shown = settings_set(cmp, study), shown_settings(cmp, study)
         for key, g in _grouped(cmp, ["D", *cols]):
             smallest = None
             for v in sorted(g.variant.unique(), reverse=True):   # agreeing radii: contiguous from the widest
                 if not g[g.variant == v].agrees.all():
                     break
                 smallest = v
-            out.append(f"D = {key[0]:g}" + _setting_label(cols, key[1:], _shown(cmp, study)) + ": "
+            out.append(f"D = {key[0]:g}" + _setting_label(cols, key[1:], shown) + ": "
                        + ("none agrees" if smallest is None else f"{smallest:g} d ({smallest / key[0]:.3g} D)"))
         judged = ", ".join(["drag"] + [c for c, _ in study.also_judged])
         text = (f"Smallest active radius at which {judged} agree with every grain integrated at every "
@@ -383,7 +383,7 @@ def draw(cmp, study, outdir):
     plt.switch_backend("Agg")
     fig, ax = plt.subplots(figsize=(5.5, 3.8), layout="constrained")
     keys = [k for k in study.keys if k in cmp.columns and cmp[k].nunique() > 1]
-    keys += [c for c in _settings(cmp, study) if cmp[c].nunique() > 1]   # one series per setting
+    keys += [c for c in settings_set(cmp, study) if cmp[c].nunique() > 1]   # one series per setting
     groups = cmp.groupby(keys[0] if len(keys) == 1 else keys, sort=True) if keys else [((), cmp)]
     for i, (key, g) in enumerate(groups):
         key = key if isinstance(key, tuple) else (key,)

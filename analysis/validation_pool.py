@@ -31,7 +31,7 @@ import pandas as pd
 
 from .agreement import Z_AGREE, ValidationError
 from .table import write_csv
-from .validation import SETTING_DEFAULTS, STUDIES
+from .validation import SETTING_DEFAULTS, STUDIES, settings_set, shown_settings
 
 # What a study's variant is measured against, to put its studies on one scale: the active radius
 # in units of D (R = 3 D is one radius whatever D is).
@@ -72,7 +72,7 @@ def pool(cmp, study):
     for c, default in SETTING_DEFAULTS.items():   # a study from before the setting was recorded ran at it
         if c in study.settings:
             cmp[c] = cmp[c].fillna(default) if c in cmp.columns else default
-    settings = [c for c in study.settings if c in cmp.columns and cmp[c].notna().any()]
+    settings = settings_set(cmp, study)
     rows = []
     for key, g in cmp.groupby([col, *settings], sort=True):
         key = key if isinstance(key, tuple) else (key,)
@@ -126,8 +126,7 @@ def conclusion(pooled, study):
     names = ["drag"] + [c for c, _ in study.also_judged if f"{c}_diff" in pooled.columns]
     parts, resolved = [], []
     # A setting is named where it varies over the groups or leaves its default somewhere.
-    shown = [c for c in study.settings if c in pooled.columns
-             and (pooled[c].nunique() > 1 or (pooled[c] != SETTING_DEFAULTS.get(c)).any())]
+    shown = [c for c in study.settings if c in shown_settings(pooled, study)]
     for _, r in pooled.iterrows():
         label = f"{r[col]:g}{unit}" + "".join(f", {c} {r[c]:g}" for c in shown)
         obs = []

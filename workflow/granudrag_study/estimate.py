@@ -39,7 +39,7 @@ import yaml
 
 import granudrag_study as study
 
-from .breakdown import by_figure
+from .breakdown import by_figure, core_hours
 
 # Assumed efficiency of a job's OpenMP threads beyond those measured here (2 threads: 0.95-0.97
 # on bench/compare_lammps.sh's beds).
@@ -202,15 +202,14 @@ def main(argv=None):
     bound = s["bed_particle_steps_bound"] + s["pull_particle_steps"]
     parallel, wall, squeezed = wall_seconds(total, tp, threads, args.cores)
     wall_bound = wall_seconds(bound, tp, threads, args.cores)[1]
-    ch = tp / threads * 3600.0    # particle-steps per core-hour
     print(f"{args.config}: {s['beds']} beds + {s['pulls']} pulls = {s['beds'] + s['pulls']} "
           f"simulation jobs (+ table, restitution, force trace, report)")
     print(f"  particle-steps: beds {s['bed_particle_steps']:.3g} expected (<= {s['bed_particle_steps_bound']:.3g}), "
           f"pulls {s['pull_particle_steps']:.3g}")
     print(f"  throughput {tp:.3g} particle-steps/s per job on {threads} thread(s) ({how})")
-    print(f"  cost: {s['core_hours']:.3g} core-hours (beds {s['bed_particle_steps'] / ch:.3g}, "
-          f"pulls {s['pull_particle_steps'] / ch:.3g}); at most {bound / ch:.3g} if every pour runs to its "
-          f"max_settle_time (beds {s['bed_particle_steps_bound'] / ch:.3g})")
+    print(f"  cost: {s['core_hours']:.3g} core-hours (beds {core_hours(s['bed_particle_steps'], config):.3g}, "
+          f"pulls {core_hours(s['pull_particle_steps'], config):.3g}); at most {core_hours(bound, config):.3g} if "
+          f"every pour runs to its max_settle_time (beds {core_hours(s['bed_particle_steps_bound'], config):.3g})")
     if s["bed_particle_steps"] < s["bed_particle_steps_bound"]:
         print("  pours: damped frictional beds are expected to stop at the kinetic-energy threshold early "
               "(measured settling times: workflow/granudrag_study/cost.py, DAMPED_STOP)")
