@@ -195,7 +195,11 @@ def test_a_damped_frictional_pour_is_expected_to_stop_at_its_measured_settling_t
     plan = study.plan(config)
     frictional = next(b for b in plan.beds.values() if b.value("mu") == 0.5)
     frictionless = next(b for b in plan.beds.values() if b.value("mu") == 0)
-    limit = 100.0                                     # granudrag pour's default max_settle_time
+    # A system without max_settle_time settles as long as granudrag pour does by default (the
+    # schema's text is the engine's --help)
+    pour_keys = yaml.safe_load(SCHEMA.read_text())["$defs"]["pour"]["properties"]
+    limit = study.SETTLE_TIME_DEFAULT
+    assert f"(default: {limit:g})" in pour_keys["max_settle_time"]["description"]
     assert study.expected_settle_time(frictional, config) == limit     # the paper's pour: undamped
     sysc["pour"] = {"settle_damping": 1, "ke_threshold": 1e-7, "max_settle_time": 150}
     # 800 grains on 64 d^2, 12.5 per d^2: shallower than system I, its 28 time units at mu >= 0.25.

@@ -15,7 +15,17 @@ The names below are the library's interface: `import granudrag_study as study; s
 """
 
 from .commands import checkpoint_interval, movie_pull_args, pour_args, pour_checkpoint_interval, pull_args
-from .config import SCHEMA, ConfigError, fit_options, resolve_beds_from, resolve_binary, validate_config
+from .config import (
+    SCHEMA,
+    SETTLE_TIME_DEFAULT,
+    ConfigError,
+    fit_options,
+    pour_settings,
+    resolve_beds_from,
+    resolve_binary,
+    settle_limit,
+    validate_config,
+)
 from .cost import (
     bed_cost,
     bed_dt,
@@ -49,6 +59,7 @@ __all__ = [
     "BED_PATTERN",
     "PAPER_FLOW_FIELD",
     "SCHEMA",
+    "SETTLE_TIME_DEFAULT",
     "SPEED_PATTERN",
     "SWEEP_AXES",
     "Bed",
@@ -72,6 +83,7 @@ __all__ = [
     "parse_speed",
     "plan",
     "poured_bed",
+    "pour_settings",
     "pour_args",
     "pour_checkpoint_interval",
     "pull_args",
@@ -86,6 +98,7 @@ __all__ = [
     "resolve_beds_from",
     "resolve_binary",
     "run_file",
+    "settle_limit",
     "summary",
     "trace_pull",
     "validate_config",

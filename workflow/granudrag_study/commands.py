@@ -2,6 +2,7 @@
 
 import math
 
+from .config import pour_settings, settle_limit
 from .cost import bed_cost, job_seconds, pull_cost, pull_distance
 from .paths import Pull, fmt, parse_speed
 
@@ -25,7 +26,7 @@ def pour_args(bed, config):
     args = ["--lx", fmt(sysc["lx"]), "--ly", fmt(sysc["ly"]), "--grains", str(int(sysc["grains"]))]
     args += ["--intruder_diameter", bed.D, "--depth" if bed.place == "h" else "--intruder_z", bed.pos]
     args += ["--mu", bed.mu, "--kn", bed.kn, "--gamman", bed.gn, "--seed", bed.seed]
-    settings = dict(sysc.get("pour") or {})
+    settings = pour_settings(config, bed.system)
     if not settings.get("checkpoint_interval"):
         interval = pour_checkpoint_interval(bed, config)
         if interval:
@@ -45,8 +46,7 @@ def pour_checkpoint_interval(bed, config):
     pieces = math.ceil(minutes / gap)
     if pieces <= 1:
         return None
-    t = float((config["systems"][bed.system].get("pour") or {}).get("max_settle_time", 100.0))
-    return float(f"{t / pieces:.4g}")
+    return float(f"{settle_limit(config, bed.system) / pieces:.4g}")
 
 
 def pull_args(bed, speed, plan_):

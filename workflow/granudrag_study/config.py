@@ -88,3 +88,18 @@ def fit_options(config):
     return Options(n_boot=int(rep.get("n_boot", 200)), seed=int(rep.get("seed", 0)),
                    h_min=float(rep.get("h_min", 0.0) or 0.0),
                    alpha_speeds=tuple(float(v) for v in rep.get("alpha_speeds", ALPHA_SPEEDS)))
+
+
+# granudrag pour's max_settle_time when a system sets none (its --help, the schema's default):
+# a pour settles at most this long.
+SETTLE_TIME_DEFAULT = 100.0
+
+
+def pour_settings(config, system):
+    """A system's `pour` block, its granudrag pour settings ({} when it has none)."""
+    return dict(config["systems"][system].get("pour") or {})
+
+
+def settle_limit(config, system):
+    """The longest a system's pours settle: its max_settle_time."""
+    return float(pour_settings(config, system).get("max_settle_time", SETTLE_TIME_DEFAULT))

@@ -11,6 +11,7 @@ import math
 
 from analysis.physics import default_dt, froude
 
+from .config import pour_settings, settle_limit
 from .region_cost import asleep_fraction, sleeping_cost
 
 # Sequential stopping (a pull's `target_error`): the drag's relative standard error after L d of
@@ -34,18 +35,14 @@ def expected_stop_distance(Fr, target, transient, min_distance, most):
 
 
 def bed_dt(bed, config):
-    dt = (config["systems"][bed.system].get("pour") or {}).get("dt")
+    dt = pour_settings(config, bed.system).get("dt")
     return float(dt) if dt else default_dt(bed.value("kn"))
 
 
 def bed_cost(bed, config):
     """Upper bound of a pour's particle-steps: every grain for the whole settling time."""
-    sysc = config["systems"][bed.system]
-    return int(sysc["grains"]) * _settle_limit(sysc) / bed_dt(bed, config)
-
-
-def _settle_limit(sysc):
-    return float((sysc.get("pour") or {}).get("max_settle_time", 100.0))
+    grains = int(config["systems"][bed.system]["grains"])
+    return grains * settle_limit(config, bed.system) / bed_dt(bed, config)
 
 
 # When a pour stops: when the grains' kinetic energy falls below ke_threshold, else at
@@ -74,7 +71,7 @@ def _between(points, x):
 def expected_settle_time(bed, config):
     """Simulated time a pour is expected to run (DAMPED_STOP), at most its max_settle_time."""
     sysc = config["systems"][bed.system]
-    pour, limit = sysc.get("pour") or {}, _settle_limit(sysc)
+    pour, limit = pour_settings(config, bed.system), settle_limit(config, bed.system)
     damped = float(pour.get("settle_damping", 0.0) or 0.0) == DAMPED_STOP_MEASURED["settle_damping"]
     threshold = float(pour.get("ke_threshold", 0.0) or 0.0)
     mu = bed.value("mu")

@@ -24,6 +24,8 @@ import numpy as np
 
 from analysis.physics import active_radius, froude
 
+from .config import pour_settings
+
 # Grains per d^3 in a poured bed: a packing fraction of 0.6 of grains 0.9-1.1 d in diameter
 # (mean volume pi/6 <d^3> = 0.529 d^3); only the depth of the bed below the intruder comes from
 # it, and the estimate is no finer than that.
@@ -91,7 +93,7 @@ SLEEPING_COST_DAMPED = 0.03
 def damped_bed(pull, config):
     """Whether the pull's bed was poured with settling damping (at rest: more of it sleeps, and a
     sleeping grain costs less)."""
-    pour = config["systems"][pull.bed.system].get("pour") or {}
+    pour = pour_settings(config, pull.bed.system)
     return float(pour.get("settle_damping", 0.0) or 0.0) > 0
 
 
