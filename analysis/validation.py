@@ -84,10 +84,13 @@ STUDIES = {
 }
 
 
-# granudrag pull's defaults of the settings a study tells variants apart by
-# (src/engine/active_region.hpp): a label leaves out a setting at its default everywhere, and
-# comparison tables of studies run before a setting was recorded ran at it.
-SETTING_DEFAULTS = {"wake_force": 0.5, "sleep_speed": 0.01}
+# granudrag pull's defaults of the settings a study tells variants apart by (its --help;
+# tests/python/test_runs.py reads them back from a run): a label leaves out a setting at its
+# default everywhere.
+SETTING_DEFAULTS = {"wake_force": 0.5, "sleep_speed": 0.003}
+# What studies run before a setting was recorded ran at, the defaults of then (sleep_speed was
+# 0.01 until 2026-11-27): their comparison tables lack the column.
+SETTINGS_BEFORE_RECORDED = {"wake_force": 0.5, "sleep_speed": 0.01}
 
 
 # Every study `validate` runs: the comparisons above, and the pull length (analysis.pull_length),

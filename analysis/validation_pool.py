@@ -31,7 +31,7 @@ import pandas as pd
 
 from .agreement import Z_AGREE, ValidationError
 from .table import write_csv
-from .validation import SETTING_DEFAULTS, STUDIES, settings_set, shown_settings
+from .validation import SETTINGS_BEFORE_RECORDED, STUDIES, settings_set, shown_settings
 
 # What a study's variant is measured against, to put its studies on one scale: the active radius
 # in units of D (R = 3 D is one radius whatever D is).
@@ -69,7 +69,7 @@ def pool(cmp, study):
     by, col = SCALE.get(study.name, (None, "variant"))
     if by:
         cmp[col] = (cmp.variant / cmp[by]).round(6)
-    for c, default in SETTING_DEFAULTS.items():   # a study from before the setting was recorded ran at it
+    for c, default in SETTINGS_BEFORE_RECORDED.items():   # a table from before the setting was recorded
         if c in study.settings:
             cmp[c] = cmp[c].fillna(default) if c in cmp.columns else default
     settings = settings_set(cmp, study)

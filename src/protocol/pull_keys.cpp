@@ -72,15 +72,15 @@ const KeyTable<PullSpec>& pull_keys() {
           .unit("D")
           .at_least(0)
           .help("or: the active region's radius in intruder diameters, active_radius = this D (3 agrees "
-                "within errors for D = 1, 2, 4, 6 at mu = 0-0.8, the yield speed to Fr = 10, but with the "
-                "default sleep_speed its drag reads 2-4 % high where grains sleep, 8 % for D = 1; with "
-                "sleep_speed 0.003 it does not: docs/pour-and-pull.md)"),
+                "within errors for D = 1, 2, 4, 6 at mu = 0-0.8, the yield speed to Fr = 10, K_n = 2e4: "
+                "docs/pour-and-pull.md)"),
       Key::number("sleep_speed")
           .unit("V")
           .above(0)
           .help("active region: a grain that has moved less than this fraction of the intruder's travel over "
                 "sleep_time is at rest (relative to V: the grains creeping around a slow intruder must stay "
-                "awake, the far field vibrates at 1e-4 d)")
+                "awake, the far field vibrates at 1e-4 d; 0.01 held grains still creeping and read the drag "
+                "2-9 % high)")
           .field(&PullSpec::sleep_speed),
       Key::number("sleep_speed_max")
           .unit("sqrt(g d)")

@@ -193,7 +193,8 @@ TEST(ActiveRegion, ThePullSetsTheRestDistanceFromItsSpeed) {
   for (double speed : {0.5, 0.03}) {
     spec.speed = speed;
     Pull pull(small_bed(), spec);
-    EXPECT_DOUBLE_EQ(pull.simulation().active_region()->settings().sleep_distance, 0.01 * speed * 1.0);
+    EXPECT_DOUBLE_EQ(pull.simulation().active_region()->settings().sleep_distance,
+                     spec.sleep_speed * speed * 1.0);
   }
   {
     // A fast pull: the rest test's speed is capped at sleep_speed_max (0.014 d per time unit).
@@ -204,7 +205,8 @@ TEST(ActiveRegion, ThePullSetsTheRestDistanceFromItsSpeed) {
   spec.active.sleep_time = 0;  // a check every step: the window is one step
   spec.speed = 0.5;
   Pull pull(small_bed(), spec);
-  EXPECT_DOUBLE_EQ(pull.simulation().active_region()->settings().sleep_distance, 0.01 * 0.5 * small_bed().dt);
+  EXPECT_DOUBLE_EQ(pull.simulation().active_region()->settings().sleep_distance,
+                   spec.sleep_speed * 0.5 * small_bed().dt);
 }
 
 TEST(ActiveRegion, ARadiusInsideTheGrainsAroundTheIntruderIsRefused) {

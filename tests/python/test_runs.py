@@ -19,6 +19,7 @@ from analysis.runs import (
     read_snapshots,
 )
 from analysis.table import froude, validate_table
+from analysis.validation import SETTING_DEFAULTS
 
 BED = "system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.05359/seed~1"
 # The engine, for the test that reads what it writes: $GRANUDRAG, else build/granudrag.
@@ -211,8 +212,9 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     row = read_run(run)
     assert (row["lx"], row["ly"], row["grains"]) == (5.0, 4.5, 150.0)
     assert row["active_radius"] == 3.0       # the validation of the active region compares by it
-    assert row["wake_force"] == 0.5          # the default wake test, and its setting tells variants apart
-    assert row["sleep_speed"] == 0.01        # the default rest test, likewise
+    # The default wake and rest tests, recorded (each setting tells variants apart), and the defaults
+    # the validation's labels leave out are the engine's
+    assert (row["wake_force"], row["sleep_speed"]) == (SETTING_DEFAULTS["wake_force"], SETTING_DEFAULTS["sleep_speed"])
     assert row["perturbation"] == 0.0
     assert row["settle_damping"] == 0.5      # the bed's, which its validation compares by
     # The radius in intruder diameters (D = 1.5), and a replica: read as the radius in d.

@@ -35,7 +35,9 @@ def test_pools_by_radius_over_D_with_inverse_variance_weights(tmp_path):
     assert three.drag_above == 2
     six = out.loc[6.0]                          # 12 d is 6 D at D = 2, 3 D at D = 4
     assert six.rows == 1 and six.drag_diff == pytest.approx(0.0)
-    assert out.loc[3.0, "wake_force"] == 0.5    # the engine's default where the table has no column
+    # Where a table has no column, what studies ran at before it was recorded (sleep_speed 0.01,
+    # the engine's default then, not its default now)
+    assert out.loc[3.0, "wake_force"] == 0.5 and out.loc[3.0, "sleep_speed"] == 0.01
 
 
 def test_rows_of_other_wake_tests_are_never_pooled_together(tmp_path):
@@ -59,8 +61,8 @@ def test_a_common_shift_below_every_rows_error_is_resolved_by_their_scatter(tmp_
     # Sixteen rows, each +1.5 % +- 0.2 % of scatter but with 4 % errors (the paired errors are
     # upper bounds): z stays below 2, the rows' own scatter says t >> 2.
     rng = np.random.default_rng(3)
-    rows = [row(2, 6, 0.015 + 0.002 * rng.standard_normal(), 0.04, theta=0.01 * rng.standard_normal())
-            for _ in range(16)]
+    rows = [row(2, 6, 0.015 + 0.002 * rng.standard_normal(), 0.04, theta=0.01 * rng.standard_normal(),
+                wake_force=0.5, sleep_speed=0.003) for _ in range(16)]
     out = pool.pool(pool.load([comparison(tmp_path / "a", rows)]), "active_region").iloc[0]
     assert out.agrees and abs(out.drag_z) < 2
     assert out.drag_t > 10 and out.drag_above == 16
@@ -68,7 +70,7 @@ def test_a_common_shift_below_every_rows_error_is_resolved_by_their_scatter(tmp_
     assert abs(out.theta_t) < 4
     text = pool.conclusion(pool.pool(pool.load([tmp_path / "a" / "validate_active_region.csv"]), "active_region"),
                            "active_region")
-    assert "3 D (16 rows, 1 study): drag +1.5" in text      # settings at their defaults go unnamed
+    assert "3 D (16 rows, 1 study): drag +1.5" in text      # settings at the engine's defaults go unnamed
     assert "rows' own scatter resolves" in text and "drag at 3 D." in text
     assert "theta at" not in text
 
