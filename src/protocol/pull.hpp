@@ -48,7 +48,7 @@ struct PullSpec {
   // The region's rest test, relative to V: a grain is at rest when it moves slower than this
   // fraction of V over sleep_time (the pull sets active.sleep_distance from it). 0.003, not the
   // 0.01 of before: that held grains still creeping at 0.3-1 % of V, and the drag read 2-9 % high
-  // where much of the bed slept (pooled over the validations +1.6 +- 0.8 %, at 0.003 +0.5 +- 0.9 %:
+  // where much of the bed slept (pooled over the validations +1.6 +- 0.8 %, at 0.003 +0.6 +- 0.9 %:
   // config/validate/active_region_40_*.yaml, docs/pour-and-pull.md).
   double sleep_speed = 0.003;
   // ... and at most this speed, d per sqrt(d/g): relative to V alone, a fast pull held grains of
