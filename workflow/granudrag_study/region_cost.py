@@ -53,6 +53,24 @@ ASLEEP_SHARE = {
     0.0: ((0.03, 0.00002), (1.0, 0.042), (5.0, 0.067), (10.0, 0.008)),
     0.5: ((0.03, 0.50), (1.0, 0.37), (5.0, 0.24), (10.0, 0.052)),
 }
+
+
+def asleep_share(Fr, mu, table=None):
+    """share(Fr, mu): in the measured table (default ASLEEP_SHARE, as it is at the call:
+    estimate_cost.py --asleep-from replaces it; {mu: ((Fr, share), ...)}), interpolated linearly in
+    log Fr at each friction and then linearly in mu, constant beyond the measured points."""
+    table = table or ASLEEP_SHARE
+    frictions = sorted(table)
+    at = [float(np.interp(math.log(max(float(Fr), 1e-12)), np.log([f for f, _ in table[m]]),
+                          [s for _, s in table[m]])) for m in frictions]
+    return float(np.interp(float(mu), frictions, at))
+
+
+def _paper_pour_at_speed(mu):
+    """The paper's pour's shares at Fr = 5 and 10 at this friction, which damped beds take."""
+    return tuple((Fr, asleep_share(Fr, mu, ASLEEP_SHARE)) for Fr in (5.0, 10.0))
+
+
 # Beds poured with settle_damping 1, R = 3 D, the default rest test (sleep_speed 0.003):
 #  mu = 0.25 and 0.8, config/validate/active_region_40_mu.yaml (D = 2, 4 beds): 0.823 in the
 #    mu = 0.25 yield pull (V = 0.03, Fr 0.04), 0.762 at Fr = 1; 0.650 in the mu = 0.8 yield pull
@@ -66,9 +84,9 @@ ASLEEP_SHARE = {
 #    are taken (the lower of what is known).
 ASLEEP_SHARE_DAMPED = {
     0.0: ASLEEP_SHARE[0.0],
-    0.25: ((0.04, 0.823), (1.0, 0.762), (5.0, 0.16), (10.0, 0.030)),
-    0.5: ((0.04, 0.77), (1.0, 0.71), (5.0, 0.25), (10.0, 0.052)),
-    0.8: ((0.13, 0.650), (1.0, 0.650), (5.0, 0.25), (10.0, 0.052)),
+    0.25: ((0.04, 0.823), (1.0, 0.762), *_paper_pour_at_speed(0.25)),
+    0.5: ((0.04, 0.77), (1.0, 0.71), *_paper_pour_at_speed(0.5)),
+    0.8: ((0.13, 0.650), (1.0, 0.650), *_paper_pour_at_speed(0.8)),
 }
 
 # A grain asleep costs this fraction of an awake one: c = 1 - (1 - t_region / t_without) / asleep.
@@ -121,17 +139,6 @@ def outside_fraction(radius, lx, ly, grains, depth):
 
     inside = 4.0 / 3.0 * math.pi * r**3 - cap(r - depth) - cap(r - (height - depth))
     return max(0.0, 1.0 - inside / (lx * ly * height))
-
-
-def asleep_share(Fr, mu, table=None):
-    """share(Fr, mu): in the measured table (default ASLEEP_SHARE, as it is at the call:
-    estimate_cost.py --asleep-from replaces it; {mu: ((Fr, share), ...)}), interpolated linearly in
-    log Fr at each friction and then linearly in mu, constant beyond the measured points."""
-    table = table or ASLEEP_SHARE
-    frictions = sorted(table)
-    at = [float(np.interp(math.log(max(float(Fr), 1e-12)), np.log([f for f, _ in table[m]]),
-                          [s for _, s in table[m]])) for m in frictions]
-    return float(np.interp(float(mu), frictions, at))
 
 
 def asleep_fraction(pull, config, travel, table=None):
