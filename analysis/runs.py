@@ -20,7 +20,10 @@ the bulk packing fraction, see `granudrag pour`), the depth the intruder
 really had. Where a run's path names its parameters (the workflow writes
 `.../system~I/D~2/h~10/mu~0.5/.../Fr~1/run.h5`), the `system~` component
 gives the table's `system` and an `h~` component the requested depth,
-kept as `h_requested` (NaN for beds placed by height, `z~`). Other
+kept as `h_requested` (NaN for beds placed by height, `z~`), and a `z~`
+component the requested height as `z_requested` (NaN for beds placed by
+depth): the point a run belongs to is told by what was asked, not by the
+depth each bed settled to. Other
 `key~value` components that name a stored quantity (D, mu, kn, gn, Fr, V)
 are checked against the file, so a run copied to the wrong place is refused
 rather than filed under the wrong parameters.
@@ -53,7 +56,7 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # check (requested depth, time step, how much of the pull was discarded) and
 # the scale of the run (box, grains poured, distance pulled; NaN when the file
 # does not record them).
-EXTRA_COLUMNS = ["h_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
+EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
                  "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "stop_reason",
                  "active_radius", "wake_force", "sleep_speed", "perturbation", "asleep", "settle_damping", "sanity",
                  "path"]
@@ -208,6 +211,7 @@ def read_run(path, system=None, root=None):
     if not math.isfinite(drag):
         raise RunFileError(f"{path}: the pull produced no drag (value {drag}); see its log")
     h_requested = float(params["h"]) if "h" in params else math.nan
+    z_requested = float(params["z"]) if "z" in params else math.nan
     run_dir = path.parent
     if root is not None:
         try:
@@ -217,7 +221,7 @@ def read_run(path, system=None, root=None):
     return {"system": str(system), "D": get["D"], "h": get["depth"], "mu": get["mu"], "kn": get["kn"],
             "gamman": get["gamman"], "V": get["speed"], "Fr": get["froude"], "drag": drag,
             "drag_err": drag_err, "n_contacts": n, "theta": theta, "Z": Z, "kappa": kappa,
-            "run": str(run_dir), "h_requested": h_requested, "dt": get["dt"],
+            "run": str(run_dir), "h_requested": h_requested, "z_requested": z_requested, "dt": get["dt"],
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,

@@ -61,17 +61,20 @@ class Study:
     settings: tuple = ()
 
 
+# Where the intruder was asked to be: a depth (h~) or a height (z~), the other NaN (analysis.runs).
+PLACEMENT = ("h_requested", "z_requested")
+
 STUDIES = {
-    "yield_speed": Study("yield_speed", "V", "min", ("system", "D", "h_requested", "mu", "kn", "gamman"),
+    "yield_speed": Study("yield_speed", "V", "min", ("system", "D", *PLACEMENT, "mu", "kn", "gamman"),
                          "V", True, "the fastest yield speed that agrees with the slowest at every point"),
-    "box_size": Study("box_size", "lx", "max", ("D", "h_requested", "mu", "kn", "gamman", "Fr"),
+    "box_size": Study("box_size", "lx", "max", ("D", *PLACEMENT, "mu", "kn", "gamman", "Fr"),
                       "box length lx (d)", False, "the smallest box that agrees with the largest, for each D"),
-    "stiffness": Study("stiffness", "kn", "max", ("system", "D", "h_requested", "mu", "Fr"),
+    "stiffness": Study("stiffness", "kn", "max", ("system", "D", *PLACEMENT, "mu", "Fr"),
                        "K_n", False, "how much the drag moves per decade of K_n"),
     # Pulls through the same beds with and without the active region (systems with beds_from):
     # the reference is active_radius = 0, every grain integrated.
     "active_region": Study("active_region", "active_radius", "min",
-                           ("D", "h_requested", "mu", "kn", "gamman", "Fr"), "active radius (d)", True,
+                           ("D", *PLACEMENT, "mu", "kn", "gamman", "Fr"), "active radius (d)", True,
                            "the smallest active radius that agrees with every grain integrated, for each D",
                            also_judged=(("theta", "theta_err"),), also_reported=("n_contacts", "Z"),
                            settings=("wake_force", "sleep_speed")),
@@ -79,7 +82,7 @@ STUDIES = {
     # that differ in it alone): the reference is 0, the paper's pour. Other beds, so the drags are
     # compared as the points' means over their beds, with the bed scatter in their errors.
     "settle_damping": Study("settle_damping", "settle_damping", "min",
-                            ("D", "h_requested", "mu", "kn", "gamman", "Fr"), "settle_damping (sqrt(g/d))", False,
+                            ("D", *PLACEMENT, "mu", "kn", "gamman", "Fr"), "settle_damping (sqrt(g/d))", False,
                             "whether beds poured with the settling damping pull as the paper's pour does"),
 }
 
@@ -130,7 +133,7 @@ def compare(runs, study):
     is_replica = table[REPLICA].fillna(0) > 0 if REPLICA in table.columns else pd.Series(False, table.index)
     gkeys = [f"_{k}" for k in keys]
     rows = []
-    for _, g in table.groupby(gkeys, sort=True):
+    for _, g in table.groupby(gkeys, dropna=False, sort=True):  # NaN: the other placement
         replicas, g = g[is_replica.loc[g.index]], g[~is_replica.loc[g.index]]
         values = np.sort(g[f"_{study.variant}"].unique())
         if len(values) < 2:
@@ -387,7 +390,7 @@ def draw(cmp, study, outdir):
     fig, ax = plt.subplots(figsize=(5.5, 3.8), layout="constrained")
     keys = [k for k in study.keys if k in cmp.columns and cmp[k].nunique() > 1]
     keys += [c for c in settings_set(cmp, study) if cmp[c].nunique() > 1]   # one series per setting
-    groups = cmp.groupby(keys[0] if len(keys) == 1 else keys, sort=True) if keys else [((), cmp)]
+    groups = cmp.groupby(keys[0] if len(keys) == 1 else keys, dropna=False, sort=True) if keys else [((), cmp)]
     for i, (key, g) in enumerate(groups):
         key = key if isinstance(key, tuple) else (key,)
         label = ", ".join(f"{k.replace('_requested', '')} = {v:g}" for k, v in zip(keys, key))

@@ -102,6 +102,7 @@ def test_reads_one_run_with_path_parameters(tmp_path):
     row = read_run(p, root=tmp_path)
     assert row["system"] == "I"
     assert row["h"] == pytest.approx(9.87) and row["h_requested"] == 10.0
+    assert math.isnan(row["z_requested"])
     assert row["D"] == 2.0 and row["mu"] == 0.5 and row["kn"] == 2e4
     assert row["V"] == 0.75 and row["Fr"] == pytest.approx(1.0)
     assert row["drag"] == pytest.approx(111.1) and row["drag_err"] == 2.5
@@ -264,6 +265,15 @@ def test_depth_without_h_component_has_no_requested_depth(tmp_path):
     p = write_run(tmp_path / "somewhere" / "run.h5", depth=24.6)
     row = read_run(p, system="I")
     assert row["h"] == pytest.approx(24.6) and math.isnan(row["h_requested"])
+
+
+def test_a_bed_placed_by_height_keeps_its_requested_height(tmp_path):
+    # faithful.yaml's systems place the intruder at a height (z~): a validation study through
+    # such beds tells its points apart by it.
+    bed = BED.replace("h~10", "z~13.5")
+    row = read_run(write_run(tmp_path / "pulls" / bed / "Fr~1" / "run.h5", depth=23.0), root=tmp_path)
+    assert row["z_requested"] == 13.5 and math.isnan(row["h_requested"])
+    assert row["h"] == pytest.approx(23.0)
 
 
 def test_system_is_required(tmp_path):

@@ -117,6 +117,19 @@ def test_active_region_names_the_smallest_radius_that_agrees_for_each_D():
     assert "D = 2: none agrees" in val.conclusion(cmp, "active_region")
 
 
+def test_a_study_through_beds_placed_by_height_compares_each_height_apart():
+    # Beds placed by height (z~, as faithful.yaml's systems) have no requested depth: their points
+    # are told apart by the requested height, and a NaN key is a value like any other.
+    runs = region_runs({0.0: 0.0, 4.0: 0.15, 8.0: 0.0, 12.0: 0.0})
+    runs = runs.assign(h_requested=np.nan, z_requested=np.where(runs.Fr == 1.0, 13.5, 20.0))
+    cmp = val.compare(runs, "active_region")
+    assert len(cmp) == 12 and set(cmp.z_requested) == {13.5, 20.0} and cmp.h_requested.isna().all()
+    assert not cmp[cmp.variant == 4].agrees.any() and cmp[cmp.variant > 4].agrees.all()
+    # One height only, as config/validate/active_region_40_deep.yaml: still one point per Fr and D.
+    cmp = val.compare(runs.assign(z_requested=13.5), "active_region")
+    assert len(cmp) == 12 and (cmp.z_requested == 13.5).all()
+
+
 def test_active_region_tells_apart_regions_of_one_radius_with_other_wake_tests():
     """Two regions of one radius that wake their grains differently are two variants, each
     against the reference: a shift in one does not hide in a mean with the other."""
