@@ -133,7 +133,7 @@ def compare(runs, study):
     is_replica = table[REPLICA].fillna(0) > 0 if REPLICA in table.columns else pd.Series(False, table.index)
     gkeys = [f"_{k}" for k in keys]
     rows = []
-    for _, g in table.groupby(gkeys, dropna=False, sort=True):  # NaN: the other placement
+    for _, g in _grouped(table, gkeys):  # NaN keys: the other placement
         replicas, g = g[is_replica.loc[g.index]], g[~is_replica.loc[g.index]]
         values = np.sort(g[f"_{study.variant}"].unique())
         if len(values) < 2:
@@ -390,9 +390,8 @@ def draw(cmp, study, outdir):
     fig, ax = plt.subplots(figsize=(5.5, 3.8), layout="constrained")
     keys = [k for k in study.keys if k in cmp.columns and cmp[k].nunique() > 1]
     keys += [c for c in settings_set(cmp, study) if cmp[c].nunique() > 1]   # one series per setting
-    groups = cmp.groupby(keys[0] if len(keys) == 1 else keys, dropna=False, sort=True) if keys else [((), cmp)]
+    groups = _grouped(cmp, keys) if keys else [((), cmp)]
     for i, (key, g) in enumerate(groups):
-        key = key if isinstance(key, tuple) else (key,)
         label = ", ".join(f"{k.replace('_requested', '')} = {v:g}" for k, v in zip(keys, key))
         x = np.concatenate([[g.reference.iloc[0]], g.variant])
         y = np.concatenate([[1.0], 1.0 + g.rel_diff])
