@@ -24,7 +24,9 @@ The runs' errors can also be too narrow: theta's misses part of how far two pull
 one bed drift apart by chaos. A reference system pulled a second time with a perturbation
 (`granudrag pull --perturbation 1e-9`, a replica; its `perturbation` column > 0) measures that:
 the reference becomes the mean of each bed's pull and its replica, and no paired error is taken
-below the chaos the replicas show (`_fold_replicas`).
+below the chaos the replicas show (`_fold_replicas`). A nudge that does not grow over the pull
+(1e-9 in a slow, deep yield pull) leaves the replica on its reference: such replicas are left
+out and named (`_parted`), and a harder nudge (1e-3, 1e-2) measures the chaos there.
 
     python -m analysis validate yield_speed results/validate/runs.csv --output-dir DIR
 
@@ -140,11 +142,12 @@ def compare(runs, study):
             continue
         ref = values[0] if study.reference == "min" else values[-1]
         base = g[g[f"_{study.variant}"] == ref]
-        replicas = replicas[replicas[f"_{study.variant}"] == ref]
+        replicas, unparted = _parted(base, replicas[replicas[f"_{study.variant}"] == ref], study)
         for v in values[values != ref]:
             other = g[g[f"_{study.variant}"] == v]
             for setting, variant in _by_settings(other, study):
-                rows.append(_difference(base, variant, study, keys, ref, v, replicas) | setting)
+                rows.append(_difference(base, variant, study, keys, ref, v, replicas) | setting
+                            | {"replicas_unparted": unparted})
     if not rows:
         raise ValidationError(
             f"{study.name}: no point was run at two or more values of {study.variant} "
@@ -234,6 +237,35 @@ def _also(row, pairs, study):
         ref = pairs[f"{col}_ref"].mean()
         row[f"{col}_rel_diff"] = (pairs[col].mean() - ref) / ref if ref else np.nan
     return row
+
+
+# A replica counts as parted from its reference pull when, in some judged observable, its gaps
+# from it (RMS over the beds) reach this fraction of the two runs' own errors. Pulls parted by
+# chaos differ by about their errors (0.5-1.5x in the studies so far); a nudge that has not grown
+# leaves them 10-1000x closer (1e-9 in the deep yield pulls of active_region_40_deep.yaml: 0.02x
+# in the drag and 0.13x in theta, while nudges of 1e-3 and 1e-2 reached 0.5-1.5x). Counted as
+# chaos, such a replica measures almost none and weighs the reference pull twice.
+PARTED = 0.25
+
+
+def _parted(base, replicas, study):
+    """The replicas that parted from their bed's reference pull, and the nudges (perturbation
+    values, as text) of those that did not: each set of one nudge is judged over its beds."""
+    if not len(replicas) or "seed" not in base.columns:
+        return replicas, ""
+    judged = [("drag", "drag_err"), *study.also_judged]
+    keep, unparted = [], []
+    for nudge, reps in replicas.groupby(REPLICA):
+        pairs = base.merge(reps, on="seed", suffixes=("_ref", ""))
+        ratios = [np.sqrt(((pairs[c] - pairs[f"{c}_ref"])**2).mean()
+                          / (pairs[e]**2 + pairs[f"{e}_ref"]**2).mean())
+                  for c, e in judged if c in pairs.columns and len(pairs)]
+        ratios = [r for r in ratios if np.isfinite(r)]
+        if ratios and max(ratios) < PARTED:
+            unparted.append(f"{nudge:g}")
+        else:
+            keep.append(reps)
+    return (pd.concat(keep) if keep else replicas.iloc[:0]), ", ".join(unparted)
 
 
 def _fold_replicas(pairs, replicas, study, row):
@@ -352,13 +384,22 @@ def _answer(cmp, study):
         judged = ", ".join(["drag"] + [c for c, _ in study.also_judged])
         text = (f"Smallest active radius at which {judged} agree with every grain integrated at every "
                 f"point: " + ", ".join(out) + ".")
-        if cmp.get("replicas", pd.Series(dtype=float)).fillna(0).gt(0).any():
+        folded = cmp["replicas"].fillna(0).gt(0) if "replicas" in cmp.columns else pd.Series(False, cmp.index)
+        if folded.any():
             chaos = [f"{c} {cmp[f'{c}_chaos_sd'].min():.3g} to {cmp[f'{c}_chaos_sd'].max():.3g}"
                      for c in ["drag"] + [c for c, _ in study.also_judged]
                      if f"{c}_chaos_sd" in cmp.columns and cmp[f"{c}_chaos_sd"].notna().any()]
             text += (" The reference is the mean of each bed's pull and its replicas; pulls through one bed "
                      "differ by chaos alone by (per run, over the points) " + ", ".join(chaos) +
                      ", and a paired error is never taken below that.")
+        unparted = sorted({n for u in cmp.get("replicas_unparted", pd.Series(dtype=object)).fillna("")
+                           for n in str(u).split(", ") if n})
+        if unparted:
+            text += (f" Replicas nudged by {', '.join(unparted)} stayed with their pull (gaps below {PARTED:g} of the "
+                     "runs' own errors: the nudge did not grow over the pull) and are left out, as they measure "
+                     "no chaos" + ("" if folded.all()
+                                   else "; where no other replica parted, the chaos between pulls is not measured")
+                     + ".")
         if "asleep" in cmp.columns:      # what each radius saves: the grains it holds asleep
             saved = ", ".join(f"{v}: {100 * g.asleep.mean():.0f} %" for v, g in _variants(cmp, study, " d"))
             text += f" Mean fraction of the grains asleep over a pull: {saved}."

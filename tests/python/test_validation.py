@@ -292,3 +292,42 @@ def test_two_replicas_of_a_bed_make_a_reference_of_three_pulls():
     # the reference's run error: three pulls of 0.01 averaged; the chaos: sigma^2 (1 + 1/3)
     per_bed = max(0.01**2 + 0.01**2 / 3, row.theta_chaos_sd**2 * (1 + 1 / 3))
     assert row.theta_diff_err == pytest.approx(np.sqrt(4 * per_bed) / 4)
+
+
+def test_a_replica_whose_nudge_did_not_grow_is_left_out_and_named():
+    """In a slow, deep pull a 1e-9 nudge stays with its pull (gaps far below the runs' errors):
+    counted as chaos it would measure almost none and weigh the reference pull twice. It is left
+    out and named; a harder nudge that parted measures the chaos; with none parted, the sentence
+    says the chaos is not measured."""
+    rng = np.random.default_rng(13)
+    rows = []
+    for b in range(1, 6):
+        theta_ref = 2.0 + 0.1 * rng.standard_normal()
+        for system, R, eps in (("I", 0.0, 0.0), ("I_replica", 0.0, 1e-9), ("I_nudge", 0.0, 1e-2), ("R6", 6.0, 0.0)):
+            stuck = system == "I_replica"
+            theta = theta_ref + (1e-4 if stuck else 0.0) if system in ("I", "I_replica") else \
+                2.0 + 0.1 * rng.standard_normal()
+            rows.append(dict(system=system, D=2.0, h_requested=np.nan, z_requested=13.5, mu=0.5, kn=2e4,
+                             gamman=199.05, Fr=0.13, V=0.1, seed=b, active_radius=R, perturbation=eps,
+                             drag=470 + (0.5 if stuck else 0.0) + (0 if system in ("I", "I_replica")
+                                                                  else 15 * rng.standard_normal()),
+                             drag_err=25.0, theta=theta, theta_err=0.08, n_contacts=40.0, Z=4.5, sanity="clean"))
+    runs = pd.DataFrame(rows)
+    th = runs.pivot(index="seed", columns="system", values="theta")
+    row = val.compare(runs, "active_region").iloc[0]
+    assert row.replicas_unparted == "1e-09" and row.replicas == 5
+    # the reference is each bed's pull and the parted replica; the chaos their gaps alone
+    assert row.theta_diff == pytest.approx((th.R6 - (th.I + th.I_nudge) / 2).mean())
+    assert row.theta_chaos_sd == pytest.approx(np.sqrt(((th.I - th.I_nudge)**2).mean() / 2))
+    text = val.conclusion(val.compare(runs, "active_region"), "active_region")
+    assert "Replicas nudged by 1e-09 stayed with their pull" in text and "not measured" not in text
+    # Only the stuck replica: nothing is folded, and the sentence says the chaos went unmeasured.
+    alone = runs[runs.system != "I_nudge"]
+    row = val.compare(alone, "active_region").iloc[0]
+    assert row.replicas_unparted == "1e-09" and "replicas" not in row.index
+    assert row.theta_diff == pytest.approx((th.R6 - th.I).mean())
+    assert "the chaos between pulls is not measured" in val.conclusion(val.compare(alone, "active_region"),
+                                                                      "active_region")
+    # A replica that parted is kept whatever its nudge (the first study's 1e-9 replicas did).
+    parted = runs[runs.system != "I_replica"].replace({"perturbation": {1e-2: 1e-9}})
+    assert val.compare(parted, "active_region").iloc[0].replicas_unparted == ""
