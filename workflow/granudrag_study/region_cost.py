@@ -84,8 +84,10 @@ def _paper_pour_at_speed(mu):
 #    are taken (the lower of what is known).
 #  Stiffness: all of these at K_n = 2e4. At 2e5 Fr = 1 gave 0.72 (R = 3 D) and 0.78 (5 D;
 #    active_region_40_kn_radius.yaml), at config/faithful.yaml's 2e6 0.32 and 0.37, and those pulls
-#    cost as much CPU as without the region (active_region_30_stiff.yaml): at 2e6 a price with the
-#    region from this table is a lower bound.
+#    cost as much CPU as without the region (active_region_30_stiff.yaml: the wake test woke the
+#    stiff grains about as fast as they slept); with wake_force 2 there 0.48 and 0.56, the pulls
+#    1.68x cheaper (a sleeping grain cost nothing measurable). At 2e6 a price with the region from
+#    this table is a lower bound.
 ASLEEP_SHARE_DAMPED = {
     0.0: ASLEEP_SHARE[0.0],
     0.25: ((0.04, 0.823), (1.0, 0.762), *_paper_pour_at_speed(0.25)),
