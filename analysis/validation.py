@@ -379,8 +379,14 @@ def _answer(cmp, study):
                 if not g[g.variant == v].agrees.all():
                     break
                 smallest = v
+            # Radii below a miss are named on their own: a chance miss of a wide radius (a shift
+            # that does not shrink with R) must not hide that narrower ones agreed.
+            alone = [v for v in sorted(g.variant.unique())
+                     if (smallest is None or v < smallest) and g[g.variant == v].agrees.all()]
             out.append(f"D = {key[0]:g}" + _setting_label(cols, key[1:], shown) + ": "
-                       + ("none agrees" if smallest is None else f"{smallest:g} d ({smallest / key[0]:.3g} D)"))
+                       + ("none agrees" if smallest is None else f"{smallest:g} d ({smallest / key[0]:.3g} D)")
+                       + (" (below a wider radius that does not: " + ", ".join(f"{v:g} d" for v in alone) + ")"
+                          if alone else ""))
         judged = ", ".join(["drag"] + [c for c, _ in study.also_judged])
         text = (f"Smallest active radius at which {judged} agree with every grain integrated at every "
                 f"point: " + ", ".join(out) + ".")

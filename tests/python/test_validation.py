@@ -114,7 +114,10 @@ def test_active_region_names_the_smallest_radius_that_agrees_for_each_D():
     assert "D = 2: 8 d" in val.conclusion(cmp, "active_region")
     # Disagreement at the widest radius: none agrees, whatever the narrower ones say.
     cmp = val.compare(region_runs({0.0: 0.0, 4.0: 0.0, 8.0: 0.0, 12.0: 0.2}), "active_region")
-    assert "D = 2: none agrees" in val.conclusion(cmp, "active_region")
+    assert "D = 2: none agrees (below a wider radius that does not: 4 d, 8 d)" in val.conclusion(cmp, "active_region")
+    # ... and one that agrees below a miss is named beside the smallest of the contiguous ones.
+    cmp = val.compare(region_runs({0.0: 0.0, 4.0: 0.0, 8.0: 0.2, 12.0: 0.0}), "active_region")
+    assert "D = 2: 12 d (6 D) (below a wider radius that does not: 4 d)" in val.conclusion(cmp, "active_region")
 
 
 def test_a_study_through_beds_placed_by_height_compares_each_height_apart():
