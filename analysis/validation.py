@@ -62,6 +62,11 @@ class Study:
     # sleep_speed: two regions of one radius may wake or rest their grains differently).
     settings: tuple = ()
 
+    @property
+    def judged(self):
+        """Every judged observable with its error column, the drag first."""
+        return (("drag", "drag_err"), *self.also_judged)
+
 
 # Where the intruder was asked to be: a depth (h~) or a height (z~), the other NaN (analysis.runs).
 PLACEMENT = ("h_requested", "z_requested")
@@ -253,13 +258,12 @@ def _parted(base, replicas, study):
     values, as text) of those that did not: each set of one nudge is judged over its beds."""
     if not len(replicas) or "seed" not in base.columns:
         return replicas, ""
-    judged = [("drag", "drag_err"), *study.also_judged]
     keep, unparted = [], []
     for nudge, reps in replicas.groupby(REPLICA):
         pairs = base.merge(reps, on="seed", suffixes=("_ref", ""))
         ratios = [np.sqrt(((pairs[c] - pairs[f"{c}_ref"])**2).mean()
                           / (pairs[e]**2 + pairs[f"{e}_ref"]**2).mean())
-                  for c, e in judged if c in pairs.columns and len(pairs)]
+                  for c, e in study.judged if c in pairs.columns and len(pairs)]
         ratios = [r for r in ratios if np.isfinite(r)]
         if ratios and max(ratios) < PARTED:
             unparted.append(f"{nudge:g}")
@@ -276,7 +280,7 @@ def _fold_replicas(pairs, replicas, study, row):
     differs by chaos alone with variance sigma^2 (1 + 1/m), which `_paired_variance` takes when it
     exceeds the runs' own errors (theta's error misses part of it: in the 40 d box's D = 6 yield
     pulls two replicas differed 1.4x and 2.6x more than it said, in two sets of five beds)."""
-    judged = [("drag", "drag_err"), *study.also_judged]
+    judged = study.judged
     errs = [e for _, e in judged]
     cols = [c for c, _ in judged] + [c for c in study.also_reported if c in replicas]
     by_seed = replicas.groupby("seed")
@@ -387,13 +391,13 @@ def _answer(cmp, study):
                        + ("none agrees" if smallest is None else f"{smallest:g} d ({smallest / key[0]:.3g} D)")
                        + (" (below a wider radius that does not: " + ", ".join(f"{v:g} d" for v in alone) + ")"
                           if alone else ""))
-        judged = ", ".join(["drag"] + [c for c, _ in study.also_judged])
+        judged = ", ".join(c for c, _ in study.judged)
         text = (f"Smallest active radius at which {judged} agree with every grain integrated at every "
                 f"point: " + ", ".join(out) + ".")
         folded = cmp["replicas"].fillna(0).gt(0) if "replicas" in cmp.columns else pd.Series(False, cmp.index)
         if folded.any():
             chaos = [f"{c} {cmp[f'{c}_chaos_sd'].min():.3g} to {cmp[f'{c}_chaos_sd'].max():.3g}"
-                     for c in ["drag"] + [c for c, _ in study.also_judged]
+                     for c, _ in study.judged
                      if f"{c}_chaos_sd" in cmp.columns and cmp[f"{c}_chaos_sd"].notna().any()]
             text += (" The reference is the mean of each bed's pull and its replicas; pulls through one bed "
                      "differ by chaos alone by (per run, over the points) " + ", ".join(chaos) +
