@@ -148,6 +148,64 @@ def test_the_shares_measured_from_runs_are_recovered():
         region_cost.measured_shares(pd.DataFrame(rows[-1:]))
 
 
+def test_stiffness_runs_from_the_tables_k_n_to_the_stiff_one_in_log_k_n():
+    assert region_cost.stiffness(2e4) == 0.0
+    assert region_cost.stiffness(region_cost.KN_TABLES) == 0.0
+    middle = (region_cost.KN_TABLES * region_cost.KN_STIFF) ** 0.5
+    assert region_cost.stiffness(middle) == pytest.approx(0.5, rel=1e-12)
+    assert region_cost.stiffness(region_cost.KN_STIFF) == pytest.approx(1.0, rel=1e-12)
+    assert region_cost.stiffness(2e8) == 1.0
+
+
+def stiff_config(kn, wake_force=None):
+    config = copy.deepcopy(CONFIG)
+    config["defaults"]["kn"] = kn
+    config["systems"]["I"]["pour"] = {"settle_damping": 1}
+    if wake_force is not None:
+        config["systems"]["R"]["pull"]["wake_force"] = wake_force
+    return pulls(config)
+
+
+def test_a_stiff_bed_sleeps_less_and_its_sleeping_grains_cost_more():
+    plan0, by0 = stiff_config(2e4)
+    soft = by0[("R", "V~0.03")]
+    plan, by = stiff_config(2e6, wake_force=region_cost.STIFF_WAKE_FORCE)
+    stiff = by[("R", "V~0.03")]
+    # the same geometry and speed: only the share and the sleeping grain's cost move
+    assert region_cost.asleep_fraction(stiff, plan.config, 3) == pytest.approx(
+        region_cost.STIFF_SHARE_RATIO * region_cost.asleep_fraction(soft, plan0.config, 3), rel=1e-12)
+    assert region_cost.sleeping_cost(soft, plan0.config) == region_cost.SLEEPING_COST_DAMPED
+    assert region_cost.sleeping_cost(stiff, plan.config) == pytest.approx(region_cost.STIFF_SLEEPING_COST)
+    saving = lambda p, c: 1 - study.expected_pull_cost(p, c) / study.pull_cost(p, c)  # noqa: E731
+    assert 0 < saving(stiff, plan.config) < saving(soft, plan0.config)
+    # at the default wake test a stiff bed is woken as fast as it sleeps: nothing saved
+    plan_default, by_default = stiff_config(2e6)
+    pull = by_default[("R", "V~0.03")]
+    assert region_cost.asleep_fraction(pull, plan_default.config, 3) == 0.0
+    assert study.expected_pull_cost(pull, plan_default.config) == study.pull_cost(pull, plan_default.config)
+    # half-way in log K_n, half of the stiff bed's change
+    plan_mid, by_mid = stiff_config((region_cost.KN_TABLES * region_cost.KN_STIFF) ** 0.5,
+                                    wake_force=region_cost.STIFF_WAKE_FORCE)
+    mid = by_mid[("R", "V~0.03")]
+    assert region_cost.asleep_fraction(mid, plan_mid.config, 3) == pytest.approx(
+        (1 + region_cost.STIFF_SHARE_RATIO) / 2 * region_cost.asleep_fraction(soft, plan0.config, 3), rel=1e-9)
+
+
+def test_shares_measured_in_a_stiff_bed_are_the_tables_once_its_stiffness_is_taken_out():
+    # A run at 2e6 and wake_force 2 sleeping at the stiff ratio of a table share of 0.6 reads as
+    # 0.6; a stiff run at the default wake test (nothing can sleep, by the model) is left out.
+    allowed = region_cost.outside_fraction(6, 20, 20, 6400, 7.1) * (1 - 0.03 / 3.0)
+    row = dict(active_radius=6, lx=20, ly=20, grains=6400, h=7.1, distance=3.0, V=0.03, Fr=0.04, D=2, mu=0.5)
+    stiff = [dict(row, kn=2e6, wake_force=2.0, asleep=0.6 * region_cost.STIFF_SHARE_RATIO * allowed),
+             dict(row, kn=2e6, wake_force=0.5, asleep=0.3 * allowed)]
+    shares = region_cost.measured_shares(pd.DataFrame(stiff))
+    assert [s for _, s in shares[0.5]] == pytest.approx([0.6], rel=1e-12)
+    # a run at the tables' stiffness (no wake_force recorded: the default) is read as it is
+    soft = [dict(row, kn=2e4, wake_force=float("nan"), asleep=0.4 * allowed)]
+    shares = region_cost.measured_shares(pd.DataFrame(soft))
+    assert [s for _, s in shares[0.5]] == pytest.approx([0.4], rel=1e-12)
+
+
 def run_estimate(path, *args):
     return subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"), str(path), *args],
                           capture_output=True, text=True)

@@ -33,6 +33,7 @@ GRAINS_PER_VOLUME = 1.13
 
 # The region's settings when a config gives none: granudrag pull's defaults (its --help).
 SLEEP_TIME_DEFAULT = 1.0
+WAKE_FORCE_DEFAULT = 0.5
 
 # share(Fr, mu): of the grains outside the region, the fraction asleep on average once the first
 # sleep_time has passed, per friction at these Froude numbers (linear in log Fr between them,
@@ -82,12 +83,7 @@ def _paper_pour_at_speed(mu):
 #  mu = 0 (a frictionless bed creeps, damped or not), and every friction at Fr = 5 and 10 (where
 #    sleep_speed_max sets the rest test): not measured in damped beds; the paper's pour's shares
 #    are taken (the lower of what is known).
-#  Stiffness: all of these at K_n = 2e4. At 2e5 Fr = 1 gave 0.72 (R = 3 D) and 0.78 (5 D;
-#    active_region_40_kn_radius.yaml), at config/faithful.yaml's 2e6 0.32 and 0.37, and those pulls
-#    cost as much CPU as without the region (active_region_30_stiff.yaml: the wake test woke the
-#    stiff grains about as fast as they slept); with wake_force 2 there 0.48 and 0.56, the pulls
-#    1.68x cheaper (a sleeping grain cost nothing measurable). At 2e6 a price with the region from
-#    this table is a lower bound.
+#  All of these at K_n = 2e4; for stiffer beds see STIFF_SHARE_RATIO below.
 ASLEEP_SHARE_DAMPED = {
     0.0: ASLEEP_SHARE[0.0],
     0.25: ((0.04, 0.823), (1.0, 0.762), *_paper_pour_at_speed(0.25)),
@@ -113,6 +109,51 @@ ASLEEP_SHARE_DAMPED = {
 SLEEPING_COST = 0.22
 SLEEPING_COST_DAMPED = 0.03
 
+# Stiffness. The tables above hold at K_n = 2e5 too (Fr = 1, R = 3 and 5 D: shares 0.72 and 0.78
+# against 0.71 at 2e4; active_region_40_kn_radius.yaml). At config/faithful.yaml's 2e6 the wake
+# test, in units of a grain's weight, wakes far more grains (the force of a given creep grows as
+# K_n^(2/3)): at the default wake_force, 0.5, the pulls of active_region_30_stiff.yaml saved no
+# CPU (0.32 and 0.37 asleep, woken as fast as they slept). At wake_force 2 (STIFF_WAKE_FORCE) a
+# share STIFF_SHARE_RATIO of the table's sleeps, and a sleeping grain costs STIFF_SLEEPING_COST
+# (woken and put back to sleep more often), both measured on D = 2, mu = 0.5, 30 d x 30 d damped
+# beds at 2e6:
+#  active_region_30_stiff.yaml (Fr = 1, 7 d deep, 4 beds): shares 0.48 and 0.56 at R = 3 and 5 D
+#    against the table's 0.71 (0.68 and 0.79 of it); CPU per pull 1.8x less, c about 0 (short
+#    pulls, 45 s against 75 s);
+#  active_region_30_stiff_deep.yaml (the yield pull, V = 0.1 over 2 d, 24 d deep, 3 beds): shares
+#    0.58 and 0.65 at 3 and 5 D against the table's 0.77 (0.76 and 0.84 of it); CPU per pull 1.56x
+#    less at 3 D in the bed run two pulls on two cores (648 s against 1,010 s, 54 % asleep: c 0.33);
+#    the other beds' region pulls, run four to two cores, 1.2-1.3x less.
+# STIFF_SHARE_RATIO is the lower of these ratios' middle (0.77), rounded down; STIFF_SLEEPING_COST
+# the yield pull's (most of a study's cost).
+# Between 2e5 and 2e6 both are interpolated in log K_n; beyond 2e6 (faithful.yaml's kappa_stiff
+# sweep at 2e7, pulls at speed, which sleep little anyway) 2e6's are taken, unmeasured; a pull at
+# 2e6 with a wake_force below STIFF_WAKE_FORCE is priced as saving nothing, as measured at 0.5.
+KN_TABLES = 2e5
+KN_STIFF = 2e6
+STIFF_WAKE_FORCE = 2.0
+STIFF_SHARE_RATIO = 0.75
+STIFF_SLEEPING_COST = 0.3
+
+
+def stiffness(kn):
+    """How far a bed of this K_n is from the tables' stiffness toward KN_STIFF's: 0 up to
+    KN_TABLES, 1 from KN_STIFF on, linear in log K_n between."""
+    t = math.log(float(kn) / KN_TABLES) / math.log(KN_STIFF / KN_TABLES)
+    return min(1.0, max(0.0, t))
+
+
+def stiff_share_factor(kn, wake_force):
+    """The fraction of the tables' sleeping share that sleeps in a bed of this K_n at this
+    wake_force: 1 at the tables' stiffness, STIFF_SHARE_RATIO at KN_STIFF at STIFF_WAKE_FORCE or
+    above, 0 there below it (the stiff grains woken as fast as they sleep)."""
+    at_stiff = STIFF_SHARE_RATIO if float(wake_force) >= STIFF_WAKE_FORCE else 0.0
+    return 1.0 - stiffness(kn) * (1.0 - at_stiff)
+
+
+def _wake_force(settings):
+    return float(settings.get("wake_force", WAKE_FORCE_DEFAULT) or WAKE_FORCE_DEFAULT)
+
 
 def damped_bed(pull, config):
     """Whether the pull's bed was poured with settling damping (at rest: more of it sleeps, and a
@@ -123,8 +164,9 @@ def damped_bed(pull, config):
 
 def sleeping_cost(pull, config):
     """What a sleeping grain costs in this pull's bed: SLEEPING_COST_DAMPED if it was poured with
-    settling damping, else SLEEPING_COST."""
-    return SLEEPING_COST_DAMPED if damped_bed(pull, config) else SLEEPING_COST
+    settling damping, else SLEEPING_COST, moved toward STIFF_SLEEPING_COST by the bed's stiffness."""
+    base = SLEEPING_COST_DAMPED if damped_bed(pull, config) else SLEEPING_COST
+    return base + stiffness(pull.bed.value("kn")) * (STIFF_SLEEPING_COST - base)
 
 
 def bed_height(grains, lx, ly):
@@ -164,21 +206,28 @@ def asleep_fraction(pull, config, travel, table=None):
     outside = outside_fraction(radius, lx, ly, grains, depth)
     table = table or (ASLEEP_SHARE_DAMPED if damped_bed(pull, config) else ASLEEP_SHARE)
     share = asleep_share(float(froude(pull.V, D)), pull.bed.value("mu"), table)
+    share *= stiff_share_factor(pull.bed.value("kn"), _wake_force(settings))
     return share * outside * max(0.0, 1.0 - rest / duration)
 
 
 def measured_shares(runs):
     """share(Fr, mu) from runs with the region (a runs.csv of the validation: its asleep,
-    active_radius, lx, ly, grains, h, distance, V, mu and D columns): per run, the asleep fraction
-    over what the geometry and duration allow (with the default sleep_time: runs.csv does not
-    record it); the median per friction and Froude number. Returns {mu: ((Fr, share), ...)}."""
+    active_radius, lx, ly, grains, h, distance, V, mu and D columns, and kn and wake_force where
+    it has them): per run, the asleep fraction over what the geometry, the duration and the
+    stiffness allow (with the default sleep_time: runs.csv does not record it), so that pricing
+    a pull of another stiffness applies its own; the median per friction and Froude number. A
+    stiff run whose wake test woke its grains as fast as they slept (stiff_share_factor 0) says
+    nothing about the table and is left out. Returns {mu: ((Fr, share), ...)}."""
     rows = runs[(runs.active_radius > 0) & runs.asleep.notna()]
     if rows.empty:
         raise ValueError("no pull with an active region (active_radius > 0) and a recorded asleep fraction")
     shares = {}
     for r in rows.itertuples():
+        kn = getattr(r, "kn", KN_TABLES)
+        wake_force = getattr(r, "wake_force", WAKE_FORCE_DEFAULT)
+        stiff = stiff_share_factor(kn, WAKE_FORCE_DEFAULT if wake_force != wake_force else wake_force)
         allowed = outside_fraction(r.active_radius, r.lx, r.ly, r.grains, r.h) * max(
-            0.0, 1.0 - SLEEP_TIME_DEFAULT * r.V / r.distance)
+            0.0, 1.0 - SLEEP_TIME_DEFAULT * r.V / r.distance) * stiff
         if allowed > 0:
             key = (round(float(r.mu), 3), round(float(r.Fr), 3))
             shares.setdefault(key, []).append(min(1.0, r.asleep / allowed))
