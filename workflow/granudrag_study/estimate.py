@@ -150,8 +150,9 @@ def main(argv=None):
                     help="price the pulls as if every system's pull settings had active_radius R (d; "
                          "a system's own setting stays)")
     ap.add_argument("--active_diameters", type=float, metavar="K",
-                    help="or: active_radius K D, in each pull's intruder diameters (3 is the validated "
-                         "radius; a system's own setting stays)")
+                    help="or: active_radius K D, in each pull's intruder diameters (3 agreed 7 d deep at "
+                         "K_n = 2e4, 5 also deep and at 2e6, as config/faithful.yaml uses it; a "
+                         "system's own setting stays)")
     ap.add_argument("--asleep-from", metavar="RUNS_CSV",
                     help="print the sleeping shares measured in a study's runs.csv (pulls with the "
                          "active region), the model's ASLEEP_SHARE, and price with them")

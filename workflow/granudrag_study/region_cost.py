@@ -121,11 +121,11 @@ SLEEPING_COST_DAMPED = 0.03
 #    against the table's 0.71 (0.68 and 0.79 of it); CPU per pull 1.8x less, c about 0 (short
 #    pulls, 45 s against 75 s);
 #  active_region_30_stiff_deep.yaml (the yield pull, V = 0.1 over 2 d, 24 d deep, 3 beds): shares
-#    0.58 and 0.65 at 3 and 5 D against the table's 0.77 (0.76 and 0.84 of it); CPU per pull 1.56x
-#    less at 3 D in the bed run two pulls on two cores (648 s against 1,010 s, 54 % asleep: c 0.33);
-#    the other beds' region pulls, run four to two cores, 1.2-1.3x less.
-# STIFF_SHARE_RATIO is the lower of these ratios' middle (0.77), rounded down; STIFF_SLEEPING_COST
-# the yield pull's (most of a study's cost).
+#    0.55 and 0.60 at 3 and 5 D against the table's 0.77 (0.71 and 0.78 of it); CPU per pull, each
+#    against the mean of its bed's pull and replica, 1.20-1.50x less (median 1.37x over the 6
+#    pairs; 51 % and 50 % asleep: c about 0.5), a sleeping grain's cost being its wake-ups.
+# STIFF_SHARE_RATIO is these four ratios' middle (0.745), rounded; STIFF_SLEEPING_COST the yield
+# pull's (most of a study's cost).
 # Between 2e5 and 2e6 both are interpolated in log K_n; beyond 2e6 (faithful.yaml's kappa_stiff
 # sweep at 2e7, pulls at speed, which sleep little anyway) 2e6's are taken, unmeasured; a pull at
 # 2e6 with a wake_force below STIFF_WAKE_FORCE is priced as saving nothing, as measured at 0.5.
@@ -133,7 +133,7 @@ KN_TABLES = 2e5
 KN_STIFF = 2e6
 STIFF_WAKE_FORCE = 2.0
 STIFF_SHARE_RATIO = 0.75
-STIFF_SLEEPING_COST = 0.3
+STIFF_SLEEPING_COST = 0.5
 
 
 def stiffness(kn):
