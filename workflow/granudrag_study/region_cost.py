@@ -151,8 +151,10 @@ def stiff_share_factor(kn, wake_force):
     return 1.0 - stiffness(kn) * (1.0 - at_stiff)
 
 
-def _wake_force(settings):
-    return float(settings.get("wake_force", WAKE_FORCE_DEFAULT) or WAKE_FORCE_DEFAULT)
+def _wake_force(value):
+    """A pull's wake_force as a config or a runs.csv gives it: the engine's default when unset
+    (None in a config, NaN in a runs.csv)."""
+    return WAKE_FORCE_DEFAULT if value is None or value != value else float(value)
 
 
 def damped_bed(pull, config):
@@ -206,7 +208,7 @@ def asleep_fraction(pull, config, travel, table=None):
     outside = outside_fraction(radius, lx, ly, grains, depth)
     table = table or (ASLEEP_SHARE_DAMPED if damped_bed(pull, config) else ASLEEP_SHARE)
     share = asleep_share(float(froude(pull.V, D)), pull.bed.value("mu"), table)
-    share *= stiff_share_factor(pull.bed.value("kn"), _wake_force(settings))
+    share *= stiff_share_factor(pull.bed.value("kn"), _wake_force(settings.get("wake_force")))
     return share * outside * max(0.0, 1.0 - rest / duration)
 
 
@@ -223,9 +225,7 @@ def measured_shares(runs):
         raise ValueError("no pull with an active region (active_radius > 0) and a recorded asleep fraction")
     shares = {}
     for r in rows.itertuples():
-        kn = getattr(r, "kn", KN_TABLES)
-        wake_force = getattr(r, "wake_force", WAKE_FORCE_DEFAULT)
-        stiff = stiff_share_factor(kn, WAKE_FORCE_DEFAULT if wake_force != wake_force else wake_force)
+        stiff = stiff_share_factor(getattr(r, "kn", KN_TABLES), _wake_force(getattr(r, "wake_force", None)))
         allowed = outside_fraction(r.active_radius, r.lx, r.ly, r.grains, r.h) * max(
             0.0, 1.0 - SLEEP_TIME_DEFAULT * r.V / r.distance) * stiff
         if allowed > 0:
