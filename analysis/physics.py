@@ -10,6 +10,8 @@ Each one is the C++ engine's, not a variant: tests/python/test_physics.py compar
     collision_time  Hertz collision time of two grains (hertz_collision_time)
     default_dt      granudrag's time step when none is given (default_time_step)
     max_dt          the largest time step granudrag accepts (check_time_step)
+    default_wake_force  the active region's wake test when a pull leaves it unset
+                    (src/engine/active_region.cpp)
 
 Units: lengths in d, speeds in sqrt(g d), times in sqrt(d/g), K_n in rho d g, gamma_n in
 sqrt(g/d^3).
@@ -49,6 +51,13 @@ def active_radius(pull, D):
     `active_radius`, or `active_diameters` times the intruder diameter D, as the pull command
     reads them (src/app/command.cpp, pull_active_radius); 0: off."""
     return float(pull.get("active_radius", 0.0) or 0.0) or float(pull.get("active_diameters", 0.0) or 0.0) * D
+
+
+def default_wake_force(kn):
+    """granudrag pull's wake_force when none is given, in grain weights: 0.5 up to K_n = 2e5,
+    four times more per decade above (2 at 2e6, 8 at 2e7); why: its C++ twin's comment."""
+    kn = float(kn)
+    return 0.5 if kn <= 2e5 else 0.5 * 4.0 ** math.log10(kn / 2e5)
 
 
 def gamman_for(kn, ratio=PAPER_RATIO):

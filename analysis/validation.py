@@ -96,7 +96,8 @@ STUDIES = {
 
 # granudrag pull's defaults of the settings a study tells variants apart by (its --help;
 # tests/python/test_runs.py reads them back from a run): a label leaves out a setting at its
-# default everywhere.
+# default everywhere. wake_force's is that of K_n <= 2e5; a stiffer bed's default (2 at 2e6) is
+# named like any other value.
 SETTING_DEFAULTS = {"wake_force": 0.5, "sleep_speed": 0.003}
 # What studies run before a setting was recorded ran at, the defaults of then (sleep_speed was
 # 0.01 until 2026-11-27): their comparison tables lack the column.

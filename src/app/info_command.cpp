@@ -41,10 +41,15 @@ std::string info_json(const Parameters& par) {
   const double dt = par.is_set("dt") ? par.number("dt") : default_time_step(c, kSmallestGrainRadius);
   check_time_step(dt, c, kSmallestGrainRadius);
   std::vector<std::string> entries = {
-      entry("kn", c.kn),           entry("kt", c.kt),
-      entry("gamman", c.gamman),   entry("gammat", c.gammat),
-      entry("mu", c.mu),           entry("dt", dt),
-      entry("collision_time", tc), entry("max_dt", tc / TimeStepPolicy::steps_per_collision_min),
+      entry("kn", c.kn),
+      entry("kt", c.kt),
+      entry("gamman", c.gamman),
+      entry("gammat", c.gammat),
+      entry("mu", c.mu),
+      entry("dt", dt),
+      entry("collision_time", tc),
+      entry("max_dt", tc / TimeStepPolicy::steps_per_collision_min),
+      entry("wake_force", default_wake_force(c.kn)),
   };
   const bool has_speed = par.is_set("speed") || par.is_set("froude");
   if (par.is_set("intruder_diameter") != has_speed)
@@ -67,9 +72,9 @@ int info_command(const std::vector<std::string>& args) {
       "granudrag info — the quantities granudrag derives, as one JSON object: the contact law (kn, kt,\n"
       "gamman, gammat, mu as pour resolves them), the default time step dt (or the given one), the Hertz\n"
       "collision time it derives from and the largest dt accepted (for two grains of 0.9 d, the smallest a\n"
-      "pour holds; a pour's own dt uses its smallest grain, larger by ~0.1/grains); with --intruder_diameter "
-      "and\n"
-      "--speed or --froude also the intruder_diameter, speed and froude of that pull\n\n"
+      "pour holds; a pour's own dt uses its smallest grain, larger by ~0.1/grains), the active region's\n"
+      "default wake_force at that kn; with --intruder_diameter and --speed or --froude also the\n"
+      "intruder_diameter, speed and froude of that pull\n\n"
       "  granudrag info --kn 2e4 --intruder_diameter 2 --froude 0.5",
       args);
   if (!par) return 0;

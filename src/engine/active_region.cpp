@@ -7,13 +7,19 @@
 
 namespace granudrag {
 
+double default_wake_force(double kn) {
+  constexpr double kn_validated = 2e5, at_validated = 0.5, per_decade = 4.0;
+  return kn <= kn_validated ? at_validated
+                            : at_validated * std::pow(per_decade, std::log10(kn / kn_validated));
+}
+
 ActiveRegion::ActiveRegion(const ActiveRegionSettings& settings, double dt, const Particles& p)
     : settings_(settings), dt_(dt) {
   if (!(settings_.radius > 0) || !(settings_.sleep_distance > 0) || !(settings_.sleep_time >= 0) ||
       !(settings_.wake_force > 0) || !(settings_.check_interval > 0))
     throw Error(
         "active region: active_radius, sleep_distance, wake_force and the check interval must be > 0, "
-        "sleep_time >= 0");
+        "sleep_time >= 0 (an unset wake_force is resolved by the pull: default_wake_force)");
   check_steps_ = std::max(1L, std::lround(settings_.check_interval / dt));
   dwell_checks_ = static_cast<std::int32_t>(
       std::clamp(std::ceil(settings_.sleep_time / (check_steps_ * dt) - 1e-9), 1.0, 1e9));

@@ -22,6 +22,7 @@ Settings pull_settings(const Bed& bed, const PullSpec& spec) {
   s.dt = bed.dt;
   s.skin = spec.skin;
   s.active = spec.active;
+  if (std::isnan(s.active.wake_force)) s.active.wake_force = default_wake_force(bed.contact.kn);
   // Decisions four times per dwell, and before the intruder has moved half a grain diameter.
   s.active.check_interval = std::max(bed.dt, std::min(0.25 * spec.active.sleep_time, 0.5 / spec.speed));
   // At rest relative to V: around a yield pull the grains creep at a few percent of V, and an

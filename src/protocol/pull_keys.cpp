@@ -98,9 +98,10 @@ const KeyTable<PullSpec>& pull_keys() {
           .unit("m g")
           .above(0)
           .help("active region: a sleeping grain wakes when the net force on it, averaged over a check "
-                "interval, has changed by more than this fraction of its weight since it fell asleep (the "
-                "force of a given creep grows as K_n^(2/3): at K_n = 2e6, 0.5 woke grains about as often as "
-                "they slept and saved no CPU, 2 let a third of the bed sleep and agreed)")
+                "interval, has changed by more than this fraction of its weight since it fell asleep "
+                "(default: 0.5 up to K_n = 2e5, four times more per decade above, 2 at 2e6, where 0.5 woke "
+                "grains as often as they slept: the force of a given creep grows as K_n^(2/3); the run "
+                "file records the value used)")
           .field(&PullSpec::active, &ActiveRegionSettings::wake_force),
       // Rows that other commands share (their defaults must be PullSpec's).
       Key(skin_key()).field(&PullSpec::skin),

@@ -209,6 +209,34 @@ TEST(ActiveRegion, ThePullSetsTheRestDistanceFromItsSpeed) {
                    spec.sleep_speed * 0.5 * small_bed().dt);
 }
 
+// The force of a given creep grows with the contacts' stiffness, so the wake test's default does:
+// the values validated at K_n = 2e4, 2e5 and 2e6, four times more per decade beyond.
+TEST(ActiveRegion, TheWakeTestDefaultsToTheValidatedValuesAndGrowsFourfoldPerDecade) {
+  EXPECT_EQ(default_wake_force(2e4), 0.5);
+  EXPECT_EQ(default_wake_force(2e5), 0.5);
+  EXPECT_DOUBLE_EQ(default_wake_force(2e6), 2.0);
+  EXPECT_DOUBLE_EQ(default_wake_force(2e7), 8.0);
+  EXPECT_NEAR(default_wake_force(2e8), 32.0, 1e-12);
+  EXPECT_NEAR(default_wake_force(6.3245553e5), 1.0, 1e-6);  // half a decade: a factor 2
+  // A pull leaves it to the bed's K_n unless it is given.
+  PullSpec spec;
+  spec.active.radius = 4;
+  spec.speed = 0.5;
+  for (double kn : {2e4, 2e6}) {
+    Bed bed = small_bed();
+    bed.contact.kn = kn;
+    bed.dt /= 10;  // resolves a collision at 2e6
+    Pull pull(bed, spec);
+    EXPECT_DOUBLE_EQ(pull.simulation().active_region()->settings().wake_force, default_wake_force(kn)) << kn;
+  }
+  spec.active.wake_force = 1.5;
+  Bed bed = small_bed();
+  bed.contact.kn = 2e6;
+  bed.dt /= 10;
+  Pull pull(bed, spec);
+  EXPECT_EQ(pull.simulation().active_region()->settings().wake_force, 1.5);
+}
+
 TEST(ActiveRegion, ARadiusInsideTheGrainsAroundTheIntruderIsRefused) {
   PullSpec spec;
   spec.active.radius = 2.5;  // D/2 + 2 = 3

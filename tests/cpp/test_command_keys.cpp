@@ -69,7 +69,9 @@ TEST(CommandKeys, PullSpecDefaultsAreTheKeysDefaults) {
   EXPECT_EQ(p.number("sleep_speed"), s.sleep_speed);
   EXPECT_EQ(p.number("sleep_speed_max"), s.sleep_speed_max);
   EXPECT_EQ(p.number("sleep_time"), s.active.sleep_time);
-  EXPECT_EQ(p.number("wake_force"), s.active.wake_force);
+  // Unset: the pull takes default_wake_force(K_n) from the bed.
+  EXPECT_FALSE(p.is_set("wake_force"));
+  EXPECT_TRUE(std::isnan(s.active.wake_force));
 }
 
 TEST(CommandKeys, SpecValidateUsesTheKeysRanges) {

@@ -234,6 +234,7 @@ TEST(Oracle, AnActiveRegionWiderThanTheBoxChangesNoBitOnEitherThreadSchedule) {
     const ContactParams c = support::soft_params(0.5);
     Settings wide;
     wide.active.radius = 100;
+    wide.active.wake_force = 0.5;
     Simulation plain(scene.particles, scene.box, c, Settings{}), region(scene.particles, scene.box, c, wide);
     plain.run(400);
     region.run(400);

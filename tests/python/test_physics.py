@@ -35,6 +35,7 @@ def test_time_step_collision_time_and_damping_are_the_engines(kn):
     assert out["collision_time"] == pytest.approx(physics.collision_time(kn), rel=REL)
     assert out["dt"] == pytest.approx(physics.default_dt(kn), rel=REL)
     assert out["max_dt"] == pytest.approx(physics.max_dt(kn), rel=REL)
+    assert out["wake_force"] == pytest.approx(physics.default_wake_force(kn), rel=REL)
 
 
 def test_paper_contact_law_is_the_engines_default():

@@ -216,6 +216,10 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     # The default wake and rest tests, recorded (each setting tells variants apart), and the defaults
     # the validation's labels leave out are the engine's
     assert (row["wake_force"], row["sleep_speed"]) == (SETTING_DEFAULTS["wake_force"], SETTING_DEFAULTS["sleep_speed"])
+    # An unset wake_force follows the bed's K_n: not a recorded key, the value used beside the count
+    assert "wake_force" not in params["pull"]
+    with h5py.File(run) as f:
+        assert f["observables/sleeping_grains"].attrs["wake_force"] == 0.5
     assert row["perturbation"] == 0.0
     assert row["settle_damping"] == 0.5      # the bed's, which its validation compares by
     # The radius in intruder diameters (D = 1.5), and a replica: read as the radius in d.

@@ -169,7 +169,7 @@ def stiff_config(kn, wake_force=None):
 def test_a_stiff_bed_sleeps_less_and_its_sleeping_grains_cost_more():
     plan0, by0 = stiff_config(2e4)
     soft = by0[("R", "V~0.03")]
-    plan, by = stiff_config(2e6, wake_force=region_cost.STIFF_WAKE_FORCE)
+    plan, by = stiff_config(2e6, wake_force=physics.default_wake_force(2e6))
     stiff = by[("R", "V~0.03")]
     # the same geometry and speed: only the share and the sleeping grain's cost move
     assert region_cost.asleep_fraction(stiff, plan.config, 3) == pytest.approx(
@@ -178,14 +178,18 @@ def test_a_stiff_bed_sleeps_less_and_its_sleeping_grains_cost_more():
     assert region_cost.sleeping_cost(stiff, plan.config) == pytest.approx(region_cost.STIFF_SLEEPING_COST)
     saving = lambda p, c: 1 - study.expected_pull_cost(p, c) / study.pull_cost(p, c)  # noqa: E731
     assert 0 < saving(stiff, plan.config) < saving(soft, plan0.config)
-    # at the default wake test a stiff bed is woken as fast as it sleeps: nothing saved
+    # at the soft beds' wake test a stiff bed is woken as fast as it sleeps: nothing saved
+    plan_soft_test, by_soft_test = stiff_config(2e6, wake_force=0.5)
+    pull = by_soft_test[("R", "V~0.03")]
+    assert region_cost.asleep_fraction(pull, plan_soft_test.config, 3) == 0.0
+    assert study.expected_pull_cost(pull, plan_soft_test.config) == study.pull_cost(pull, plan_soft_test.config)
+    # the engine's default wake test follows K_n: unset, a stiff pull is priced as at STIFF_WAKE_FORCE
     plan_default, by_default = stiff_config(2e6)
-    pull = by_default[("R", "V~0.03")]
-    assert region_cost.asleep_fraction(pull, plan_default.config, 3) == 0.0
-    assert study.expected_pull_cost(pull, plan_default.config) == study.pull_cost(pull, plan_default.config)
+    assert region_cost.asleep_fraction(by_default[("R", "V~0.03")], plan_default.config, 3) == pytest.approx(
+        region_cost.asleep_fraction(stiff, plan.config, 3), rel=1e-12)
     # half-way in log K_n, half of the stiff bed's change
     plan_mid, by_mid = stiff_config((region_cost.KN_TABLES * region_cost.KN_STIFF) ** 0.5,
-                                    wake_force=region_cost.STIFF_WAKE_FORCE)
+                                    wake_force=physics.default_wake_force(2e6))
     mid = by_mid[("R", "V~0.03")]
     assert region_cost.asleep_fraction(mid, plan_mid.config, 3) == pytest.approx(
         (1 + region_cost.STIFF_SHARE_RATIO) / 2 * region_cost.asleep_fraction(soft, plan0.config, 3), rel=1e-9)
@@ -193,7 +197,7 @@ def test_a_stiff_bed_sleeps_less_and_its_sleeping_grains_cost_more():
 
 def test_shares_measured_in_a_stiff_bed_are_the_tables_once_its_stiffness_is_taken_out():
     # A run at 2e6 and wake_force 2 sleeping at the stiff ratio of a table share of 0.6 reads as
-    # 0.6; a stiff run at the default wake test (nothing can sleep, by the model) is left out.
+    # 0.6; a stiff run at the soft beds' wake test, 0.5 (nothing can sleep, by the model), is left out.
     allowed = region_cost.outside_fraction(6, 20, 20, 6400, 7.1) * (1 - 0.03 / 3.0)
     row = dict(active_radius=6, lx=20, ly=20, grains=6400, h=7.1, distance=3.0, V=0.03, Fr=0.04, D=2, mu=0.5)
     stiff = [dict(row, kn=2e6, wake_force=2.0, asleep=0.6 * region_cost.STIFF_SHARE_RATIO * allowed),

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from analysis.physics import active_radius, froude
+from analysis.physics import active_radius, default_wake_force, froude
 
 from .config import pour_settings
 
@@ -31,9 +31,9 @@ from .config import pour_settings
 # it, and the estimate is no finer than that.
 GRAINS_PER_VOLUME = 1.13
 
-# The region's settings when a config gives none: granudrag pull's defaults (its --help).
+# The region's settings when a config gives none: granudrag pull's defaults (its --help; its
+# wake_force follows K_n: analysis.physics.default_wake_force).
 SLEEP_TIME_DEFAULT = 1.0
-WAKE_FORCE_DEFAULT = 0.5
 
 # share(Fr, mu): of the grains outside the region, the fraction asleep on average once the first
 # sleep_time has passed, per friction at these Froude numbers (linear in log Fr between them,
@@ -110,13 +110,13 @@ SLEEPING_COST = 0.22
 SLEEPING_COST_DAMPED = 0.03
 
 # Stiffness. The tables above hold at K_n = 2e5 too (Fr = 1, R = 3 and 5 D: shares 0.72 and 0.78
-# against 0.71 at 2e4; active_region_40_kn_radius.yaml). At config/faithful.yaml's 2e6 the wake
-# test, in units of a grain's weight, wakes far more grains (the force of a given creep grows as
-# K_n^(2/3)): at the default wake_force, 0.5, the pulls of active_region_30_stiff.yaml saved no
-# CPU (0.32 and 0.37 asleep, woken as fast as they slept). At wake_force 2 (STIFF_WAKE_FORCE) a
-# share STIFF_SHARE_RATIO of the table's sleeps, and a sleeping grain costs STIFF_SLEEPING_COST
-# (woken and put back to sleep more often), both measured on D = 2, mu = 0.5, 30 d x 30 d damped
-# beds at 2e6:
+# against 0.71 at 2e4; active_region_40_kn_radius.yaml). At config/faithful.yaml's 2e6 a wake test
+# fixed in units of a grain's weight wakes far more grains (the force of a given creep grows as
+# K_n^(2/3)): at wake_force 0.5, the soft beds' default, the pulls of active_region_30_stiff.yaml
+# saved no CPU (0.32 and 0.37 asleep, woken as fast as they slept). At wake_force 2, the engine's
+# default at 2e6 (analysis.physics.default_wake_force), a share STIFF_SHARE_RATIO of the table's
+# sleeps, and a sleeping grain costs STIFF_SLEEPING_COST (woken and put back to sleep more often),
+# both measured on D = 2, mu = 0.5, 30 d x 30 d damped beds at 2e6:
 #  active_region_30_stiff.yaml (Fr = 1, 7 d deep, 4 beds): shares 0.48 and 0.56 at R = 3 and 5 D
 #    against the table's 0.71 (0.68 and 0.79 of it); CPU per pull 1.8x less, c about 0 (short
 #    pulls, 45 s against 75 s);
@@ -127,11 +127,11 @@ SLEEPING_COST_DAMPED = 0.03
 # STIFF_SHARE_RATIO is these four ratios' middle (0.745), rounded; STIFF_SLEEPING_COST the yield
 # pull's (most of a study's cost).
 # Between 2e5 and 2e6 both are interpolated in log K_n; beyond 2e6 (faithful.yaml's kappa_stiff
-# sweep at 2e7, pulls at speed, which sleep little anyway) 2e6's are taken, unmeasured; a pull at
-# 2e6 with a wake_force below STIFF_WAKE_FORCE is priced as saving nothing, as measured at 0.5.
+# sweep at 2e7, pulls at speed, which sleep little anyway) 2e6's are taken, unmeasured. A pull
+# whose wake test is more sensitive than the engine's default at its K_n is priced as saving
+# nothing there, as measured at 0.5 at 2e6.
 KN_TABLES = 2e5
 KN_STIFF = 2e6
-STIFF_WAKE_FORCE = 2.0
 STIFF_SHARE_RATIO = 0.75
 STIFF_SLEEPING_COST = 0.5
 
@@ -145,16 +145,17 @@ def stiffness(kn):
 
 def stiff_share_factor(kn, wake_force):
     """The fraction of the tables' sleeping share that sleeps in a bed of this K_n at this
-    wake_force: 1 at the tables' stiffness, STIFF_SHARE_RATIO at KN_STIFF at STIFF_WAKE_FORCE or
-    above, 0 there below it (the stiff grains woken as fast as they sleep)."""
-    at_stiff = STIFF_SHARE_RATIO if float(wake_force) >= STIFF_WAKE_FORCE else 0.0
+    wake_force: 1 at the tables' stiffness; at KN_STIFF, STIFF_SHARE_RATIO with a wake test at
+    least the engine's default for the K_n, 0 with a more sensitive one (the stiff grains woken
+    as fast as they sleep)."""
+    at_stiff = STIFF_SHARE_RATIO if float(wake_force) >= default_wake_force(kn) * (1 - 1e-9) else 0.0
     return 1.0 - stiffness(kn) * (1.0 - at_stiff)
 
 
-def _wake_force(value):
-    """A pull's wake_force as a config or a runs.csv gives it: the engine's default when unset
-    (None in a config, NaN in a runs.csv)."""
-    return WAKE_FORCE_DEFAULT if value is None or value != value else float(value)
+def _wake_force(value, kn):
+    """A pull's wake_force as a config or a runs.csv gives it: the engine's default at the bed's
+    K_n when unset (None in a config, NaN in a runs.csv)."""
+    return default_wake_force(kn) if value is None or value != value else float(value)
 
 
 def damped_bed(pull, config):
@@ -208,7 +209,8 @@ def asleep_fraction(pull, config, travel, table=None):
     outside = outside_fraction(radius, lx, ly, grains, depth)
     table = table or (ASLEEP_SHARE_DAMPED if damped_bed(pull, config) else ASLEEP_SHARE)
     share = asleep_share(float(froude(pull.V, D)), pull.bed.value("mu"), table)
-    share *= stiff_share_factor(pull.bed.value("kn"), _wake_force(settings.get("wake_force")))
+    kn = pull.bed.value("kn")
+    share *= stiff_share_factor(kn, _wake_force(settings.get("wake_force"), kn))
     return share * outside * max(0.0, 1.0 - rest / duration)
 
 
@@ -225,7 +227,8 @@ def measured_shares(runs):
         raise ValueError("no pull with an active region (active_radius > 0) and a recorded asleep fraction")
     shares = {}
     for r in rows.itertuples():
-        stiff = stiff_share_factor(getattr(r, "kn", KN_TABLES), _wake_force(getattr(r, "wake_force", None)))
+        kn = getattr(r, "kn", KN_TABLES)
+        stiff = stiff_share_factor(kn, _wake_force(getattr(r, "wake_force", None), kn))
         allowed = outside_fraction(r.active_radius, r.lx, r.ly, r.grains, r.h) * max(
             0.0, 1.0 - SLEEP_TIME_DEFAULT * r.V / r.distance) * stiff
         if allowed > 0:
