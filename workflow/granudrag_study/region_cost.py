@@ -127,7 +127,9 @@ SLEEPING_COST_DAMPED = 0.03
 # STIFF_SHARE_RATIO is these four ratios' middle (0.745), rounded; STIFF_SLEEPING_COST the yield
 # pull's (most of a study's cost).
 # Between 2e5 and 2e6 both are interpolated in log K_n; beyond 2e6 (faithful.yaml's kappa_stiff
-# sweep at 2e7, pulls at speed, which sleep little anyway) 2e6's are taken, unmeasured. A pull
+# sweep at 2e7, pulls at speed, which sleep little anyway) 2e6's are taken: at 2e7, with the
+# default wake test (8), a Fr = 1 pull slept 0.76 of what the geometry allows, 1.07 of the table's
+# share (active_region_30_stiffer.yaml, 2 beds), so they err low there. A pull
 # whose wake test is more sensitive than the engine's default at its K_n is priced as saving
 # nothing there, as measured at 0.5 at 2e6.
 KN_TABLES = 2e5
