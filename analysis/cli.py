@@ -103,7 +103,7 @@ def _validate(args):
 def _pool(args):
     from .validation_pool import write
 
-    paths = write(args.tables, args.study, args.output_dir)
+    paths = write(args.tables, args.study, args.output_dir, args.wake_relative)
     print(paths[-1].read_text().split("\n\n")[-1].strip())
     return 0
 
@@ -167,6 +167,9 @@ def parser():
     pl.add_argument("study", choices=list(STUDIES), help="the validation the tables compare")
     pl.add_argument("tables", nargs="+", help="comparison tables (validate_<study>.csv), one per study")
     pl.add_argument("--output-dir", required=True, help="directory of pool_<study>.csv/.md")
+    pl.add_argument("--wake-relative", action="store_true",
+                    help="group the active region's wake test by its ratio to granudrag's default at "
+                         "each row's K_n (1: the default), so rows at the default pool across stiffnesses")
     sub.add_parser("predict", help="drag from a fit file (python -m analysis predict --help)",
                    add_help=False)
     _ladder_parser(sub)

@@ -21,7 +21,10 @@ together.
 
     python -m analysis pool active_region results/validate/*/validate_active_region.csv --output-dir DIR
 
-writes DIR/pool_<study>.csv (one row per group) and .md (the sentence).
+writes DIR/pool_<study>.csv (one row per group) and .md (the sentence). With --wake-relative the
+wake test is taken relative to granudrag's default at each row's K_n (wake_force_over_default;
+1: the default, which grows with K_n), so that rows at the default pool together across
+stiffnesses.
 """
 
 from pathlib import Path
@@ -30,12 +33,17 @@ import numpy as np
 import pandas as pd
 
 from .agreement import Z_AGREE, ValidationError
+from .physics import default_wake_force
 from .table import write_csv
 from .validation import SETTINGS_BEFORE_RECORDED, STUDIES, settings_set, shown_settings
 
 # What a study's variant is measured against, to put its studies on one scale: the active radius
 # in units of D (R = 3 D is one radius whatever D is).
 SCALE = {"active_region": ("D", "R_over_D")}
+
+
+# The wake test relative to the default at the row's K_n (--wake-relative), a setting in its place.
+WAKE_RELATIVE = "wake_force_over_default"
 
 
 # How the sentence writes each observable's difference: (factor, unit).
@@ -55,9 +63,10 @@ def load(paths):
     return pd.concat(frames, ignore_index=True)
 
 
-def pool(cmp, study):
+def pool(cmp, study, wake_relative=False):
     """One row per group (variant in the study's units, settings): rows, studies, the pooled
-    relative difference and its error, z, whether it agrees, rows above zero and chi^2/dof."""
+    relative difference and its error, z, whether it agrees, rows above zero and chi^2/dof. With
+    wake_relative, wake_force is grouped as its ratio to the default at each row's K_n."""
     if isinstance(study, str):
         study = STUDIES[study]
     need = {"variant", "rel_diff", "rel_diff_err"}   # the drag's; the others pool where present
@@ -73,6 +82,12 @@ def pool(cmp, study):
         if c in study.settings:
             cmp[c] = cmp[c].fillna(default) if c in cmp.columns else default
     settings = settings_set(cmp, study)
+    if wake_relative and "wake_force" in settings:
+        if "kn" not in cmp.columns:
+            raise ValidationError("pool --wake-relative: the comparison table lacks kn, which the default "
+                                  "wake test depends on")
+        cmp[WAKE_RELATIVE] = (cmp.wake_force / cmp.kn.map(default_wake_force)).round(6)
+        settings = [WAKE_RELATIVE if c == "wake_force" else c for c in settings]
     rows = []
     for key, g in cmp.groupby([col, *settings], sort=True):
         key = key if isinstance(key, tuple) else (key,)
@@ -127,6 +142,8 @@ def conclusion(pooled, study):
     parts, resolved = [], []
     # A setting is named where it varies over the groups or leaves its default somewhere.
     shown = [c for c in study.settings if c in shown_settings(pooled, study)]
+    if WAKE_RELATIVE in pooled.columns:
+        shown = [WAKE_RELATIVE, *shown]
     for _, r in pooled.iterrows():
         label = f"{r[col]:g}{unit}" + "".join(f", {c} {r[c]:g}" for c in shown)
         obs = []
@@ -151,11 +168,11 @@ def conclusion(pooled, study):
     return text
 
 
-def write(paths, study, outdir):
+def write(paths, study, outdir, wake_relative=False):
     """Load, pool and write pool_<study>.csv and .md; returns their paths."""
     if study not in STUDIES:
         raise ValidationError(f"unknown validation study '{study}': one of {', '.join(STUDIES)}")
-    pooled = pool(load(paths), study)
+    pooled = pool(load(paths), study, wake_relative)
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     csv, md = outdir / f"pool_{study}.csv", outdir / f"pool_{study}.md"

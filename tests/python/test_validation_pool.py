@@ -49,6 +49,25 @@ def test_rows_of_other_wake_tests_are_never_pooled_together(tmp_path):
     assert out.loc[1.0].rows == 1 and out.loc[1.0].drag_diff == pytest.approx(0.08)
 
 
+def test_wake_relative_pools_the_default_wake_test_across_stiffnesses(tmp_path):
+    # 0.5 at K_n = 2e4 and 2 at 2e6 are both the default; 0.5 at 2e6 is a quarter of it
+    a = comparison(tmp_path / "a", [row(2, 10, 0.02, 0.01, wake_force=0.5, kn=2e4)])
+    b = comparison(tmp_path / "b", [row(2, 10, 0.04, 0.01, wake_force=2.0, kn=2e6),
+                                    row(2, 10, 0.10, 0.01, wake_force=0.5, kn=2e6)])
+    plain = pool.pool(pool.load([a, b]), "active_region")
+    assert sorted(plain.rows) == [1, 2]                # by value: 0.5 (2e4 and 2e6) and 2
+    out = pool.pool(pool.load([a, b]), "active_region", wake_relative=True).set_index(pool.WAKE_RELATIVE)
+    assert out.loc[1.0].rows == 2 and out.loc[1.0].studies == 2
+    assert out.loc[1.0].drag_diff == pytest.approx(0.03)
+    assert out.loc[0.25].rows == 1 and out.loc[0.25].drag_diff == pytest.approx(0.10)
+    text = pool.conclusion(out.reset_index(), "active_region")
+    assert "5 D, wake_force_over_default 1, sleep_speed 0.01 (2 rows, 2 studies)" in text, text
+    # without K_n the default cannot be known
+    c = comparison(tmp_path / "c", [row(2, 10, 0.02, 0.01, wake_force=0.5)])
+    with pytest.raises(ValidationError, match="lacks kn"):
+        pool.pool(pool.load([c]), "active_region", wake_relative=True)
+
+
 def test_rows_of_other_rest_tests_are_pooled_apart_and_named(tmp_path):
     a = comparison(tmp_path / "a", [row(2, 6, 0.02, 0.01, sleep_speed=0.01), row(2, 6, 0.0, 0.01, sleep_speed=0.001)])
     out = pool.pool(pool.load([a]), "active_region")
