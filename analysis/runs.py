@@ -173,10 +173,8 @@ def read_run(path, system=None, root=None):
                   if version >= 2 else {})
         active_radius = physics.active_radius(region, get["D"])
         # The region's wake and rest tests, with it on only (NaN without: every grain is awake).
-        wake_force, sleep_speed = ((_setting(f, path, "pull", k) or math.nan) if active_radius > 0 else math.nan
-                                   for k in ("wake_force", "sleep_speed"))
-        if active_radius > 0:
-            wake_force = _wake_force_used(obs, wake_force)
+        wake_force = _wake_force_used(f, path, obs) if active_radius > 0 else math.nan
+        sleep_speed = (_setting(f, path, "pull", "sleep_speed") or math.nan) if active_radius > 0 else math.nan
         perturbation = _setting(f, path, "pull", "perturbation") if version >= 2 else 0.0
         settle_damping = _setting(f, path, "pour", "settle_damping") if version >= 2 else 0.0
         asleep = _asleep(obs, scale["grains"])
@@ -365,12 +363,14 @@ def _asleep(obs, grains):
     return float(counts.mean() / grains) if counts.size and grains > 0 else math.nan
 
 
-def _wake_force_used(obs, given):
-    """The wake test a pull used: the run file records it beside the sleeping count (since the
-    default follows the bed's K_n, an unset key is not recorded); older files record only the
-    key, which then always had its value (0.5 by default)."""
+def _wake_force_used(f, path, obs):
+    """The wake test a pull with the region used: the run file records it beside the sleeping
+    count (since the default follows the bed's K_n, an unset key is not recorded); older files
+    record only the key, which then always had its value (0.5 by default); NaN if neither."""
     used = obs["sleeping_grains"].attrs.get("wake_force") if "sleeping_grains" in obs else None
-    return float(used) if used is not None else given
+    if used is not None:
+        return float(used)
+    return _setting(f, path, "pull", "wake_force") or math.nan
 
 
 def _setting(f, path, block, key):

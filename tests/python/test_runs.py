@@ -233,6 +233,11 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     assert again["active_radius"] == 3.0 and again["perturbation"] == 1e-9 and again["wake_force"] == 1.0
     assert again["sleep_speed"] == 0.002
     assert read_parameters(replica)["pull"]["active_diameters"] == 2.0
+    # A file from before the value used was recorded: the key it was given
+    with h5py.File(replica, "r+") as f:
+        assert f["observables/sleeping_grains"].attrs["wake_force"] == 1.0
+        del f["observables/sleeping_grains"].attrs["wake_force"]
+    assert read_run(replica)["wake_force"] == 1.0
     with h5py.File(run) as f:
         counts = f["observables/sleeping_grains/value"][()]
     assert row["asleep"] == pytest.approx(counts.mean() / 150) and 0 <= row["asleep"] <= 1
