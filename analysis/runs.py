@@ -58,7 +58,7 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
                  "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "stop_reason",
-                 "active_radius", "wake_force", "sleep_speed", "perturbation", "asleep", "settle_damping", "sanity",
+                 "active_radius", "wake_force", "sleep_speed", "sleep_time", "perturbation", "asleep", "settle_damping", "sanity",
                  "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
@@ -175,6 +175,9 @@ def read_run(path, system=None, root=None):
         # The region's wake and rest tests, with it on only (NaN without: every grain is awake).
         wake_force = _wake_force_used(f, path, obs) if active_radius > 0 else math.nan
         sleep_speed = (_setting(f, path, "pull", "sleep_speed") or math.nan) if active_radius > 0 else math.nan
+        # (0 is a valid sleep_time: a file without the key reads NaN, not 0)
+        sleep_time = (_setting(f, path, "pull", "sleep_time", default=math.nan) if active_radius > 0
+                      else math.nan)
         perturbation = _setting(f, path, "pull", "perturbation") if version >= 2 else 0.0
         settle_damping = _setting(f, path, "pour", "settle_damping") if version >= 2 else 0.0
         asleep = _asleep(obs, scale["grains"])
@@ -226,6 +229,7 @@ def read_run(path, system=None, root=None):
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,
             "active_radius": active_radius, "wake_force": wake_force, "sleep_speed": sleep_speed,
+            "sleep_time": sleep_time,
             "perturbation": perturbation, "asleep": asleep,
             "settle_damping": settle_damping, "sanity": sanity, "path": str(path)}
 
@@ -373,11 +377,12 @@ def _wake_force_used(f, path, obs):
     return _setting(f, path, "pull", "wake_force") or math.nan
 
 
-def _setting(f, path, block, key):
+def _setting(f, path, block, key, default=0.0):
     """A numeric setting of the run's pull (`block` "pull") or of its bed's pour ("pour") that
     defaults to 0 (active_radius, d: 0 every grain integrated; perturbation: 0 not a replica;
-    settle_damping: 0 the paper's pour), also for files from before the key, which record none."""
-    value = (_parameters(f, path).get(block, {}) if "parameters" in f else {}).get(key, 0.0)
+    settle_damping: 0 the paper's pour), also for files from before the key, which record none;
+    `default` for a file without it."""
+    value = (_parameters(f, path).get(block, {}) if "parameters" in f else {}).get(key, default)
     if isinstance(value, (bool, str, list)):
         raise RunFileError(f"{path}: damaged run file: /parameters/{block} attribute '{key}' "
                            f"is not a number ({value!r})")

@@ -38,6 +38,7 @@ def test_pools_by_radius_over_D_with_inverse_variance_weights(tmp_path):
     # Where a table has no column, what studies ran at before it was recorded (sleep_speed 0.01,
     # the engine's default then, not its default now)
     assert out.loc[3.0, "wake_force"] == 0.5 and out.loc[3.0, "sleep_speed"] == 0.01
+    assert out.loc[3.0, "sleep_time"] == 1.0
 
 
 def test_rows_of_other_wake_tests_are_never_pooled_together(tmp_path):
