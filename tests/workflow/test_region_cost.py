@@ -146,6 +146,15 @@ def test_the_shares_measured_from_runs_are_recovered():
     assert [s for _, s in shares[0.0]] == pytest.approx([0.06, 0.02], rel=1e-12)
     with pytest.raises(ValueError, match="active region"):
         region_cost.measured_shares(pd.DataFrame(rows[-1:]))
+    # A recorded dwell time is the one the run's duration loses (NaN: the default, 1)
+    unrecorded = dict(rows[0], Fr=0.5, V=0.375, sleep_time=float("nan"))
+    unrecorded["asleep"] = 0.4 * region_cost.outside_fraction(4, 20, 20, 6400, 7.1) * (1 - 0.375 / 3.0)
+    dwell = [dict(r, sleep_time=0.5, asleep=r["asleep"] * (1 - 0.5 * r["V"] / 3.0) / (1 - r["V"] / 3.0))
+             for r in rows[:-1]] + [unrecorded]
+    shares = region_cost.measured_shares(pd.DataFrame(dwell))
+    assert [fr for fr, _ in shares[0.5]] == [0.04, 0.5, 1.0]
+    assert [s for _, s in shares[0.5]] == pytest.approx([0.6, 0.4, 0.2], rel=1e-12)
+    assert [s for _, s in shares[0.0]] == pytest.approx([0.06, 0.02], rel=1e-12)
 
 
 def test_stiffness_runs_from_the_tables_k_n_to_the_stiff_one_in_log_k_n():

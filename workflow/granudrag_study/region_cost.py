@@ -218,9 +218,9 @@ def asleep_fraction(pull, config, travel, table=None):
 
 def measured_shares(runs):
     """share(Fr, mu) from runs with the region (a runs.csv of the validation: its asleep,
-    active_radius, lx, ly, grains, h, distance, V, mu and D columns, and kn and wake_force where
-    it has them): per run, the asleep fraction over what the geometry, the duration and the
-    stiffness allow (with the default sleep_time: runs.csv does not record it), so that pricing
+    active_radius, lx, ly, grains, h, distance, V, mu and D columns, and kn, wake_force and
+    sleep_time where it has them): per run, the asleep fraction over what the geometry, the
+    duration and the stiffness allow (the default sleep_time for a table without it), so that pricing
     a pull of another stiffness applies its own; the median per friction and Froude number. A
     stiff run whose wake test woke its grains as fast as they slept (stiff_share_factor 0) says
     nothing about the table and is left out. Returns {mu: ((Fr, share), ...)}."""
@@ -231,8 +231,10 @@ def measured_shares(runs):
     for r in rows.itertuples():
         kn = getattr(r, "kn", KN_TABLES)
         stiff = stiff_share_factor(kn, _wake_force(getattr(r, "wake_force", None), kn))
+        rest = getattr(r, "sleep_time", SLEEP_TIME_DEFAULT)
+        rest = SLEEP_TIME_DEFAULT if rest != rest else float(rest)   # NaN: not recorded
         allowed = outside_fraction(r.active_radius, r.lx, r.ly, r.grains, r.h) * max(
-            0.0, 1.0 - SLEEP_TIME_DEFAULT * r.V / r.distance) * stiff
+            0.0, 1.0 - rest * r.V / r.distance) * stiff
         if allowed > 0:
             key = (round(float(r.mu), 3), round(float(r.Fr), 3))
             shares.setdefault(key, []).append(min(1.0, r.asleep / allowed))
