@@ -125,7 +125,10 @@ SLEEPING_COST_DAMPED = 0.03
 #    against the mean of its bed's pull and replica, 1.20-1.50x less (median 1.37x over the 6
 #    pairs; 51 % and 50 % asleep: c about 0.5), a sleeping grain's cost being its wake-ups.
 # STIFF_SHARE_RATIO is these four ratios' middle (0.745), rounded; STIFF_SLEEPING_COST the yield
-# pull's (most of a study's cost).
+# pull's (most of a study's cost). Both held over a yield pull of faithful.yaml's length (5 d at
+# V = 0.1 through one of the deep study's beds, docs/benchmark.md, 2026-11-28): 0.82 of the table's
+# share asleep, a sleeping grain 0.48 of an awake one, the pull 1.38x cheaper in CPU; at twice the
+# default wake test (4) 0.30 and 1.81x, not priced here (not the default).
 # Between 2e5 and 2e6 both are interpolated in log K_n; beyond 2e6 (faithful.yaml's kappa_stiff
 # sweep at 2e7, pulls at speed, which sleep little anyway) 2e6's are taken: at 2e7, with the
 # default wake test (8), a Fr = 1 pull slept 0.76 of what the geometry allows, 1.07 of the table's
