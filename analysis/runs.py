@@ -58,8 +58,8 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
                  "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "stop_reason",
-                 "active_radius", "wake_force", "sleep_speed", "sleep_time", "perturbation", "asleep", "settle_damping", "sanity",
-                 "path"]
+                 "active_radius", "wake_force", "sleep_speed", "sleep_time", "perturbation", "asleep",
+                 "settle_damping", "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
