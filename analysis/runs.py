@@ -173,11 +173,12 @@ def read_run(path, system=None, root=None):
                   if version >= 2 else {})
         active_radius = physics.active_radius(region, get["D"])
         # The region's wake and rest tests, with it on only (NaN without: every grain is awake).
-        wake_force = _wake_force_used(f, path, obs) if active_radius > 0 else math.nan
-        sleep_speed = (_setting(f, path, "pull", "sleep_speed") or math.nan) if active_radius > 0 else math.nan
-        # (0 is a valid sleep_time: a file without the key reads NaN, not 0)
-        sleep_time = (_setting(f, path, "pull", "sleep_time", default=math.nan) if active_radius > 0
-                      else math.nan)
+        wake_force = sleep_speed = sleep_time = math.nan
+        if active_radius > 0:
+            wake_force = _wake_force_used(f, path, obs)
+            sleep_speed = _setting(f, path, "pull", "sleep_speed") or math.nan
+            # 0 is a valid sleep_time: a file without the key reads NaN, not 0
+            sleep_time = _setting(f, path, "pull", "sleep_time", default=math.nan)
         perturbation = _setting(f, path, "pull", "perturbation") if version >= 2 else 0.0
         settle_damping = _setting(f, path, "pour", "settle_damping") if version >= 2 else 0.0
         asleep = _asleep(obs, scale["grains"])

@@ -157,10 +157,16 @@ def stiff_share_factor(kn, wake_force):
     return 1.0 - stiffness(kn) * (1.0 - at_stiff)
 
 
+def _given(value, default):
+    """A setting as a config or a runs.csv gives it, `default` when unset (None in a config, NaN
+    in a runs.csv)."""
+    return default if value is None or value != value else float(value)
+
+
 def _wake_force(value, kn):
     """A pull's wake_force as a config or a runs.csv gives it: the engine's default at the bed's
-    K_n when unset (None in a config, NaN in a runs.csv)."""
-    return default_wake_force(kn) if value is None or value != value else float(value)
+    K_n when unset."""
+    return _given(value, default_wake_force(kn))
 
 
 def damped_bed(pull, config):
@@ -234,8 +240,7 @@ def measured_shares(runs):
     for r in rows.itertuples():
         kn = getattr(r, "kn", KN_TABLES)
         stiff = stiff_share_factor(kn, _wake_force(getattr(r, "wake_force", None), kn))
-        rest = getattr(r, "sleep_time", SLEEP_TIME_DEFAULT)
-        rest = SLEEP_TIME_DEFAULT if rest != rest else float(rest)   # NaN: not recorded
+        rest = _given(getattr(r, "sleep_time", None), SLEEP_TIME_DEFAULT)
         allowed = outside_fraction(r.active_radius, r.lx, r.ly, r.grains, r.h) * max(
             0.0, 1.0 - rest * r.V / r.distance) * stiff
         if allowed > 0:
