@@ -166,12 +166,14 @@ def test_stiffness_runs_from_the_tables_k_n_to_the_stiff_one_in_log_k_n():
     assert region_cost.stiffness(2e8) == 1.0
 
 
-def stiff_config(kn, wake_force=None):
+def stiff_config(kn, wake_force=None, sleep_time=None):
     config = copy.deepcopy(CONFIG)
     config["defaults"]["kn"] = kn
     config["systems"]["I"]["pour"] = {"settle_damping": 1}
     if wake_force is not None:
         config["systems"]["R"]["pull"]["wake_force"] = wake_force
+    if sleep_time is not None:
+        config["systems"]["R"]["pull"]["sleep_time"] = sleep_time
     return pulls(config)
 
 
@@ -202,6 +204,33 @@ def test_a_stiff_bed_sleeps_less_and_its_sleeping_grains_cost_more():
     mid = by_mid[("R", "V~0.03")]
     assert region_cost.asleep_fraction(mid, plan_mid.config, 3) == pytest.approx(
         (1 + region_cost.STIFF_SHARE_RATIO) / 2 * region_cost.asleep_fraction(soft, plan0.config, 3), rel=1e-9)
+
+
+def test_a_shorter_dwell_is_priced_at_its_measured_stiff_share_and_cost_only_in_a_stiff_bed():
+    ratio, cost = region_cost.STIFF_AT_DWELL[0.5]
+    assert ratio > region_cost.STIFF_SHARE_RATIO and cost < region_cost.STIFF_SLEEPING_COST
+    assert region_cost.stiff_at_dwell(0.75) == pytest.approx(
+        ((ratio + region_cost.STIFF_SHARE_RATIO) / 2, (cost + region_cost.STIFF_SLEEPING_COST) / 2), rel=1e-12)
+    assert region_cost.stiff_at_dwell(0.1) == pytest.approx((ratio, cost), rel=1e-12)
+    assert region_cost.stiff_at_dwell(3.0) == pytest.approx(
+        (region_cost.STIFF_SHARE_RATIO, region_cost.STIFF_SLEEPING_COST), rel=1e-12)
+    plan1, by1 = stiff_config(2e6)
+    plan05, by05 = stiff_config(2e6, sleep_time=0.5)
+    default_dwell, short = by1[("R", "V~0.03")], by05[("R", "V~0.03")]
+    # the geometry's and the duration's terms as they were; only the stiff ratio moves
+    duration = 3 / 0.03
+    expected = (region_cost.asleep_fraction(default_dwell, plan1.config, 3) / region_cost.STIFF_SHARE_RATIO
+                / (1 - 1.0 / duration) * ratio * (1 - 0.5 / duration))
+    assert region_cost.asleep_fraction(short, plan05.config, 3) == pytest.approx(expected, rel=1e-12)
+    assert region_cost.sleeping_cost(short, plan05.config) == pytest.approx(cost, rel=1e-12)
+    # at the tables' stiffness the dwell enters only through the duration's term
+    plan_soft, by_soft = stiff_config(2e4, sleep_time=0.5)
+    assert region_cost.sleeping_cost(by_soft[("R", "V~0.03")], plan_soft.config) == region_cost.SLEEPING_COST_DAMPED
+    # and a stiff run at the short dwell reads back as the table's share
+    allowed = region_cost.outside_fraction(6, 20, 20, 6400, 7.1) * (1 - 0.5 * 0.03 / 3.0)
+    row = dict(active_radius=6, lx=20, ly=20, grains=6400, h=7.1, distance=3.0, V=0.03, Fr=0.04, D=2, mu=0.5,
+               kn=2e6, wake_force=2.0, sleep_time=0.5, asleep=0.6 * ratio * allowed)
+    assert [s for _, s in region_cost.measured_shares(pd.DataFrame([row]))[0.5]] == pytest.approx([0.6], rel=1e-12)
 
 
 def test_shares_measured_in_a_stiff_bed_are_the_tables_once_its_stiffness_is_taken_out():

@@ -129,6 +129,15 @@ SLEEPING_COST_DAMPED = 0.03
 # V = 0.1 through one of the deep study's beds, docs/benchmark.md, 2026-11-28): 0.82 of the table's
 # share asleep, a sleeping grain 0.48 of an awake one, the pull 1.38x cheaper in CPU; at twice the
 # default wake test (4) 0.30 and 1.81x, not priced here (not the default).
+# Half the dwell (sleep_time 0.5, faithful.yaml's) puts a grain woken for a load it only carries
+# back to sleep twice as soon, which a stiff bed, woken often, feels: in the same 5 d yield pull
+# 1.2x as many asleep (0.99 of the table's share) and a sleeping grain 0.27 of an awake one (1.86x
+# cheaper in CPU); over the deep study's 4 beds (2 d) 1.22x as many (61 % against 50 %) and 0.28
+# (CPU 553 s against 816 s, the reference 983 s), 0.95 of the table's share (0.78 x 1.22).
+# STIFF_AT_DWELL keeps (share ratio, sleeping cost) per dwell, at 0.5 the lower ratio and the
+# rounded cost, linear in sleep_time between and constant beyond; at the tables' stiffness the
+# halved dwell slept 1.0-1.16x as much and saved no measurable CPU (active_region_40_deep.yaml,
+# 40_kn_radius.yaml: docs/study-outcomes.md), so only the stiff end moves.
 # Between 2e5 and 2e6 both are interpolated in log K_n; beyond 2e6 (faithful.yaml's kappa_stiff
 # sweep at 2e7, pulls at speed, which sleep little anyway) 2e6's are taken: at 2e7, with the
 # default wake test (8), a Fr = 1 pull slept 0.76 of what the geometry allows, 1.07 of the table's
@@ -139,6 +148,14 @@ KN_TABLES = 2e5
 KN_STIFF = 2e6
 STIFF_SHARE_RATIO = 0.75
 STIFF_SLEEPING_COST = 0.5
+STIFF_AT_DWELL = {0.5: (0.95, 0.3), SLEEP_TIME_DEFAULT: (STIFF_SHARE_RATIO, STIFF_SLEEPING_COST)}
+
+
+def stiff_at_dwell(sleep_time):
+    """(share ratio, sleeping cost) of a bed at KN_STIFF for this dwell (STIFF_AT_DWELL)."""
+    dwells = sorted(STIFF_AT_DWELL)
+    return tuple(float(np.interp(float(sleep_time), dwells, [STIFF_AT_DWELL[t][k] for t in dwells]))
+                 for k in (0, 1))
 
 
 def stiffness(kn):
@@ -148,12 +165,13 @@ def stiffness(kn):
     return min(1.0, max(0.0, t))
 
 
-def stiff_share_factor(kn, wake_force):
+def stiff_share_factor(kn, wake_force, sleep_time=SLEEP_TIME_DEFAULT):
     """The fraction of the tables' sleeping share that sleeps in a bed of this K_n at this
-    wake_force: 1 at the tables' stiffness; at KN_STIFF, STIFF_SHARE_RATIO with a wake test at
-    least the engine's default for the K_n, 0 with a more sensitive one (the stiff grains woken
-    as fast as they sleep)."""
-    at_stiff = STIFF_SHARE_RATIO if float(wake_force) >= default_wake_force(kn) * (1 - 1e-9) else 0.0
+    wake_force and dwell: 1 at the tables' stiffness; at KN_STIFF, the dwell's share ratio
+    (stiff_at_dwell) with a wake test at least the engine's default for the K_n, 0 with a more
+    sensitive one (the stiff grains woken as fast as they sleep)."""
+    sensitive = float(wake_force) < default_wake_force(kn) * (1 - 1e-9)
+    at_stiff = 0.0 if sensitive else stiff_at_dwell(sleep_time)[0]
     return 1.0 - stiffness(kn) * (1.0 - at_stiff)
 
 
@@ -176,11 +194,18 @@ def damped_bed(pull, config):
     return float(pour.get("settle_damping", 0.0) or 0.0) > 0
 
 
+def _sleep_time(settings):
+    """A pull's dwell as its settings give it (SLEEP_TIME_DEFAULT when unset)."""
+    return _given(settings.get("sleep_time"), SLEEP_TIME_DEFAULT)
+
+
 def sleeping_cost(pull, config):
     """What a sleeping grain costs in this pull's bed: SLEEPING_COST_DAMPED if it was poured with
-    settling damping, else SLEEPING_COST, moved toward STIFF_SLEEPING_COST by the bed's stiffness."""
+    settling damping, else SLEEPING_COST, moved toward the stiff bed's at the pull's dwell
+    (stiff_at_dwell) by the bed's stiffness."""
     base = SLEEPING_COST_DAMPED if damped_bed(pull, config) else SLEEPING_COST
-    return base + stiffness(pull.bed.value("kn")) * (STIFF_SLEEPING_COST - base)
+    at_stiff = stiff_at_dwell(_sleep_time(pull.settings_in(config)))[1]
+    return base + stiffness(pull.bed.value("kn")) * (at_stiff - base)
 
 
 def bed_height(grains, lx, ly):
@@ -216,12 +241,12 @@ def asleep_fraction(pull, config, travel, table=None):
     pos = pull.bed.value("pos")
     depth = pos if pull.bed.place == "h" else bed_height(grains, lx, ly) - pos
     duration = travel / pull.V
-    rest = float(settings.get("sleep_time", SLEEP_TIME_DEFAULT))
+    rest = _sleep_time(settings)
     outside = outside_fraction(radius, lx, ly, grains, depth)
     table = table or (ASLEEP_SHARE_DAMPED if damped_bed(pull, config) else ASLEEP_SHARE)
     share = asleep_share(float(froude(pull.V, D)), pull.bed.value("mu"), table)
     kn = pull.bed.value("kn")
-    share *= stiff_share_factor(kn, _wake_force(settings.get("wake_force"), kn))
+    share *= stiff_share_factor(kn, _wake_force(settings.get("wake_force"), kn), rest)
     return share * outside * max(0.0, 1.0 - rest / duration)
 
 
@@ -239,8 +264,8 @@ def measured_shares(runs):
     shares = {}
     for r in rows.itertuples():
         kn = getattr(r, "kn", KN_TABLES)
-        stiff = stiff_share_factor(kn, _wake_force(getattr(r, "wake_force", None), kn))
         rest = _given(getattr(r, "sleep_time", None), SLEEP_TIME_DEFAULT)
+        stiff = stiff_share_factor(kn, _wake_force(getattr(r, "wake_force", None), kn), rest)
         allowed = outside_fraction(r.active_radius, r.lx, r.ly, r.grains, r.h) * max(
             0.0, 1.0 - rest * r.V / r.distance) * stiff
         if allowed > 0:
