@@ -241,6 +241,43 @@ def test_paired_rows_report_the_scatter_of_the_per_bed_differences():
     assert np.isnan(two.iloc[0].drag_beds_z) and np.isnan(two.iloc[0].theta_beds_err)
 
 
+def test_the_sentence_names_a_shift_the_beds_resolve_and_only_that():
+    """A 3 % shift the same in every bed hides inside 5 % run errors (every point agrees) but the
+    per-bed differences resolve it: the sentence names each such point with its size and t; with
+    no shift it names none."""
+    shifted = yield_runs({0.01: 0.0, 0.03: 0.0, 0.1: 0.03}, beds=5, noise=0.05, seed=3)
+    # the pulls through one bed share their fluctuations: the runs' noise is common to both
+    # speeds, so the per-bed differences carry the shift alone, plus a little noise of their own
+    rng = np.random.default_rng(7)
+    base = shifted[shifted.V == 0.01].set_index(["D", "mu", "seed"]).drag
+    for V, f in ((0.03, 1.0), (0.1, 1.03)):
+        rows = shifted.V == V
+        keys = list(zip(shifted.loc[rows, "D"], shifted.loc[rows, "mu"], shifted.loc[rows, "seed"]))
+        shifted.loc[rows, "drag"] = [base[k] * f * (1 + 0.002 * rng.standard_normal()) for k in keys]
+    cmp = val.compare(shifted, "yield_speed")
+    fast = cmp[cmp.variant == 0.1]
+    assert fast.agrees.all() and (fast.drag_beds_z > 5).all()
+    text = val.conclusion(cmp, "yield_speed")
+    assert "The beds resolve a shift" in text
+    named = text.split("The beds resolve a shift")[1]
+    assert named.count("V = 0.1 at D = ") == 4 and "V = 0.03" not in named
+    assert "(drag: +3.0 %, t " in named and "4 dof" in named
+    # no shift: the per-bed differences are noise, whose t is Student's, so a point passes t's
+    # 97.5 % point at 4 dof (2.776) by chance now and then: exactly those are named, over many draws
+    limit = 2.776
+    beyond_total = 0
+    for seed in range(5):
+        quiet = val.compare(yield_runs({0.01: 0.0, 0.03: 0.0, 0.1: 0.0}, beds=5, noise=0.05, seed=seed),
+                            "yield_speed")
+        beyond = quiet[quiet.drag_beds_z.abs() > limit]
+        said = val.resolved_shifts(quiet, val.STUDIES["yield_speed"])
+        assert said.count(" at D = ") == len(beyond)
+        assert all(f"V = {r.variant:g} at D = {r.D:g}, mu = {r.mu:g} (drag: {100 * r.rel_diff:+.1f} %" in said
+                   for r in beyond.itertuples())
+        beyond_total += len(beyond)
+    assert beyond_total <= 8   # of 40 points, 2 expected by chance
+
+
 def test_a_reference_replica_widens_paired_errors_to_the_chaos_it_measures():
     """theta's run errors (0.01) are narrower than how far two pulls through one bed drift
     apart (chaos: 0.04 per run): a shift of 0.03 looks real against the errors (z > 2) and is
