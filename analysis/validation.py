@@ -42,6 +42,7 @@ import pandas as pd
 from . import pull_length
 from .agreement import Z_AGREE, ValidationError
 from .table import combine_beds, write_csv
+from .validation_shifts import resolved_shifts
 
 
 @dataclass(frozen=True)
@@ -342,42 +343,6 @@ def conclusion(cmp, study):
                      f"{100 * g.rel_diff.min():+.1f} % to {100 * g.rel_diff.max():+.1f} %)")
     answer = _answer(cmp, study)
     return "; ".join(parts) + f". {answer}" + resolved_shifts(cmp, study)
-
-
-# Point keys named when a resolved shift is listed, where they differ between the study's points.
-_POINT_LABELS = (("D", "D"), ("mu", "mu"), ("kn", "K_n"), ("Fr", "Fr"), ("h_requested", "h"),
-                 ("z_requested", "z"))
-
-
-def resolved_shifts(cmp, study):
-    """The paired points whose shift the beds resolve, though the verdict (on z) may call them
-    agreeing: the per-bed differences' t (`<obs>_beds_z`) beyond Student's 97.5 % point at
-    beds - 1 dof. A shift the same in every bed is real however small; the sentence names it with
-    its size, so a reader sees a +12 % drift the runs' errors hide and can dismiss a 0.7 % one."""
-    from scipy.stats import t as student
-
-    if "beds" not in cmp.columns:
-        return ""
-    labels = (*_POINT_LABELS, *((c, c) for c in study.settings))   # settings: regions of one radius
-    varying = [(k, name) for k, name in labels if k in cmp.columns and cmp[k].nunique(dropna=True) > 1]
-    found = []
-    for r in cmp.itertuples():
-        dof = int(getattr(r, "beds", 0) or 0) - 1
-        if dof < 2:
-            continue
-        limit = float(student.ppf(0.975, dof))
-        for col, _ in study.judged:
-            t = getattr(r, f"{col}_beds_z", np.nan)
-            if not np.isfinite(t) or abs(t) <= limit:
-                continue
-            where = ", ".join(f"{name} = {getattr(r, k):g}" for k, name in varying if pd.notna(getattr(r, k)))
-            size = f"{100 * r.rel_diff:+.1f} %, " if col == "drag" else ""
-            found.append(f"{study.variant} = {r.variant:g}" + (f" at {where}" if where else "")
-                         + f" ({col}: {size}t {t:.2g}, {dof} dof)")
-    if not found:
-        return ""
-    return (" The beds resolve a shift (the per-bed differences' t beyond Student's 97.5 % point, which "
-            "1 point in 20 passes by chance; the verdict stays on z) at: " + "; ".join(found) + ".")
 
 
 def _answer(cmp, study):
