@@ -194,9 +194,9 @@ def damped_bed(pull, config):
     return float(pour.get("settle_damping", 0.0) or 0.0) > 0
 
 
-def _sleep_time(settings):
-    """A pull's dwell as its settings give it (SLEEP_TIME_DEFAULT when unset)."""
-    return _given(settings.get("sleep_time"), SLEEP_TIME_DEFAULT)
+def _sleep_time(value):
+    """A pull's dwell as a config or a runs.csv gives it: SLEEP_TIME_DEFAULT when unset."""
+    return _given(value, SLEEP_TIME_DEFAULT)
 
 
 def sleeping_cost(pull, config):
@@ -204,7 +204,7 @@ def sleeping_cost(pull, config):
     settling damping, else SLEEPING_COST, moved toward the stiff bed's at the pull's dwell
     (stiff_at_dwell) by the bed's stiffness."""
     base = SLEEPING_COST_DAMPED if damped_bed(pull, config) else SLEEPING_COST
-    at_stiff = stiff_at_dwell(_sleep_time(pull.settings_in(config)))[1]
+    at_stiff = stiff_at_dwell(_sleep_time(pull.settings_in(config).get("sleep_time")))[1]
     return base + stiffness(pull.bed.value("kn")) * (at_stiff - base)
 
 
@@ -241,7 +241,7 @@ def asleep_fraction(pull, config, travel, table=None):
     pos = pull.bed.value("pos")
     depth = pos if pull.bed.place == "h" else bed_height(grains, lx, ly) - pos
     duration = travel / pull.V
-    rest = _sleep_time(settings)
+    rest = _sleep_time(settings.get("sleep_time"))
     outside = outside_fraction(radius, lx, ly, grains, depth)
     table = table or (ASLEEP_SHARE_DAMPED if damped_bed(pull, config) else ASLEEP_SHARE)
     share = asleep_share(float(froude(pull.V, D)), pull.bed.value("mu"), table)
@@ -264,7 +264,7 @@ def measured_shares(runs):
     shares = {}
     for r in rows.itertuples():
         kn = getattr(r, "kn", KN_TABLES)
-        rest = _given(getattr(r, "sleep_time", None), SLEEP_TIME_DEFAULT)
+        rest = _sleep_time(getattr(r, "sleep_time", None))
         stiff = stiff_share_factor(kn, _wake_force(getattr(r, "wake_force", None), kn), rest)
         allowed = outside_fraction(r.active_radius, r.lx, r.ly, r.grains, r.h) * max(
             0.0, 1.0 - rest * r.V / r.distance) * stiff
