@@ -24,13 +24,11 @@ def resolved_shifts(cmp, study):
     varying = [(k, name) for k, name in labels if k in cmp.columns and cmp[k].nunique(dropna=True) > 1]
     found = []
     for r in cmp.itertuples():
-        dof = int(getattr(r, "beds", 0) or 0) - 1
-        if dof < 2:
-            continue
-        limit = float(student.ppf(0.975, dof))
         for col, _ in study.judged:
+            # NaN below three beds (analysis.validation._beds); infinite when every bed differs alike
             t = getattr(r, f"{col}_beds_z", np.nan)
-            if not np.isfinite(t) or abs(t) <= limit:
+            dof = int(r.beds) - 1
+            if np.isnan(t) or abs(t) <= student.ppf(0.975, dof):
                 continue
             where = ", ".join(f"{name} = {getattr(r, k):g}" for k, name in varying if pd.notna(getattr(r, k)))
             size = f"{100 * r.rel_diff:+.1f} %, " if col == "drag" else ""

@@ -237,6 +237,8 @@ def test_paired_rows_report_the_scatter_of_the_per_bed_differences():
     d = np.array([r2["drag"] - r1["drag"] for r1, r2 in zip(rows[::2], rows[1::2])])
     assert row.drag_beds_err == pytest.approx(d.std(ddof=1) / np.sqrt(5))
     assert row.drag_beds_z > 5 and row.theta_beds_z == np.inf                # theta: +0.02 exactly
+    # a shift the same in every bed to the last digit (t infinite) is resolved like any other
+    assert "(theta: t inf, 4 dof)" in val.resolved_shifts(cmp, val.STUDIES["active_region"])
     two = val.compare(pd.DataFrame([r for r in rows if r["seed"] <= 2]), "active_region")
     assert np.isnan(two.iloc[0].drag_beds_z) and np.isnan(two.iloc[0].theta_beds_err)
 
