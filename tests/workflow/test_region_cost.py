@@ -283,7 +283,33 @@ def test_estimate_cost_prices_a_config_as_if_it_had_the_region(tmp_path):
     assert core_hours(measured.stdout) < core_hours(region.stdout)
 
 
+def test_the_region_bound_prices_every_grain_outside_asleep_at_no_cost(tmp_path, monkeypatch):
+    plan, by = pulls(CONFIG)
+    config = plan.config
+    monkeypatch.setattr(region_cost, "BOUND", True)
+    outside = region_cost.outside_fraction(6, 20, 20, 6400, 7)
+    for speed in ("Fr~1", "Fr~5", "V~0.03"):
+        region, ref = by[("R", speed)], by[("I", speed)]
+        # a frictionless or fast pull too: whatever lies outside R costs nothing from the start
+        assert study.expected_pull_cost(region, config) == pytest.approx(
+            (1 - outside) * study.pull_cost(region, config), rel=1e-12)
+        assert study.expected_pull_cost(ref, config) == study.pull_cost(ref, config)  # no region: all
+    monkeypatch.setattr(region_cost, "BOUND", False)
+    assert all(study.expected_pull_cost(by[("R", s)], config) > (1 - outside) * study.pull_cost(by[("R", s)], config)
+               for s in ("Fr~1", "Fr~5", "V~0.03"))
+    # through estimate_cost: below the model's price, and the beds' cost untouched
+    path = tmp_path / "c.yaml"
+    path.write_text(yaml.safe_dump(CONFIG))
+    model, bound = run_estimate(path), run_estimate(path, "--region-bound")
+    assert model.returncode == 0 and bound.returncode == 0, model.stderr + bound.stderr
+    assert core_hours(bound.stdout) < core_hours(model.stdout)
+    beds = [next(ln for ln in out.stdout.splitlines() if "particle-steps: beds" in ln) for out in (model, bound)]
+    assert beds[0].split(",")[0] == beds[1].split(",")[0]
+    assert "at most (--region-bound" in bound.stdout
+
+
 @pytest.mark.parametrize("args, message", [
+    (("--region-bound", "--asleep-from", "runs.csv"), "--asleep-from (measured shares) or --region-bound"),
     (("--active_radius", "-2"), "--active_radius -2.0: give a radius >= 0"),
     (("--active_radius", "6", "--active_diameters", "3"), "--active_radius (d) or --active_diameters (D), not both"),
     (("--asleep-from", "/no/such/runs.csv"), "--asleep-from /no/such/runs.csv"),

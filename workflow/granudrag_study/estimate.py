@@ -156,6 +156,10 @@ def main(argv=None):
     ap.add_argument("--asleep-from", metavar="RUNS_CSV",
                     help="print the sleeping shares measured in a study's runs.csv (pulls with the "
                          "active region), the model's ASLEEP_SHARE, and price with them")
+    ap.add_argument("--region-bound", action="store_true",
+                    help="price every pull with the region as if each grain outside it slept from the "
+                         "first step at no cost, frictionless beds too: the most any active region of "
+                         "that radius can save (what is left is the pours and the region's inside)")
     ap.add_argument("--grains", type=int, help="grains of the --measure bed (default: smallest system's, <= 70000)")
     ap.add_argument("--binary", help="granudrag for --measure (default: the config's `granudrag`)")
     args = ap.parse_args(argv)
@@ -180,8 +184,14 @@ def main(argv=None):
             own = (sysc.get("pull") or {}) if isinstance(sysc, dict) else {}
             if isinstance(sysc, dict) and not {"active_radius", "active_diameters"} & set(own):
                 sysc["pull"] = {key: value, **own}
+    if args.asleep_from and args.region_bound:
+        sys.exit("estimate_cost: give --asleep-from (measured shares) or --region-bound (all asleep), not both")
     if args.asleep_from:
         _use_measured_shares(args.asleep_from)
+    if args.region_bound:
+        from . import region_cost
+
+        region_cost.BOUND = True
     try:
         study.validate_config(config)
         config.setdefault("threads", 2)
@@ -219,7 +229,8 @@ def main(argv=None):
     print(f"  wall time on {args.cores} cores ({packing}): about {hours(wall)} (<= {hours(wall_bound)})")
     if s["pull_particle_steps"] < s["pull_particle_steps_whole"]:
         region = [p for p in plan.pulls.values() if study.expected_pull_cost(p, config) < study.pull_cost(p, config)]
-        print(f"  active region: {len(region)} of {s['pulls']} pulls sleep, expected to save "
+        expected = "at most (--region-bound: all asleep outside R, at no cost)" if args.region_bound else "expected"
+        print(f"  active region: {len(region)} of {s['pulls']} pulls sleep, {expected} to save "
               f"{1 - s['pull_particle_steps'] / s['pull_particle_steps_whole']:.0%} of the pulls' particle-steps "
               f"(whole cost {s['pull_particle_steps_whole']:.3g}; model and its measurements: "
               f"workflow/granudrag_study/region_cost.py; the scheduler's limits keep the whole cost)")

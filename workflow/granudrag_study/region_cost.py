@@ -199,10 +199,17 @@ def _sleep_time(value):
     return _given(value, SLEEP_TIME_DEFAULT)
 
 
+# The bound (`estimate_cost.py --region-bound`): every grain outside R asleep from the first step
+# and costing nothing, frictionless beds too: the most any active region of that radius can save.
+BOUND = False
+
+
 def sleeping_cost(pull, config):
     """What a sleeping grain costs in this pull's bed: SLEEPING_COST_DAMPED if it was poured with
     settling damping, else SLEEPING_COST, moved toward the stiff bed's at the pull's dwell
-    (stiff_at_dwell) by the bed's stiffness."""
+    (stiff_at_dwell) by the bed's stiffness; 0 under BOUND."""
+    if BOUND:
+        return 0.0
     base = SLEEPING_COST_DAMPED if damped_bed(pull, config) else SLEEPING_COST
     at_stiff = stiff_at_dwell(_sleep_time(pull.settings_in(config).get("sleep_time")))[1]
     return base + stiffness(pull.bed.value("kn")) * (at_stiff - base)
@@ -231,7 +238,8 @@ def outside_fraction(radius, lx, ly, grains, depth):
 def asleep_fraction(pull, config, travel, table=None):
     """The expected mean fraction of the bed's grains asleep over a pull of `travel` d (0 without
     the region), with the shares of `table` (default: ASLEEP_SHARE_DAMPED for a bed poured with
-    settling damping, else ASLEEP_SHARE, as they are at the call)."""
+    settling damping, else ASLEEP_SHARE, as they are at the call); under BOUND every grain
+    outside the region."""
     sysc, settings = config["systems"][pull.bed.system], pull.settings_in(config)
     D = pull.bed.value("D")
     radius = active_radius(settings, D)
@@ -241,8 +249,10 @@ def asleep_fraction(pull, config, travel, table=None):
     pos = pull.bed.value("pos")
     depth = pos if pull.bed.place == "h" else bed_height(grains, lx, ly) - pos
     duration = travel / pull.V
-    rest = _sleep_time(settings.get("sleep_time"))
     outside = outside_fraction(radius, lx, ly, grains, depth)
+    if BOUND:
+        return outside
+    rest = _sleep_time(settings.get("sleep_time"))
     table = table or (ASLEEP_SHARE_DAMPED if damped_bed(pull, config) else ASLEEP_SHARE)
     share = asleep_share(float(froude(pull.V, D)), pull.bed.value("mu"), table)
     kn = pull.bed.value("kn")
