@@ -145,6 +145,28 @@ def test_semantic_errors_name_the_sweep(change, message):
         study.plan(config)
 
 
+def test_a_pull_at_a_yield_speed_its_friction_does_not_take_is_refused_by_sweep():
+    config = copy.deepcopy(BASE)
+    # the yield sweep pulls mu = 0.5 and 0 at 0.01; steps that give 0.1 from mu = 0.1 on disown mu = 0.5's
+    config["report"] = {"yield_speed": [{"mu": 0, "V": 0.01}, {"mu": 0.1, "V": 0.1}]}
+    with pytest.raises(study.ConfigError, match=r"sweep 'yield' pulls mu = 0.5 at V = 0.01.*gives V = 0.1"):
+        study.plan(config)
+    # paired as the steps say: accepted, and so is a pull at a speed no step names
+    config["sweeps"][1]["mu"] = 0
+    config["sweeps"].append({"name": "yield_friction", "system": "I", "D": 2, "depth": 4, "mu": 0.5,
+                             "V": [0.1, 0.03], "pull": {"distance": 0.1}})
+    study.plan(config)
+    # the same with one speed for every friction, and in a validation study comparing speeds
+    config["sweeps"][2]["V"] = 0.01
+    with pytest.raises(study.ConfigError, match="sweep 'yield_friction' pulls mu = 0.5 at V = 0.01"):
+        study.plan(config)
+    config["validation"] = "yield_speed"
+    study.plan(config)
+    config.pop("validation")
+    config["report"] = {"yield_speed": 0.01}
+    study.plan(config)
+
+
 @pytest.mark.parametrize("change, key", [
     (lambda c: c["sweeps"][0].update(D="two"), "sweeps[0].D"),
     (lambda c: c["systems"]["I"].update(grains=-3), "systems.I.grains"),

@@ -120,7 +120,35 @@ def plan(config):
                 pulls.setdefault(pull.key, pull)
     if not pulls:
         raise ConfigError("sweeps: the config describes no pulls")
+    _check_yield_speeds(config, pulls)
     return Plan(config, beds, pulls)
+
+
+def _check_yield_speeds(config, pulls):
+    """With yield speeds per friction (report.yield_speed as {mu, V} steps), a pull at one of
+    those speeds at a friction whose step names another is a yield pull the report would not
+    read as F_Y, and the friction's F_Y then missing: an edit of one without the other (as
+    re-pairing faithful.yaml's yield sweeps, R2). A validation study compares speeds on
+    purpose and is not checked."""
+    steps = (config.get("report") or {}).get("yield_speed")
+    if not isinstance(steps, list) or config.get("validation"):
+        return
+    from analysis.table import yield_speeds
+
+    speeds = {float(s["V"]) for s in steps}
+    given = "[" + ", ".join(f"{{mu: {fmt(s['mu'])}, V: {fmt(s['V'])}}}" for s in steps) + "]"
+    for pull in pulls.values():
+        if not pull.speed.startswith("V~") or not any(math.isclose(pull.V, v, rel_tol=1e-6) for v in speeds):
+            continue
+        mu = pull.bed.value("mu")
+        wanted = float(yield_speeds(steps, [mu])[0])
+        if not math.isclose(pull.V, wanted, rel_tol=1e-6):
+            raise ConfigError(
+                f"sweep '{pull.sweep}' pulls mu = {fmt(mu)} at V = {fmt(pull.V)}, a yield speed of "
+                f"report.yield_speed {given}, which gives V = {fmt(wanted)} at that friction: its drag "
+                f"would not be read as the yield force. Pull it at V = {fmt(wanted)}, or change "
+                f"report.yield_speed (a comparison of speeds belongs in a validation study: "
+                f"config/validate/yield_speed*.yaml)")
 
 
 def log_grid(lo, hi, n):
