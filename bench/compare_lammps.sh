@@ -4,8 +4,8 @@
 #
 #   bench/compare_lammps.sh [--size quick|7.7k|30k|70k] [--bed BED.h5] [--steps N] [--pairs P]
 #                           [--cores "1 2"] [--every K] [--binary build/granudrag]
-#                           [--speed V] [--active_radius R] [--poured_by granudrag|lammps]
-#                           [--keep_history]
+#                           [--speed V] [--active_radius R [--sleep_time T]]
+#                           [--poured_by granudrag|lammps] [--keep_history]
 #
 # 1. Pours the bed with `granudrag pour` (grains 0.9-1.1 d, frozen base, a D = 2 intruder at
 #    depth 9 d, K_n = 2e5 with the paper's ratios, dt = 5e-4), cached in bench/out/, or takes --bed.
@@ -34,7 +34,7 @@
 # the pull without the region and against LAMMPS, with the mean and final fraction of the
 # bodies asleep (the run file's /observables/sleeping_grains), and the same for the second half
 # of the steps alone (`granudrag pull`'s "timing: second half" line), the steady cost once the bed
-# has fallen asleep.
+# has fallen asleep. --sleep_time T gives that pull `--sleep_time T` (config/faithful.yaml's 0.5).
 # granudrag starts like LAMMPS after read_data, the bed's tangential springs dropped
 # (`--fresh_start`); --keep_history starts it from them instead, as a study's pulls start. A bed
 # whose springs are dropped slips and re-settles for about 10 time units before an active region
@@ -42,7 +42,7 @@
 # Needs: apt-get install lammps openmpi-bin.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-size=7.7k bed="" steps="" pairs=3 cores="1 2" every="" gd=build/granudrag speed=1 radius="" poured_by=granudrag
+size=7.7k bed="" steps="" pairs=3 cores="1 2" every="" gd=build/granudrag speed=1 radius="" dwell="" poured_by=granudrag
 fresh=--fresh_start
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -55,6 +55,7 @@ while [ $# -gt 0 ]; do
     --binary) gd=$2; shift 2 ;;
     --speed) speed=$2; shift 2 ;;
     --active_radius) radius=$2; shift 2 ;;
+    --sleep_time) dwell=$2; shift 2 ;;
     --poured_by) poured_by=$2; shift 2 ;;
     --keep_history) fresh=""; shift ;;
     -h | --help) sed -n '2,42p' "$0"; exit 0 ;;
@@ -135,12 +136,12 @@ for c in $cores; do
   for k in $(seq "$pairs"); do
     echo "pair $k of $pairs on $c core(s) ..." >&2
     run_gd "$c" "$c-$k"
-    [ -z "$radius" ] || run_gd "$c" "R$c-$k" --active_radius "$radius"
+    [ -z "$radius" ] || run_gd "$c" "R$c-$k" --active_radius "$radius" ${dwell:+--sleep_time "$dwell"}
     run_lmp "$c" "$c-$k"
   done
 done
 
-/usr/bin/python3 - "$run" "$grains" "$steps" "$pairs" "$cores" "$label" "$speed" "$radius" "${fresh:-kept}" <<'PYEOF'
+/usr/bin/python3 - "$run" "$grains" "$steps" "$pairs" "$cores" "$label" "$speed" "$radius" "${fresh:-kept}" "$dwell" <<'PYEOF'
 import re
 import statistics as st
 import sys
@@ -149,6 +150,7 @@ from pathlib import Path
 run, steps, pairs = Path(sys.argv[1]), int(sys.argv[3]), int(sys.argv[4])
 cores, size = [int(c) for c in sys.argv[5].split()], sys.argv[6]
 speed, radius = sys.argv[7], sys.argv[8]
+region = f"active radius {radius} d" + (f", sleep_time {sys.argv[10]}" if sys.argv[10] else "")
 springs = "kept" if sys.argv[9] == "kept" else "dropped, as LAMMPS's read_data does"
 gd_txt = (run / f"gd{cores[0]}-1.txt").read_text()
 n = int(re.search(r"loop [\d.e+-]+ s for (\d+) steps", gd_txt).group(1))
@@ -201,11 +203,11 @@ for c in cores:
         with h5py.File(run / f"gdR{c}-1.h5", "r") as f:
             asleep = f["/observables/sleeping_grains/value"][()] / natoms
         saving = st.median(x[0] / r for x, r in zip(g, rl))
-        print(f"| granudrag, active radius {radius} d | {c} | {st.median(rl):.3f} | "
+        print(f"| granudrag, {region} | {c} | {st.median(rl):.3f} | "
               f"{ps / st.median(rl):.3g} | {st.median(x[0] for x in rw):.2f} | "
               f"{max(x[1] for x in rw) / 2**20:.0f} | | **{st.median(l / r for l, r in zip(ll, rl)):.2f}×** | "
               f"{st.median(l[0] / r[0] for l, r in zip(lw, rw)):.2f}× |")
-        print(f"#   active radius {radius} d on {c} thread(s): {saving:.2f}x faster than without it "
+        print(f"#   {region} on {c} thread(s): {saving:.2f}x faster than without it "
               f"(loop, median of the per-round ratios); bodies asleep: {asleep.mean():.1%} on "
               f"average over the pull, {asleep[-1]:.1%} at its end")
         # The second half of the steps: the steady cost once the bed has fallen asleep (a study's
