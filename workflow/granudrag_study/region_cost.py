@@ -248,11 +248,10 @@ def asleep_fraction(pull, config, travel, table=None):
     lx, ly, grains = float(sysc["lx"]), float(sysc["ly"]), int(sysc["grains"])
     pos = pull.bed.value("pos")
     depth = pos if pull.bed.place == "h" else bed_height(grains, lx, ly) - pos
-    duration = travel / pull.V
     outside = outside_fraction(radius, lx, ly, grains, depth)
     if BOUND:
         return outside
-    rest = _sleep_time(settings.get("sleep_time"))
+    rest, duration = _sleep_time(settings.get("sleep_time")), travel / pull.V
     table = table or (ASLEEP_SHARE_DAMPED if damped_bed(pull, config) else ASLEEP_SHARE)
     share = asleep_share(float(froude(pull.V, D)), pull.bed.value("mu"), table)
     kn = pull.bed.value("kn")
