@@ -103,8 +103,10 @@ void BruteForceContacts::import_history(const std::vector<PairHistory>& history)
 }
 
 void BruteForceContacts::held_pair_forces(const Particles& p, const Box& box, const ContactParams& c,
-                                          std::vector<Vec3>& force) const {
+                                          std::vector<Vec3>& force, std::vector<double>* load) const {
   force.assign(p.size(), Vec3::Zero());
+  std::vector<int> count(load ? p.size() : 0, 0);
+  if (load) load->assign(p.size(), 0.0);
   for (const auto& [key, stored] : history_) {
     const auto [i, j] = key;
     if (!both_held(i, j)) continue;
@@ -114,7 +116,17 @@ void BruteForceContacts::held_pair_forces(const Particles& p, const Box& box, co
     const PairForce pf = hertz_history(c, g, 0.0, shear, false);
     force[i] += pf.force;
     force[j] -= pf.force;
+    if (load) {
+      const double magnitude = pf.force.norm();
+      (*load)[i] += magnitude;
+      (*load)[j] += magnitude;
+      ++count[i];
+      ++count[j];
+    }
   }
+  if (load)
+    for (std::size_t i = 0; i < count.size(); ++i)
+      if (count[i]) (*load)[i] /= count[i];
 }
 
 double BruteForceContacts::max_overlap(const Particles& p, const Box& box) const {

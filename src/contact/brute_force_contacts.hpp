@@ -28,8 +28,8 @@ class BruteForceContacts : public ContactLoop {
   void rebuild(Particles&, const Box&) override {}
   std::vector<PairHistory> export_history() const override;
   void import_history(const std::vector<PairHistory>& history) override;
-  void held_pair_forces(const Particles& p, const Box& box, const ContactParams& c,
-                        std::vector<Vec3>& force) const override;
+  void held_pair_forces(const Particles& p, const Box& box, const ContactParams& c, std::vector<Vec3>& force,
+                        std::vector<double>* load) const override;
 
  private:
   void accumulate_serial(Particles& p, const Box& box, const ContactParams& c, double dt,

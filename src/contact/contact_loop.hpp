@@ -82,8 +82,9 @@ class ContactLoop {
   virtual void held_changed() {}
   // Per body, the force from its touching partners held with it, their springs as they are
   // (constant while both stay held); zero for the others. Called when the held set changes.
+  // With `load`, also the mean magnitude of those pair forces per body (0 without any).
   virtual void held_pair_forces(const Particles& p, const Box& box, const ContactParams& c,
-                                std::vector<Vec3>& force) const = 0;
+                                std::vector<Vec3>& force, std::vector<double>* load) const = 0;
   // Sets exposed[i] = 1 for every body with a pair this loop may compute before its next list
   // build: a partner not held like it, or an intruder. A held grain left at 0 has nothing but
   // gravity acting on it (ActiveRegion::classify_quiet). The default marks every body: a loop

@@ -48,8 +48,8 @@ class VerletContacts : public ContactLoop {
   void rebuild(Particles& p, const Box& box) override;
   std::vector<PairHistory> export_history() const override;
   void import_history(const std::vector<PairHistory>& history) override;
-  void held_pair_forces(const Particles& p, const Box& box, const ContactParams& c,
-                        std::vector<Vec3>& force) const override;
+  void held_pair_forces(const Particles& p, const Box& box, const ContactParams& c, std::vector<Vec3>& force,
+                        std::vector<double>* load) const override;
   void held_changed() override;
   void mark_exposed(std::vector<std::uint8_t>& exposed) const override;
   const NeighborList& list() const { return list_; }

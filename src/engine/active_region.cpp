@@ -16,10 +16,10 @@ double default_wake_force(double kn) {
 ActiveRegion::ActiveRegion(const ActiveRegionSettings& settings, double dt, const Particles& p)
     : settings_(settings), dt_(dt) {
   if (!(settings_.radius > 0) || !(settings_.sleep_distance > 0) || !(settings_.sleep_time >= 0) ||
-      !(settings_.wake_force > 0) || !(settings_.check_interval > 0))
+      !(settings_.wake_force > 0) || !(settings_.wake_load >= 0) || !(settings_.check_interval > 0))
     throw Error(
         "active region: active_radius, sleep_distance, wake_force and the check interval must be > 0, "
-        "sleep_time >= 0 (an unset wake_force is resolved by the pull: default_wake_force)");
+        "sleep_time and wake_load >= 0 (an unset wake_force is resolved by the pull: default_wake_force)");
   check_steps_ = std::max(1L, std::lround(settings_.check_interval / dt));
   dwell_checks_ = static_cast<std::int32_t>(
       std::clamp(std::ceil(settings_.sleep_time / (check_steps_ * dt) - 1e-9), 1.0, 1e9));
@@ -29,6 +29,7 @@ ActiveRegion::ActiveRegion(const ActiveRegionSettings& settings, double dt, cons
   s_.anchor = p.x;
   s_.force_sum.assign(n, Vec3::Zero());
   s_.held_force.assign(n, Vec3::Zero());
+  if (settings_.wake_load > 0) s_.held_load.assign(n, 0.0);
   s_.reference.assign(n, Vec3::Zero());
   s_.reference_due.assign(n, 0);
   s_.quiet.assign(n, 0);
@@ -55,6 +56,7 @@ bool ActiveRegion::after_step(Particles& p, const Box& box, long step, const Vec
   const double reach = settings_.radius + speed * check_steps_ * dt_;
   const double per_step = 1.0 / static_cast<double>(std::max<std::int64_t>(1, s_.interval_steps));
   const double wake = settings_.wake_force * gravity.norm();
+  const double* load = s_.held_load.empty() ? nullptr : s_.held_load.data();
   const double rest = settings_.sleep_distance;
   const long n = static_cast<long>(p.size());
   long woke = 0, slept = 0, sleeping = 0;
@@ -71,7 +73,9 @@ bool ActiveRegion::after_step(Particles& p, const Box& box, long step, const Vec
         s_.reference[i] = net;
         s_.reference_due[i] = 0;
       }
-      if (near || (net - s_.reference[i]).norm() > wake * p.mass[i]) {
+      const double threshold =
+          load ? std::max(wake * p.mass[i], settings_.wake_load * load[i]) : wake * p.mass[i];
+      if (near || (net - s_.reference[i]).norm() > threshold) {
         s_.held[i] = 0;
         s_.quiet[i] = 0;
         s_.at_rest[i] = 0;
@@ -134,6 +138,13 @@ void ActiveRegion::restore(const State& s, const Particles& p) {
     if (size != n)
       throw Error("the active region's saved state does not match the bed's " + std::to_string(n) +
                   " bodies");
+  if (s.held_load.size() != (settings_.wake_load > 0 ? n : 0))
+    throw Error(
+        settings_.wake_load > 0
+            ? "the active region's saved state has no held loads, and this pull's wake_load needs them: "
+              "resume with the wake_load the run was started with"
+            : "the active region's saved state has held loads (a run with wake_load): resume with "
+              "the wake_load the run was started with");
   s_ = s;
   sleeping_ = 0;
   for (std::size_t i = 0; i < n; ++i) sleeping_ += s_.held[i] && p.species[i] == Species::Mobile;

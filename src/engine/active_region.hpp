@@ -17,6 +17,11 @@
 // through the periodic box), or when the net force on it, averaged over a check interval, has
 // moved from its value in the first interval after it fell asleep by more than wake_force times
 // its weight: stress carried out of the region along a force chain wakes the grains it loads.
+// With wake_load set, the threshold is the larger of that and wake_load times the grain's mean
+// contact force from its held partners: deep in a bed a grain's contacts carry tens of times its
+// weight, and the elastic ripples of a stiff bed change its net force by more than a few weights
+// without moving anything (the churn that kept a 2e6 bed's region from saving CPU). Counting held
+// partners only errs towards waking: an awake partner's load is left out of the scale.
 // The net force is the sum over its awake partners (computed every step anyway, and summed over
 // the interval), gravity, and its contacts with other held bodies, which are constant while both
 // are held and evaluated once whenever the held set changes. Frozen base grains count as held.
@@ -50,6 +55,8 @@ struct ActiveRegionSettings {
   double sleep_time = 1.0;       // sqrt(d/g): at rest for this long before falling asleep
   double wake_force = NAN;       // fraction of the grain's weight m g; NaN: unset, the pull
                                  // takes default_wake_force(K_n)
+  double wake_load = 0;          // fraction of the grain's mean contact force with its held
+                                 // partners; the wake test takes the larger threshold; 0: off
   double check_interval = 0.25;  // sqrt(d/g) between decisions (the pull derives it)
   bool skip_quiet = true;        // false: every held grain is stepped (the reference for tests)
   bool enabled() const { return radius > 0; }
@@ -75,6 +82,8 @@ class ActiveRegion {
     std::vector<Vec3> force_sum;              // per held grain: its force from awake partners and
                                               // gravity, summed over the current interval
     std::vector<Vec3> held_force;             // per held grain: from its held partners (constant)
+    std::vector<double> held_load;            // per held grain: the mean magnitude of those
+                                              // contact forces (only with wake_load)
     std::vector<Vec3> reference;              // per held grain: its mean net force after it fell asleep
     std::vector<std::uint8_t> reference_due;  // per held grain: take it at the next check
     std::vector<std::uint8_t> quiet;          // per body: kQuiet, kTurningQuiet or 0
@@ -99,6 +108,9 @@ class ActiveRegion {
   // the contact loop and hands the held partners' forces to set_held_forces().
   bool after_step(Particles& p, const Box& box, long step, const Vec3& gravity);
   std::vector<Vec3>& held_forces() { return s_.held_force; }
+  // Where the caller puts the held partners' mean contact force per body, or null without
+  // wake_load.
+  std::vector<double>* held_loads() { return settings_.wake_load > 0 ? &s_.held_load : nullptr; }
   // Per body: kQuiet when quiet (held, no awake partner): the integrator skips it.
   static constexpr std::uint8_t kQuiet = 1, kTurningQuiet = 2;
   const std::vector<std::uint8_t>& quiet() const { return s_.quiet; }

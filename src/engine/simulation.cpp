@@ -109,7 +109,7 @@ void Simulation::step() {
   ++steps_;
   if (region_ && region_->after_step(p_, box_, steps_, settings_.gravity)) {
     contacts_->held_changed();
-    contacts_->held_pair_forces(p_, box_, contact_, region_->held_forces());
+    contacts_->held_pair_forces(p_, box_, contact_, region_->held_forces(), region_->held_loads());
     classify_quiet(true);
   }
   timers_.stamp(Phase::Integrate);
@@ -392,8 +392,10 @@ Simulation::State reordered(const Simulation::State& s, const std::vector<std::s
   r.region.anchor = permuted(a.anchor, order);
   r.region.force_sum = permuted(a.force_sum, order);
   r.region.held_force = permuted(a.held_force, order);
+  r.region.held_load = permuted(a.held_load, order);
   r.region.reference = permuted(a.reference, order);
   r.region.reference_due = permuted(a.reference_due, order);
+  r.region.quiet = permuted(a.quiet, order);
   return r;
 }
 

@@ -54,6 +54,7 @@ void write_region(h5::File& f, const ActiveRegion::State& s) {
   f.write_rows("/active_region/anchor", s.anchor);
   f.write_rows("/active_region/force_sum", s.force_sum);
   f.write_rows("/active_region/held_force", s.held_force);
+  if (!s.held_load.empty()) f.write("/active_region/held_load", s.held_load);
   f.write_rows("/active_region/reference", s.reference);
   f.write("/active_region/reference_due", s.reference_due);
   f.write("/active_region/quiet", s.quiet);
@@ -69,6 +70,7 @@ ActiveRegion::State read_region(const h5::File& f) {
   s.anchor = f.read_vec3("/active_region/anchor");
   s.force_sum = f.read_vec3("/active_region/force_sum");
   s.held_force = f.read_vec3("/active_region/held_force");
+  if (f.exists("/active_region/held_load")) s.held_load = f.read_doubles("/active_region/held_load");
   s.reference = f.read_vec3("/active_region/reference");
   s.reference_due = f.read_uint8("/active_region/reference_due");
   // Written before quiet grains were skipped: none quiet, every held grain stepped (the same

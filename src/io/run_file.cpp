@@ -52,12 +52,14 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
     f.set_attr("/observables/sleeping_grains", "sleeps", static_cast<std::int64_t>(region->state().sleeps));
     // The wake test used, which an unset wake_force leaves to the bed's K_n.
     f.set_attr("/observables/sleeping_grains", "wake_force", region->settings().wake_force);
+    f.set_attr("/observables/sleeping_grains", "wake_load", region->settings().wake_load);
     f.set_attr(
         "/observables/sleeping_grains", "meaning",
         std::string(
             "active region (active_radius): grains asleep at the end of each interval; "
             "wake_ups and sleeps: how many times a grain woke or fell asleep in the pull; wake_force: the "
-            "wake test used (an unset one is the default at the bed's K_n)"));
+            "wake test used (an unset one is the default at the bed's K_n); wake_load: its part relative to "
+            "the grain's contact load (0: none)"));
   }
   auto scalar = [&](const std::string& name, double value, double error, const std::string& meaning) {
     f.set_attr("/observables/" + name, "value", value);

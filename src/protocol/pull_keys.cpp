@@ -103,6 +103,14 @@ const KeyTable<PullSpec>& pull_keys() {
                 "grains as often as they slept: the force of a given creep grows as K_n^(2/3); the run "
                 "file records the value used)")
           .field(&PullSpec::active, &ActiveRegionSettings::wake_force),
+      Key::number("wake_load")
+          .unit("contact force")
+          .at_least(0)
+          .help("active region (experimental): the wake test's threshold is at least this fraction of the "
+                "grain's mean contact force with its sleeping partners (deep in a bed they carry tens of "
+                "weights, and a stiff bed's elastic ripples change the net force by several without moving "
+                "a grain); 0: off, the threshold is wake_force alone")
+          .field(&PullSpec::active, &ActiveRegionSettings::wake_load),
       // Rows that other commands share (their defaults must be PullSpec's).
       Key(skin_key()).field(&PullSpec::skin),
       Key(max_overlap_key()).field(&PullSpec::max_overlap),

@@ -115,6 +115,35 @@ TEST(ActiveRegion, ASleepingGrainWakesWhenItsLoadChangesByTheWakeForceOrTheIntru
   EXPECT_EQ(region.wake_ups(), 2);
 }
 
+// wake_load: the threshold is the larger of wake_force m g and wake_load times the grain's mean
+// contact force with its held partners (which the simulation hands over with the held forces).
+TEST(ActiveRegion, WithWakeLoadAHeavilyLoadedGrainWakesAtThatFractionOfItsContactForce) {
+  for (const double contact : {20.0, 1.0}) {  // mean contact force, in weights
+    Pair s;
+    const double weight = s.p.mass[s.far];  // g = 1
+    ActiveRegionSettings set = settings();
+    set.wake_load = 0.1;  // 2 weights at 20, 0.1 (below wake_force's 0.5) at 1
+    ActiveRegion region(set, 0.01, s.p);
+    ASSERT_NE(region.held_loads(), nullptr);
+    long step = 0;
+    run(region, s, step, 30);
+    ASSERT_TRUE(region.held()[s.far]);
+    (*region.held_loads())[s.far] = contact * weight;
+    const Vec3 load(0, 0, -3.0);
+    run(region, s, step, 10, load);
+    const double threshold = std::max(0.5, 0.1 * contact);  // weights
+    run(region, s, step, 30, load + Vec3(0.9 * threshold * weight, 0, 0));
+    EXPECT_TRUE(region.held()[s.far]) << contact;
+    run(region, s, step, 10, load + Vec3(1.1 * threshold * weight, 0, 0));
+    EXPECT_FALSE(region.held()[s.far]) << contact;
+  }
+  ActiveRegion off(settings(), 0.01, Pair().p);
+  EXPECT_EQ(off.held_loads(), nullptr);  // 0: no loads asked for, none kept
+  ActiveRegionSettings negative = settings();
+  negative.wake_load = -0.1;
+  EXPECT_THROW(ActiveRegion(negative, 0.01, Pair().p), Error);
+}
+
 TEST(ActiveRegion, ARegionWiderThanTheBoxChangesNoBitOfAPull) {
   support::ThreadCount tc(1);  // the 2-thread schedules with sleeping grains: test_oracle.cpp
   PullSpec spec;
@@ -135,28 +164,34 @@ TEST(ActiveRegion, ARegionWiderThanTheBoxChangesNoBitOfAPull) {
 
 TEST(ActiveRegion, APullWithSleepingGrainsResumesFromACheckpointBitwise) {
   support::ThreadCount tc(1);  // the 2-thread schedules with sleeping grains: test_oracle.cpp
-  PullSpec spec = sleeping_pull();
-  spec.checkpoint_every = 400;
-  Pull whole(small_bed(), spec);
-  const support::Checkpoints checkpoints = support::run_keeping_checkpoints(whole);
-  ASSERT_GE(checkpoints.size(), 3u);
-  const Simulation::State& at = checkpoints[2].first;
-  const long asleep = std::count(at.region.held.begin(), at.region.held.end(), 1) -
-                      static_cast<long>(small_bed().state.particles.count(Species::Frozen));
-  ASSERT_GT(asleep, 100) << "the checkpoint should catch grains asleep";
-  ASSERT_GT(std::count(at.region.quiet.begin(), at.region.quiet.end(), ActiveRegion::kQuiet), 50)
-      << "and some of them quiet";
-  Pull resumed(small_bed(), spec, at, checkpoints[2].second);
-  resumed.run(false, [](const Pull&) {});
-  const Particles& a = whole.simulation().particles();
-  const Particles& b = resumed.simulation().particles();
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    ASSERT_EQ(a.x[i], b.x[i]) << i;
-    ASSERT_EQ(a.v[i], b.v[i]) << i;
+  for (const double wake_load : {0.0, 0.3}) {
+    SCOPED_TRACE(wake_load);
+    PullSpec spec = sleeping_pull();
+    spec.active.wake_load = wake_load;
+    spec.checkpoint_every = 400;
+    Pull whole(small_bed(), spec);
+    const support::Checkpoints checkpoints = support::run_keeping_checkpoints(whole);
+    ASSERT_GE(checkpoints.size(), 3u);
+    const Simulation::State& at = checkpoints[2].first;
+    const long asleep = std::count(at.region.held.begin(), at.region.held.end(), 1) -
+                        static_cast<long>(small_bed().state.particles.count(Species::Frozen));
+    ASSERT_GT(asleep, 100) << "the checkpoint should catch grains asleep";
+    ASSERT_GT(std::count(at.region.quiet.begin(), at.region.quiet.end(), ActiveRegion::kQuiet), 50)
+        << "and some of them quiet";
+    Pull resumed(small_bed(), spec, at, checkpoints[2].second);
+    resumed.run(false, [](const Pull&) {});
+    const Particles& a = whole.simulation().particles();
+    const Particles& b = resumed.simulation().particles();
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      ASSERT_EQ(a.x[i], b.x[i]) << i;
+      ASSERT_EQ(a.v[i], b.v[i]) << i;
+    }
+    EXPECT_EQ(whole.record().fx, resumed.record().fx);
+    EXPECT_EQ(whole.record().sleeping, resumed.record().sleeping);
+    EXPECT_EQ(whole.simulation().active_region()->wake_ups(),
+              resumed.simulation().active_region()->wake_ups());
+    EXPECT_EQ(at.region.held_load.size(), wake_load > 0 ? a.size() : 0u);
   }
-  EXPECT_EQ(whole.record().fx, resumed.record().fx);
-  EXPECT_EQ(whole.record().sleeping, resumed.record().sleeping);
-  EXPECT_EQ(whole.simulation().active_region()->wake_ups(), resumed.simulation().active_region()->wake_ups());
 }
 
 // Quiet grains (held, no awake partner) are skipped by the integrator; stepping them instead

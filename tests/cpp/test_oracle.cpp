@@ -155,6 +155,7 @@ TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
     const double dt = Simulation(scene.particles, scene.box, c, Settings{}).dt();
     fast_s.active.sleep_time = 150 * dt;
     fast_s.active.wake_force = 1e9;
+    fast_s.active.wake_load = 1e-9;     // the held loads computed on both paths, the test unchanged
     fast_s.active.check_interval = dt;  // every step
     Settings brute_s = fast_s;
     brute_s.brute_force = true;
@@ -205,6 +206,17 @@ TEST(Oracle, WithSleepingGrainsTheFastPathComputesWhatTheOracleDoes) {
               static_cast<long>(n));
     EXPECT_GT(region.wake_ups(), 0) << "the intruder woke some";
     EXPECT_EQ(region.wake_ups(), brute.active_region()->wake_ups());
+    // The held partners' mean contact force, by the lists and by every pair.
+    const std::vector<double>& load_a = region.state().held_load;
+    const std::vector<double>& load_b = brute.active_region()->state().held_load;
+    ASSERT_EQ(load_a.size(), n);
+    ASSERT_EQ(load_b.size(), n);
+    long loaded = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      ASSERT_NEAR(load_a[i], load_b[i], 1e-9 * (1 + load_b[i])) << i;
+      loaded += load_b[i] > 0;
+    }
+    EXPECT_GT(loaded, 20) << "held grains with held partners in touch";
     // What was held throughout has not moved, nor have the springs between two such bodies.
     long unchanged = 0;
     for (std::size_t i = 0; i < n; ++i) {
