@@ -58,7 +58,7 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
                  "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "stop_reason",
-                 "active_radius", "wake_force", "sleep_speed", "sleep_time", "perturbation", "asleep",
+                 "active_radius", "wake_force", "wake_load", "sleep_speed", "sleep_time", "perturbation", "asleep",
                  "settle_damping", "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
@@ -173,9 +173,10 @@ def read_run(path, system=None, root=None):
                   if version >= 2 else {})
         active_radius = physics.active_radius(region, get["D"])
         # The region's wake and rest tests, with it on only (NaN without: every grain is awake).
-        wake_force = sleep_speed = sleep_time = math.nan
+        wake_force = wake_load = sleep_speed = sleep_time = math.nan
         if active_radius > 0:
             wake_force = _wake_force_used(f, path, obs)
+            wake_load = _setting(f, path, "pull", "wake_load")  # 0 (off) before the key existed
             sleep_speed = _setting(f, path, "pull", "sleep_speed") or math.nan
             # 0 is a valid sleep_time: a file without the key reads NaN, not 0
             sleep_time = _setting(f, path, "pull", "sleep_time", default=math.nan)
@@ -229,7 +230,8 @@ def read_run(path, system=None, root=None):
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,
-            "active_radius": active_radius, "wake_force": wake_force, "sleep_speed": sleep_speed,
+            "active_radius": active_radius, "wake_force": wake_force, "wake_load": wake_load,
+            "sleep_speed": sleep_speed,
             "sleep_time": sleep_time,
             "perturbation": perturbation, "asleep": asleep,
             "settle_damping": settle_damping, "sanity": sanity, "path": str(path)}

@@ -86,7 +86,7 @@ STUDIES = {
                            ("D", *PLACEMENT, "mu", "kn", "gamman", "Fr"), "active radius (d)", True,
                            "the smallest active radius that agrees with every grain integrated, for each D",
                            also_judged=(("theta", "theta_err"),), also_reported=("n_contacts", "Z"),
-                           settings=("wake_force", "sleep_speed", "sleep_time")),
+                           settings=("wake_force", "wake_load", "sleep_speed", "sleep_time")),
     # Beds poured with and without the settling damping (granudrag pour --settle_damping, systems
     # that differ in it alone): the reference is 0, the paper's pour. Other beds, so the drags are
     # compared as the points' means over their beds, with the bed scatter in their errors.
@@ -100,10 +100,10 @@ STUDIES = {
 # tests/python/test_runs.py reads them back from a run): a label leaves out a setting at its
 # default everywhere. wake_force's is that of K_n <= 2e5; a stiffer bed's default (2 at 2e6) is
 # named like any other value.
-SETTING_DEFAULTS = {"wake_force": 0.5, "sleep_speed": 0.003, "sleep_time": 1.0}
+SETTING_DEFAULTS = {"wake_force": 0.5, "wake_load": 0.0, "sleep_speed": 0.003, "sleep_time": 1.0}
 # What studies run before a setting was recorded ran at, the defaults of then (sleep_speed was
 # 0.01 until 2026-11-27): their comparison tables lack the column.
-SETTINGS_BEFORE_RECORDED = {"wake_force": 0.5, "sleep_speed": 0.01, "sleep_time": 1.0}
+SETTINGS_BEFORE_RECORDED = {"wake_force": 0.5, "wake_load": 0.0, "sleep_speed": 0.01, "sleep_time": 1.0}
 
 
 # Every study `validate` runs: the comparisons above, and the pull length (analysis.pull_length),

@@ -123,6 +123,7 @@ def test_scale_is_nan_when_the_file_does_not_record_it(tmp_path, version):
     assert all(np.isnan(row[k]) for k in ("lx", "ly", "grains")) and row["drag"] > 0
     assert row["active_radius"] == 0.0 and row["asleep"] == 0.0   # a pull that records no region
     assert np.isnan(row["wake_force"]) and np.isnan(row["sleep_speed"])   # so no wake or rest test either
+    assert np.isnan(row["wake_load"])
     assert np.isnan(row["sleep_time"])
     assert row["settle_damping"] == 0.0                            # nor its bed's pour
     # A bed of format version 1, or imported: the run has no /parameters/pour.
@@ -216,8 +217,9 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     assert row["active_radius"] == 3.0       # the validation of the active region compares by it
     # The default wake and rest tests, recorded (each setting tells variants apart), and the defaults
     # the validation's labels leave out are the engine's
-    assert ((row["wake_force"], row["sleep_speed"], row["sleep_time"]) ==
-            (SETTING_DEFAULTS["wake_force"], SETTING_DEFAULTS["sleep_speed"], SETTING_DEFAULTS["sleep_time"]))
+    assert ((row["wake_force"], row["wake_load"], row["sleep_speed"], row["sleep_time"]) ==
+            (SETTING_DEFAULTS["wake_force"], SETTING_DEFAULTS["wake_load"], SETTING_DEFAULTS["sleep_speed"],
+             SETTING_DEFAULTS["sleep_time"]))
     # An unset wake_force follows the bed's K_n: not a recorded key, the value used beside the count
     assert "wake_force" not in params["pull"]
     with h5py.File(run) as f:
@@ -229,11 +231,11 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
     replica.parent.mkdir()
     subprocess.run([str(BINARY), "pull", "--bed", str(tmp_path / "bed.h5"), "--output", str(replica),
                     "--distance", "0.5", "--active_diameters", "2", "--perturbation", "1e-9", "--wake_force", "1",
-                    "--sleep_speed", "0.002", "--sleep_time", "0.5", "--quiet"],
+                    "--sleep_speed", "0.002", "--sleep_time", "0.5", "--wake_load", "0.2", "--quiet"],
                    check=True, capture_output=True)
     again = read_run(replica)
     assert again["active_radius"] == 3.0 and again["perturbation"] == 1e-9 and again["wake_force"] == 1.0
-    assert again["sleep_speed"] == 0.002 and again["sleep_time"] == 0.5
+    assert again["sleep_speed"] == 0.002 and again["sleep_time"] == 0.5 and again["wake_load"] == 0.2
     assert read_parameters(replica)["pull"]["active_diameters"] == 2.0
     # A file from before the value used was recorded: the key it was given
     with h5py.File(replica, "r+") as f:

@@ -154,6 +154,22 @@ def test_active_region_tells_apart_regions_of_one_radius_with_other_wake_tests()
                                              "active_region")
 
 
+def test_active_region_tells_apart_wake_tests_relative_to_the_load():
+    """wake_load is a setting like wake_force: regions of one radius and wake_force that differ in
+    it are two variants, each named by it."""
+    runs = region_runs({0.0: 0.0, 4.0: 0.0, 8.0: 0.0, 12.0: 0.0}, beds=3)
+    runs = runs[runs.active_radius.isin([0.0, 8.0])]
+    on = runs.active_radius > 0
+    runs = runs.assign(wake_force=np.where(on, 0.5, np.nan), wake_load=np.where(on, 0.0, np.nan))
+    loaded = runs[on].assign(wake_load=0.1, system="R8_load", drag=runs[on].drag * 1.2)
+    cmp = val.compare(pd.concat([runs, loaded], ignore_index=True), "active_region")
+    assert set(cmp.wake_load) == {0.0, 0.1}
+    assert cmp[cmp.wake_load == 0.0].agrees.all() and not cmp[cmp.wake_load == 0.1].agrees.any()
+    text = val.conclusion(cmp, "active_region")
+    assert "active_radius = 8 (wake_load 0.1) against 0" in text, text
+    assert "active_radius = 8 (wake_load 0) against 0: agrees at 4 of 4" in text, text
+
+
 def test_active_region_tells_apart_rest_tests_and_names_only_settings_off_their_default():
     runs = region_runs({0.0: 0.0, 4.0: 0.0, 8.0: 0.0, 12.0: 0.0}, beds=3)
     runs = runs[runs.active_radius.isin([0.0, 8.0])]
