@@ -104,29 +104,16 @@ void BruteForceContacts::import_history(const std::vector<PairHistory>& history)
 
 void BruteForceContacts::held_pair_forces(const Particles& p, const Box& box, const ContactParams& c,
                                           std::vector<Vec3>& force, std::vector<double>* load) const {
-  force.assign(p.size(), Vec3::Zero());
-  std::vector<int> count(load ? p.size() : 0, 0);
-  if (load) load->assign(p.size(), 0.0);
+  HeldPairSums sums(p.size(), force, load);
   for (const auto& [key, stored] : history_) {
     const auto [i, j] = key;
     if (!both_held(i, j)) continue;
     ContactGeometry g;
     if (!touching(p, box, i, j, g)) continue;
     Vec3 shear = stored;
-    const PairForce pf = hertz_history(c, g, 0.0, shear, false);
-    force[i] += pf.force;
-    force[j] -= pf.force;
-    if (load) {
-      const double magnitude = pf.force.norm();
-      (*load)[i] += magnitude;
-      (*load)[j] += magnitude;
-      ++count[i];
-      ++count[j];
-    }
+    sums.add(i, j, hertz_history(c, g, 0.0, shear, false).force);
   }
-  if (load)
-    for (std::size_t i = 0; i < count.size(); ++i)
-      if (count[i]) (*load)[i] /= count[i];
+  sums.finish();
 }
 
 double BruteForceContacts::max_overlap(const Particles& p, const Box& box) const {

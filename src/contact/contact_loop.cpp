@@ -17,4 +17,27 @@ void ContactLoop::accumulate(Particles& p, const Box& box, const ContactParams& 
   }
 }
 
+ContactLoop::HeldPairSums::HeldPairSums(std::size_t bodies, std::vector<Vec3>& force,
+                                        std::vector<double>* load)
+    : force_(force), load_(load), count_(load ? bodies : 0, 0) {
+  force_.assign(bodies, Vec3::Zero());
+  if (load_) load_->assign(bodies, 0.0);
+}
+
+void ContactLoop::HeldPairSums::add(int i, int j, const Vec3& f) {
+  force_[i] += f;
+  force_[j] -= f;
+  if (!load_) return;
+  const double magnitude = f.norm();
+  (*load_)[i] += magnitude;
+  (*load_)[j] += magnitude;
+  ++count_[i];
+  ++count_[j];
+}
+
+void ContactLoop::HeldPairSums::finish() {
+  for (std::size_t i = 0; i < count_.size(); ++i)
+    if (count_[i]) (*load_)[i] /= count_[i];
+}
+
 }  // namespace granudrag

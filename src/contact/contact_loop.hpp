@@ -94,6 +94,19 @@ class ContactLoop {
   }
 
  protected:
+  // held_pair_forces' sums, shared by every loop: each held pair's force on both bodies and,
+  // with `load`, the mean of their magnitudes once finish() divides by the counts.
+  class HeldPairSums {
+   public:
+    HeldPairSums(std::size_t bodies, std::vector<Vec3>& force, std::vector<double>* load);
+    void add(int i, int j, const Vec3& f);
+    void finish();
+
+   private:
+    std::vector<Vec3>& force_;
+    std::vector<double>* load_;
+    std::vector<int> count_;
+  };
   bool both_held(int i, int j) const { return held_ && (*held_)[i] && (*held_)[j]; }
   const std::vector<std::uint8_t>* held_ = nullptr;
 };

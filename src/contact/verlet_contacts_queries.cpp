@@ -155,9 +155,7 @@ void VerletContacts::count_contacts(std::vector<int>& contacts) const {
 
 void VerletContacts::held_pair_forces(const Particles& p, const Box& box, const ContactParams& c,
                                       std::vector<Vec3>& force, std::vector<double>* load) const {
-  force.assign(p.size(), Vec3::Zero());
-  std::vector<int> count(load ? p.size() : 0, 0);
-  if (load) load->assign(p.size(), 0.0);
+  HeldPairSums sums(p.size(), force, load);
   if (!held_) return;
   const PairList& pairs = list_.grain_pairs();
   for (std::size_t i = 0; i < pairs.rows(); ++i) {
@@ -168,21 +166,10 @@ void VerletContacts::held_pair_forces(const Particles& p, const Box& box, const 
       if (!(*held_)[j] || !grain_history_.touching[e] || !pair_geometry(p, box, static_cast<int>(i), j, g))
         continue;
       Vec3 shear = grain_history_.shear[e];
-      const PairForce pf = hertz_history(c, g, 0.0, shear, false);
-      force[i] += pf.force;
-      force[j] -= pf.force;
-      if (load) {
-        const double magnitude = pf.force.norm();
-        (*load)[i] += magnitude;
-        (*load)[j] += magnitude;
-        ++count[i];
-        ++count[j];
-      }
+      sums.add(static_cast<int>(i), j, hertz_history(c, g, 0.0, shear, false).force);
     }
   }
-  if (load)
-    for (std::size_t i = 0; i < count.size(); ++i)
-      if (count[i]) (*load)[i] /= count[i];
+  sums.finish();
 }
 
 // The largest overlap over the lists' pairs: those touching at the last evaluation, or all.

@@ -1,5 +1,6 @@
 #pragma once
 // Small systems for the tests.
+#include <gtest/gtest.h>
 #include <omp.h>
 
 #include <cmath>
@@ -51,6 +52,17 @@ inline Checkpoints run_keeping_checkpoints(Pull& pull) {
   Checkpoints out;
   pull.run(false, [&](const Pull& p) { out.emplace_back(p.state(), p.record()); });
   return out;
+}
+
+// Whether two runs left every body in the same place, at the same velocity and spin, bit for
+// bit (the resume tests); names the first body that differs.
+inline ::testing::AssertionResult same_motion(const Particles& a, const Particles& b) {
+  if (a.size() != b.size())
+    return ::testing::AssertionFailure() << a.size() << " bodies against " << b.size();
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a.x[i] != b.x[i] || a.v[i] != b.v[i] || a.omega[i] != b.omega[i])
+      return ::testing::AssertionFailure() << "body " << i << " differs";
+  return ::testing::AssertionSuccess();
 }
 
 // Relative difference of two vectors on the scale `scale`.
