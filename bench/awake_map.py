@@ -4,19 +4,22 @@
     /usr/bin/python3 bench/awake_map.py RUN.h5
     /usr/bin/python3 bench/awake_map.py REFERENCE.h5 --radius R
 
-RUN.h5 is a `granudrag pull --active_radius R ... --dump_interval T` run file. For each frame it
-prints the fraction of the bed asleep and, of the grains farther than R from the intruder (which
-could sleep), how many are awake, how many of those move faster than the pull's rest test
-(sleep_speed V, at most sleep_speed_max: a grain that fast cannot fall asleep) and ten times
-faster, where they are (depth below the bed's top and horizontal distance from the intruder,
-percentiles) and the awake fraction per 4 d depth band and per 5 d horizontal band.
+RUN.h5 is a `granudrag pull --active_radius R ... --dump_interval T` run file. For each frame
+after the first it prints the fraction of the bed asleep and, of the grains farther than R from
+the intruder (which could sleep), how many are awake, and how many drifted since the frame before
+faster than the pull's rest test (sleep_speed V, at most sleep_speed_max) and ten times faster:
+their displacement over the frames' interval, so a grain that only vibrates about its place
+does not count (in a bed under a pulled intruder nearly every grain's instantaneous speed is
+above the rest test); then where the awake grains are (depth below the bed's top and horizontal
+distance from the intruder, percentiles) and the awake and drifting fractions per 4 d depth band
+and per 5 d horizontal band.
 
 Asleep = velocity exactly zero: a grain that falls asleep has its velocity and spin set to zero
 and is not integrated until it wakes (src/engine/active_region.cpp); an awake grain at exactly
 zero velocity does not occur in a bed under gravity. A pull without the region (REFERENCE.h5, the
-same bed and options) shows how many grains outside R move faster than the rest test when nothing
-is held. So the question "is the region's cost set by its wake test or by grains that really
-move?" is answered from the frames alone.
+same bed and options, --radius R) shows how many grains outside R drift faster than the rest test
+when nothing is held: those no region may hold. So the question "is the region's cost set by its
+wake test or by grains that really move?" is answered from the frames alone.
 """
 
 import argparse
@@ -35,33 +38,36 @@ def periodic_offsets(x, centre, lx, ly):
     return d
 
 
-def frame_summary(x, v, species, radius, lx, ly, rest_speed):
-    """One frame's figures (a dict): see the module's docstring."""
+def frame_summary(x, v, x_before, interval, species, radius, lx, ly, rest_speed):
+    """One frame's figures (a dict, see the module's docstring); x_before: the positions
+    `interval` time units earlier."""
     mobile = species == MOBILE
-    speed = np.linalg.norm(v, axis=1)
-    asleep = mobile & (speed == 0.0)
+    asleep = mobile & (np.linalg.norm(v, axis=1) == 0.0)
     d = periodic_offsets(x, x[np.flatnonzero(species == INTRUDER)[0]], lx, ly)
+    drift = np.linalg.norm(periodic_offsets(x, x_before, lx, ly), axis=1) / interval
     horizontal = np.hypot(d[:, 0], d[:, 1])
     outside = mobile & (np.linalg.norm(d, axis=1) > radius)
-    awake = outside & ~asleep
+    awake, drifting = outside & ~asleep, outside & (drift > rest_speed)
     depth = x[mobile, 2].max() - x[:, 2]
     out = {"asleep": asleep.sum() / max(1, mobile.sum()), "outside": int(outside.sum()),
-           "awake": int(awake.sum()), "moving": int((awake & (speed > rest_speed)).sum()),
-           "moving10": int((awake & (speed > 10 * rest_speed)).sum())}
+           "awake": int(awake.sum()), "drifting": int(drifting.sum()),
+           "drifting10": int((outside & (drift > 10 * rest_speed)).sum()),
+           "awake_drifting": int((awake & drifting).sum())}
     if awake.any():
         out["depth_pct"] = np.percentile(depth[awake], [10, 50, 90])
         out["horizontal_pct"] = np.percentile(horizontal[awake], [10, 50, 90])
         out["above"] = float(np.mean(d[awake, 2] > 0))
 
-    def by_band(coord, width):
+    def by_band(coord, width, which):
         bands = []
         for lo in np.arange(0.0, coord[outside].max() + 1e-9, width):
             sel = outside & (coord >= lo) & (coord < lo + width)
-            bands.append(float(np.mean(~asleep[sel])) if sel.any() else float("nan"))
+            bands.append(float(np.mean(which[sel])) if sel.any() else float("nan"))
         return bands
 
-    out["awake_by_depth"] = by_band(depth, 4.0)
-    out["awake_by_horizontal"] = by_band(horizontal, 5.0)
+    for name, which in (("awake", awake), ("drifting", drifting)):
+        out[f"{name}_by_depth"] = by_band(depth, 4.0, which)
+        out[f"{name}_by_horizontal"] = by_band(horizontal, 5.0, which)
     return out
 
 
@@ -91,20 +97,24 @@ def main(argv=None):
         lx, ly = float(_attr(pour, "lx")), float(_attr(pour, "ly"))
         species = f["particles/frames/species/value"][:]
         times = f["particles/frames/position/time"][:]
-        print(f"{args.run}: R = {radius:g} d, V = {speed:g}, rest test {rest:.3g} sqrt(gd); "
-              "awake = of the grains outside R; moving = faster than the rest test")
-        for k, t in enumerate(times):
-            s = frame_summary(f["particles/frames/position/value"][k], f["particles/frames/velocity/value"][k],
-                              species, radius, lx, ly, rest)
-            line = (f"t = {t:7.2f}  asleep {s['asleep']:.3f}  awake {s['awake']:6d} of {s['outside']}"
-                    f"  moving {s['moving']:6d} (x10 {s['moving10']:6d})")
+        print(f"{args.run}: R = {radius:g} d, V = {speed:g}, rest test {rest:.3g} sqrt(gd); of the grains outside R: "
+              "awake, drifting (faster than the rest test since the frame before), awake and drifting")
+        position, velocity = f["particles/frames/position/value"], f["particles/frames/velocity/value"]
+        x_before = position[0]
+        for k in range(1, len(times)):
+            x = position[k]
+            s = frame_summary(x, velocity[k], x_before, times[k] - times[k - 1], species, radius, lx, ly, rest)
+            x_before = x
+            print(f"t = {times[k]:7.2f}  asleep {s['asleep']:.3f}  outside {s['outside']}: awake {s['awake']:6d}"
+                  f"  drifting {s['drifting']:6d} (x10 {s['drifting10']:6d})"
+                  f"  awake and drifting {s['awake_drifting']:6d}")
             if "above" in s:
                 depth, horizontal = np.round(s["depth_pct"], 1), np.round(s["horizontal_pct"], 1)
-                line += f"  depth p10/50/90 {depth}  horizontal {horizontal}  above the intruder {s['above']:.2f}"
-            print(line)
-            if s["awake"]:
-                print("          awake by depth (4 d bands):", np.round(s["awake_by_depth"], 2),
-                      " by horizontal distance (5 d):", np.round(s["awake_by_horizontal"], 2))
+                print(f"    awake: depth p10/50/90 {depth}  horizontal {horizontal}"
+                      f"  above the intruder {s['above']:.2f}")
+            for name in ("awake", "drifting"):
+                print(f"    {name:8s} by depth (4 d):", np.round(s[f"{name}_by_depth"], 2),
+                      " by horizontal distance (5 d):", np.round(s[f"{name}_by_horizontal"], 2))
 
 
 if __name__ == "__main__":
