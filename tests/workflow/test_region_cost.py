@@ -166,14 +166,13 @@ def test_stiffness_runs_from_the_tables_k_n_to_the_stiff_one_in_log_k_n():
     assert region_cost.stiffness(2e8) == 1.0
 
 
-def stiff_config(kn, wake_force=None, sleep_time=None):
+def stiff_config(kn, wake_force=None, sleep_time=None, wake_load=None):
     config = copy.deepcopy(CONFIG)
     config["defaults"]["kn"] = kn
     config["systems"]["I"]["pour"] = {"settle_damping": 1}
-    if wake_force is not None:
-        config["systems"]["R"]["pull"]["wake_force"] = wake_force
-    if sleep_time is not None:
-        config["systems"]["R"]["pull"]["sleep_time"] = sleep_time
+    for key, value in (("wake_force", wake_force), ("sleep_time", sleep_time), ("wake_load", wake_load)):
+        if value is not None:
+            config["systems"]["R"]["pull"][key] = value
     return pulls(config)
 
 
@@ -230,6 +229,36 @@ def test_a_shorter_dwell_is_priced_at_its_measured_stiff_share_and_cost_only_in_
     allowed = region_cost.outside_fraction(6, 20, 20, 6400, 7.1) * (1 - 0.5 * 0.03 / 3.0)
     row = dict(active_radius=6, lx=20, ly=20, grains=6400, h=7.1, distance=3.0, V=0.03, Fr=0.04, D=2, mu=0.5,
                kn=2e6, wake_force=2.0, sleep_time=0.5, asleep=0.6 * ratio * allowed)
+    assert [s for _, s in region_cost.measured_shares(pd.DataFrame([row]))[0.5]] == pytest.approx([0.6], rel=1e-12)
+
+
+def test_a_wake_test_relative_to_the_load_is_priced_at_its_measured_factors_in_a_stiff_bed_only():
+    share_factor, cost_factor = region_cost.WAKE_LOAD_EFFECT
+    ratio, cost = region_cost.STIFF_AT_DWELL[0.5]
+    assert region_cost.stiff_at_dwell(0.5, region_cost.WAKE_LOAD_MEASURED) == pytest.approx(
+        (ratio * share_factor, cost * cost_factor), rel=1e-12)
+    # linear in wake_load up to the measured one, constant beyond, nothing at 0
+    half = region_cost.stiff_at_dwell(0.5, region_cost.WAKE_LOAD_MEASURED / 2)
+    assert half == pytest.approx((ratio * (1 + share_factor) / 2, cost * (1 + cost_factor) / 2), rel=1e-12)
+    assert region_cost.stiff_at_dwell(0.5, 0.5) == region_cost.stiff_at_dwell(0.5, region_cost.WAKE_LOAD_MEASURED)
+    assert region_cost.stiff_at_dwell(0.5, 0.0) == pytest.approx((ratio, cost), rel=1e-12)
+    # a stiff pull with it: more asleep, each sleeping grain cheaper, the pull cheaper
+    plan_off, by_off = stiff_config(2e6, sleep_time=0.5)
+    plan_on, by_on = stiff_config(2e6, sleep_time=0.5, wake_load=0.1)
+    off, on = by_off[("R", "V~0.03")], by_on[("R", "V~0.03")]
+    assert region_cost.asleep_fraction(on, plan_on.config, 3) == pytest.approx(
+        share_factor * region_cost.asleep_fraction(off, plan_off.config, 3), rel=1e-12)
+    assert region_cost.sleeping_cost(on, plan_on.config) == pytest.approx(cost * cost_factor, rel=1e-12)
+    assert study.expected_pull_cost(on, plan_on.config) < study.expected_pull_cost(off, plan_off.config)
+    # at the tables' stiffness it changes nothing (not measured there)
+    plan_soft, by_soft = stiff_config(2e4, sleep_time=0.5, wake_load=0.1)
+    plan_soft0, by_soft0 = stiff_config(2e4, sleep_time=0.5)
+    assert study.expected_pull_cost(by_soft[("R", "V~0.03")], plan_soft.config) == pytest.approx(
+        study.expected_pull_cost(by_soft0[("R", "V~0.03")], plan_soft0.config), rel=1e-12)
+    # a stiff run with it reads back as the table's share
+    allowed = region_cost.outside_fraction(6, 20, 20, 6400, 7.1) * (1 - 0.5 * 0.03 / 3.0)
+    row = dict(active_radius=6, lx=20, ly=20, grains=6400, h=7.1, distance=3.0, V=0.03, Fr=0.04, D=2, mu=0.5,
+               kn=2e6, wake_force=2.0, sleep_time=0.5, wake_load=0.1, asleep=0.6 * ratio * share_factor * allowed)
     assert [s for _, s in region_cost.measured_shares(pd.DataFrame([row]))[0.5]] == pytest.approx([0.6], rel=1e-12)
 
 

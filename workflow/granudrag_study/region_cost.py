@@ -149,13 +149,27 @@ KN_STIFF = 2e6
 STIFF_SHARE_RATIO = 0.75
 STIFF_SLEEPING_COST = 0.5
 STIFF_AT_DWELL = {0.5: (0.95, 0.3), SLEEP_TIME_DEFAULT: (STIFF_SHARE_RATIO, STIFF_SLEEPING_COST)}
+# The wake test relative to the load (`wake_load` f: a held grain wakes only when its force moves
+# by f times its mean contact force, if that is more than wake_force m g) puts back to sleep less
+# of what a stiff bed's ripples wake. Measured at KN_STIFF and the halved dwell, f = 0.1, beside
+# R5D_sleep05 on the same beds (active_region_30_stiff_deep.yaml, the deep yield pull, 2 beds:
+# 64 % asleep against 62 %, CPU 404 and 464 s against 523 and 523 s, the reference 983 s):
+# WAKE_LOAD_EFFECT holds (share with / share without, sleeping cost with / cost without) there,
+# c = 1 - (1 - t_region / t_reference) / asleep from the pulls' CPU times (0.13 against 0.25). Priced as factors on
+# stiff_at_dwell's figures at any dwell, linear in f up to WAKE_LOAD_MEASURED and constant beyond
+# (0.25 slept more and cost less, but read the drag high: not priced).
+WAKE_LOAD_MEASURED = 0.1
+WAKE_LOAD_EFFECT = (1.03, 0.52)
 
 
-def stiff_at_dwell(sleep_time):
-    """(share ratio, sleeping cost) of a bed at KN_STIFF for this dwell (STIFF_AT_DWELL)."""
+def stiff_at_dwell(sleep_time, wake_load=0.0):
+    """(share ratio, sleeping cost) of a bed at KN_STIFF for this dwell (STIFF_AT_DWELL) and wake
+    test relative to the load (WAKE_LOAD_EFFECT)."""
     dwells = sorted(STIFF_AT_DWELL)
-    return tuple(float(np.interp(float(sleep_time), dwells, [STIFF_AT_DWELL[t][k] for t in dwells]))
-                 for k in (0, 1))
+    ratio, cost = (float(np.interp(float(sleep_time), dwells, [STIFF_AT_DWELL[t][k] for t in dwells]))
+                   for k in (0, 1))
+    t = min(1.0, max(0.0, float(wake_load)) / WAKE_LOAD_MEASURED)
+    return (ratio * (1 + t * (WAKE_LOAD_EFFECT[0] - 1)), cost * (1 + t * (WAKE_LOAD_EFFECT[1] - 1)))
 
 
 def stiffness(kn):
@@ -165,13 +179,13 @@ def stiffness(kn):
     return min(1.0, max(0.0, t))
 
 
-def stiff_share_factor(kn, wake_force, sleep_time=SLEEP_TIME_DEFAULT):
+def stiff_share_factor(kn, wake_force, sleep_time=SLEEP_TIME_DEFAULT, wake_load=0.0):
     """The fraction of the tables' sleeping share that sleeps in a bed of this K_n at this
-    wake_force and dwell: 1 at the tables' stiffness; at KN_STIFF, the dwell's share ratio
-    (stiff_at_dwell) with a wake test at least the engine's default for the K_n, 0 with a more
+    wake_force, dwell and wake_load: 1 at the tables' stiffness; at KN_STIFF, the share ratio of
+    stiff_at_dwell with a wake test at least the engine's default for the K_n, 0 with a more
     sensitive one (the stiff grains woken as fast as they sleep)."""
     sensitive = float(wake_force) < default_wake_force(kn) * (1 - 1e-9)
-    at_stiff = 0.0 if sensitive else stiff_at_dwell(sleep_time)[0]
+    at_stiff = 0.0 if sensitive else stiff_at_dwell(sleep_time, wake_load)[0]
     return 1.0 - stiffness(kn) * (1.0 - at_stiff)
 
 
@@ -199,6 +213,11 @@ def _sleep_time(value):
     return _given(value, SLEEP_TIME_DEFAULT)
 
 
+def _wake_load(value):
+    """A pull's wake_load as a config or a runs.csv gives it: 0 (off, the engine's default) when unset."""
+    return _given(value, 0.0)
+
+
 # The bound (`estimate_cost.py --region-bound`): every grain outside R asleep from the first step
 # and costing nothing, frictionless beds too: the most any active region of that radius can save.
 BOUND = False
@@ -207,11 +226,12 @@ BOUND = False
 def sleeping_cost(pull, config):
     """What a sleeping grain costs in this pull's bed: SLEEPING_COST_DAMPED if it was poured with
     settling damping, else SLEEPING_COST, moved toward the stiff bed's at the pull's dwell
-    (stiff_at_dwell) by the bed's stiffness; 0 under BOUND."""
+    and wake_load (stiff_at_dwell) by the bed's stiffness; 0 under BOUND."""
     if BOUND:
         return 0.0
     base = SLEEPING_COST_DAMPED if damped_bed(pull, config) else SLEEPING_COST
-    at_stiff = stiff_at_dwell(_sleep_time(pull.settings_in(config).get("sleep_time")))[1]
+    settings = pull.settings_in(config)
+    at_stiff = stiff_at_dwell(_sleep_time(settings.get("sleep_time")), _wake_load(settings.get("wake_load")))[1]
     return base + stiffness(pull.bed.value("kn")) * (at_stiff - base)
 
 
@@ -255,16 +275,17 @@ def asleep_fraction(pull, config, travel, table=None):
     table = table or (ASLEEP_SHARE_DAMPED if damped_bed(pull, config) else ASLEEP_SHARE)
     share = asleep_share(float(froude(pull.V, D)), pull.bed.value("mu"), table)
     kn = pull.bed.value("kn")
-    share *= stiff_share_factor(kn, _wake_force(settings.get("wake_force"), kn), rest)
+    share *= stiff_share_factor(kn, _wake_force(settings.get("wake_force"), kn), rest,
+                                _wake_load(settings.get("wake_load")))
     return share * outside * max(0.0, 1.0 - rest / duration)
 
 
 def measured_shares(runs):
     """share(Fr, mu) from runs with the region (a runs.csv of the validation: its asleep,
-    active_radius, lx, ly, grains, h, distance, V, mu and D columns, and kn, wake_force and
-    sleep_time where it has them): per run, the asleep fraction over what the geometry, the
-    duration and the stiffness allow (the default sleep_time for a table without it), so that pricing
-    a pull of another stiffness applies its own; the median per friction and Froude number. A
+    active_radius, lx, ly, grains, h, distance, V, mu and D columns, and kn, wake_force,
+    sleep_time and wake_load where it has them): per run, the asleep fraction over what the
+    geometry, the duration and the stiffness allow (the defaults for a table without the
+    settings), so that pricing a pull of another stiffness applies its own; the median per friction and Froude number. A
     stiff run whose wake test woke its grains as fast as they slept (stiff_share_factor 0) says
     nothing about the table and is left out. Returns {mu: ((Fr, share), ...)}."""
     rows = runs[(runs.active_radius > 0) & runs.asleep.notna()]
@@ -274,7 +295,8 @@ def measured_shares(runs):
     for r in rows.itertuples():
         kn = getattr(r, "kn", KN_TABLES)
         rest = _sleep_time(getattr(r, "sleep_time", None))
-        stiff = stiff_share_factor(kn, _wake_force(getattr(r, "wake_force", None), kn), rest)
+        stiff = stiff_share_factor(kn, _wake_force(getattr(r, "wake_force", None), kn), rest,
+                                   _wake_load(getattr(r, "wake_load", None)))
         allowed = outside_fraction(r.active_radius, r.lx, r.ly, r.grains, r.h) * max(
             0.0, 1.0 - rest * r.V / r.distance) * stiff
         if allowed > 0:
