@@ -158,9 +158,9 @@ STIFF_AT_DWELL = {0.5: (0.95, 0.3), SLEEP_TIME_DEFAULT: (STIFF_SHARE_RATIO, STIF
 # cost without) there, c = 1 - (1 - t_region / t_reference) / asleep from the pulls' CPU times
 # (0.12 against 0.28). At Fr = 1 (5 d, 7 d deep; active_region_30_stiff.yaml, 4 beds) it saved
 # nothing measurable (44 % asleep with and without, 48-64 s against 47-68 s), so pricing every
-# pull with it errs low there, where pulls cost little. Priced as factors on
-# stiff_at_dwell's figures at any dwell, linear in f up to WAKE_LOAD_MEASURED and constant beyond
-# (0.25 slept more and cost less, but read the drag high: not priced).
+# pull with it errs low there, where pulls cost little. Priced as factors on stiff_at_dwell's
+# figures at any dwell, linear in f up to WAKE_LOAD_MEASURED and constant beyond (0.25 slept more
+# and cost less, but read the drag high: not priced).
 WAKE_LOAD_MEASURED = 0.1
 WAKE_LOAD_EFFECT = (1.015, 0.42)
 
