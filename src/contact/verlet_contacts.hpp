@@ -69,11 +69,21 @@ class VerletContacts : public ContactLoop {
   void classify_rows();
   enum RowMode : std::uint8_t { kSkip = 0, kAll = 1, kAwakePartners = 2 };
   std::vector<std::uint8_t> row_mode_;  // empty: every row kAll
+  std::vector<int> scanned_rows_;       // with row_mode_: the rows not kSkip, ascending
+  // Per scanned row k, awake_entries_[awake_start_[k] .. awake_start_[k + 1]]: the list entries
+  // of a kAwakePartners row whose partner is awake (none for a kAll row).
+  std::vector<int> awake_start_, awake_entries_;
   // Whether the step computes the pair of row i (mode) and partner j: not both held.
   bool computed(std::uint8_t mode, int j) const {
     return mode == kAll || (mode == kAwakePartners && !(*held_)[j]);
   }
   std::uint8_t row_mode(long i) const { return row_mode_.empty() ? std::uint8_t{kAll} : row_mode_[i]; }
+  // The rows whose pairs the step computes, k = 0 .. checked_rows() - 1: every row, or with
+  // bodies held those not kSkip.
+  long checked_rows() const {
+    return static_cast<long>(row_mode_.empty() ? list_.grain_pairs().rows() : scanned_rows_.size());
+  }
+  long checked_row(long k) const { return row_mode_.empty() ? k : scanned_rows_[k]; }
   // The held pairs' part of the checks that run every sample interval (energy, largest overlap,
   // coordination numbers). A pair of two held bodies keeps its spring, its `touching` and its
   // geometry while both stay held, so its part is taken once after each change of the held set

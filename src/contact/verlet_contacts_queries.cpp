@@ -24,10 +24,10 @@ double VerletContacts::elastic_energy(const Particles& p, const Box& box, const 
     return pair_geometry(p, box, i, j, g) ? hertz_normal_energy(c.kn, g.reff, g.contact_distance - g.r) : 0.0;
   };
   const PairList& pairs = list_.grain_pairs();
-  double energy = ordered_sum<double>(static_cast<long>(pairs.rows()), [&](long i) {
+  double energy = ordered_sum<double>(checked_rows(), [&](long k) {
     double row = 0.0;
+    const long i = checked_row(k);
     const std::uint8_t mode = row_mode(i);
-    if (mode == kSkip) return row;
     for (int e = pairs.begin(i); e < pairs.end(i); ++e)
       if (computed(mode, pairs.partner[e])) row += pair_energy(static_cast<int>(i), pairs.partner[e]);
     return row;
@@ -121,16 +121,16 @@ void VerletContacts::count_contacts(std::vector<int>& contacts) const {
     const std::vector<int>& held = held_pair_contacts();
     for (std::size_t k = 0; k < held.size(); ++k) contacts[k] += held[k];
   }
-  const long rows = static_cast<long>(pairs.rows()), n = static_cast<long>(contacts.size());
+  const long rows = checked_rows(), n = static_cast<long>(contacts.size());
   std::vector<std::vector<int>> extra(omp_get_max_threads());
 #pragma omp parallel
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     if (t > 0) extra[t].assign(n, 0);
     int* count = t == 0 ? contacts.data() : extra[t].data();
-    for (long i = rows * t / nt; i < rows * (t + 1) / nt; ++i) {
+    for (long k = rows * t / nt; k < rows * (t + 1) / nt; ++k) {
+      const long i = checked_row(k);
       const std::uint8_t mode = row_mode(i);
-      if (mode == kSkip) continue;
       for (int e = pairs.begin(i); e < pairs.end(i); ++e)
         if (grain_history_.touching[e] && computed(mode, pairs.partner[e])) {
           ++count[i];
@@ -183,10 +183,11 @@ double VerletContacts::largest_overlap(const Particles& p, const Box& box, bool 
   // their distance too, but a bed's deepest overlap is asked before any step, held or not).
   const bool split = touching_only && !row_mode_.empty();
   double worst = split ? held_pairs_overlap(p, box) : 0.0;  // the largest is the same whatever the order
+  const long scanned = split ? checked_rows() : rows;
 #pragma omp parallel for schedule(static) reduction(max : worst)
-  for (long i = 0; i < rows; ++i) {
+  for (long k = 0; k < scanned; ++k) {
+    const long i = split ? checked_row(k) : k;
     const std::uint8_t mode = split ? row_mode(i) : std::uint8_t{kAll};
-    if (mode == kSkip) continue;
     for (int e = pairs.begin(i); e < pairs.end(i); ++e)
       if ((!touching_only || grain_history_.touching[e]) && computed(mode, pairs.partner[e]))
         worst = std::max(worst, overlap(static_cast<int>(i), pairs.partner[e]));
