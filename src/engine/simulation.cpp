@@ -137,19 +137,25 @@ void Simulation::run(long steps, bool show_progress) {
   }
 }
 
-// Calls body(i) for the bodies first .. last - 1 in order, except the active region's quiet
-// grains: with the region, from its list of the others (a settled bed is mostly quiet, and a
-// pass over every body to skip them cost more than the bodies left).
+// Without the region, or before its first classification, every body in order; with it, from
+// its lists of the bodies that are not quiet (a settled bed is mostly quiet, and a pass over
+// every body to skip them cost more than the bodies left): the moving ones, then the held ones.
+// A body's step reads and writes its own data only, so the order changes no bit.
 template <class Body>
 void Simulation::for_stepped(long first, long last, Body&& body) {
-  if (!region_ || stepped_.empty()) {
-    for (long i = first; i < last; ++i) body(i);
+  if (!region_ || (stepped_moving_.empty() && stepped_held_.empty())) {
+    const std::uint8_t* held = region_ ? region_->held().data() : nullptr;
+    for (long i = first; i < last; ++i) body(i, held && held[i]);
     return;
   }
   const std::uint8_t* quiet = region_->quiet().data();
-  const auto end = std::lower_bound(stepped_.begin(), stepped_.end(), last);
-  for (auto k = std::lower_bound(stepped_.begin(), end, first); k != end; ++k)
-    if (quiet[*k] != ActiveRegion::kQuiet) body(*k);
+  auto each = [&](const std::vector<int>& listed, auto held) {
+    const auto end = std::lower_bound(listed.begin(), listed.end(), last);
+    for (auto k = std::lower_bound(listed.begin(), end, first); k != end; ++k)
+      if (quiet[*k] != ActiveRegion::kQuiet) body(*k, held);
+  };
+  each(stepped_moving_, std::false_type{});
+  each(stepped_held_, std::true_type{});
 }
 
 // The passes over the bodies are fused: the first half-kick also clears the forces it has used
@@ -169,12 +175,11 @@ double Simulation::initial_integrate(long first, long last) {
   const bool measure = reference && reference->size() == p_.size();
   const double* x0 = measure ? reference->data()->data() : nullptr;
   double max_drift_sq = measure ? 0.0 : HUGE_VAL;
-  const std::uint8_t* held = region_ ? region_->held().data() : nullptr;  // asleep: not moved
   // Quiet grains are not visited: held, nothing but gravity on them, their force stays m g, and
   // they have not moved since the lists were built or since they were last measured.
-  for_stepped(first, last, [&](long i) {
+  for_stepped(first, last, [&](long i, bool held) {  // held: asleep, not moved
     const Species kind = p_.species[i];
-    if (kind == Species::Mobile && !(held && held[i])) {
+    if (kind == Species::Mobile && !held) {
       const double kick_v = kick_v_[i], kick_w = kick_w_[i];
       for (int d = 0; d < 3; ++d) {
         v[3 * i + d] += kick_v * f[3 * i + d];
@@ -188,7 +193,7 @@ double Simulation::initial_integrate(long first, long last) {
     // A held grain has not moved since it was last measured awake, when its drift was within
     // the limit (or the lists were rebuilt, which zeroed it): it cannot call for a rebuild, and
     // skipping it spares a stream of build positions (a tenth of a region pull's integration).
-    if (!measure || (held && held[i])) return;
+    if (!measure || held) return;
     const double dx = x[3 * i] - x0[3 * i], dy = x[3 * i + 1] - x0[3 * i + 1],
                  dz = x[3 * i + 2] - x0[3 * i + 2];
     const double d2 = dx * dx + dy * dy + dz * dz;
@@ -238,11 +243,10 @@ void Simulation::final_integrate(long first, long last) {
   double* w = p_.omega.data()->data();
   const double* f = p_.f.data()->data();
   const double* tq = p_.torque.data()->data();
-  const std::uint8_t* held = region_ ? region_->held().data() : nullptr;
-  for_stepped(first, last, [&](long i) {
+  for_stepped(first, last, [&](long i, bool held) {
     add_body_force(i);
     if (p_.species[i] != Species::Mobile) return;
-    if (held && held[i]) {  // asleep: its force is summed for the wake test, not integrated
+    if (held) {  // asleep: its force is summed for the wake test, not integrated
       region_->add_force(i, p_.f[i]);
       return;
     }
@@ -306,20 +310,27 @@ void Simulation::lists_rebuilt() {
 
 void Simulation::classify_quiet(bool promote) {
   // At a list build only quiet grains can change (back to stepped): with none, and every body
-  // stepped already, the pass over every pair would change nothing.
+  // stepped already, the pass over every pair would change nothing. Every body is then stepped
+  // unlisted, held or not as the region says now (a restored state may hold others).
   const std::vector<std::uint8_t>& quiet = region_->quiet();
-  const bool all_stepped = stepped_.empty() || stepped_.size() == p_.size();
+  const std::size_t listed = stepped_moving_.size() + stepped_held_.size();
+  const bool all_stepped = listed == 0 || listed == p_.size();
   if (!promote && all_stepped &&
-      std::none_of(quiet.begin(), quiet.end(), [](std::uint8_t q) { return q != 0; }))
+      std::none_of(quiet.begin(), quiet.end(), [](std::uint8_t q) { return q != 0; })) {
+    stepped_moving_.clear();
+    stepped_held_.clear();
     return;
+  }
   std::vector<std::uint8_t> exposed(p_.size(), 0);
   contacts_->mark_exposed(exposed);
   if (box_.wall) wall_.mark_near(exposed);
   region_->classify_quiet(p_, exposed, promote, settings_.gravity);
   // Grains turning quiet stay listed until the next classification (for_stepped skips them).
-  stepped_.clear();
+  const std::uint8_t* held = region_->held().data();
+  stepped_moving_.clear();
+  stepped_held_.clear();
   for (std::size_t i = 0; i < quiet.size(); ++i)
-    if (quiet[i] != ActiveRegion::kQuiet) stepped_.push_back(static_cast<int>(i));
+    if (quiet[i] != ActiveRegion::kQuiet) (held[i] ? stepped_held_ : stepped_moving_).push_back(static_cast<int>(i));
 }
 
 Simulation::State Simulation::state() const {

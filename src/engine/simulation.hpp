@@ -97,6 +97,8 @@ class Simulation {
   // The active region's quiet grains (ActiveRegion::classify_quiet) from the lists as they are,
   // and the list of the others.
   void classify_quiet(bool promote);
+  // Calls body(i, held) for the bodies first .. last - 1 but the quiet ones, held: whether the
+  // region holds body i.
   template <class Body>
   void for_stepped(long first, long last, Body&& body);
   // The integrator's bodies are split into one contiguous range per thread of about equal cost.
@@ -111,7 +113,11 @@ class Simulation {
   double dt_;
   std::unique_ptr<ContactLoop> contacts_;
   std::unique_ptr<ActiveRegion> region_;
-  std::vector<int> stepped_;  // with the region: the bodies that are not quiet, ascending
+  // With the region, the bodies that are not quiet, ascending: those it integrates (awake grains,
+  // intruders) and the held ones (whose forces the wake test sums). Two lists, not one: held and
+  // awake grains lie mixed in index, and the test which one a body is, mispredicted at every
+  // change, cost more than their integration.
+  std::vector<int> stepped_moving_, stepped_held_;
   WallContacts wall_;
   std::vector<long> body_split_;         // thread t integrates bodies body_split_[t] .. body_split_[t+1]
   std::vector<double> kick_v_, kick_w_;  // per body: dt / 2m and dt / 2I
