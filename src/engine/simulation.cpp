@@ -330,7 +330,8 @@ void Simulation::classify_quiet(bool promote) {
   stepped_moving_.clear();
   stepped_held_.clear();
   for (std::size_t i = 0; i < quiet.size(); ++i)
-    if (quiet[i] != ActiveRegion::kQuiet) (held[i] ? stepped_held_ : stepped_moving_).push_back(static_cast<int>(i));
+    if (quiet[i] != ActiveRegion::kQuiet)
+      (held[i] ? stepped_held_ : stepped_moving_).push_back(static_cast<int>(i));
 }
 
 Simulation::State Simulation::state() const {
