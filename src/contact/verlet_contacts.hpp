@@ -73,17 +73,23 @@ class VerletContacts : public ContactLoop {
   // Per scanned row k, awake_entries_[awake_start_[k] .. awake_start_[k + 1]]: the list entries
   // of a kAwakePartners row whose partner is awake (none for a kAll row).
   std::vector<int> awake_start_, awake_entries_;
-  // Whether the step computes the pair of row i (mode) and partner j: not both held.
-  bool computed(std::uint8_t mode, int j) const {
-    return mode == kAll || (mode == kAwakePartners && !(*held_)[j]);
-  }
-  std::uint8_t row_mode(long i) const { return row_mode_.empty() ? std::uint8_t{kAll} : row_mode_[i]; }
   // The rows whose pairs the step computes, k = 0 .. checked_rows() - 1: every row, or with
   // bodies held those not kSkip.
   long checked_rows() const {
     return static_cast<long>(row_mode_.empty() ? list_.grain_pairs().rows() : scanned_rows_.size());
   }
   long checked_row(long k) const { return row_mode_.empty() ? k : scanned_rows_[k]; }
+  // Calls visit(i, e) for the list entries e of checked row k whose pairs the step computes (not
+  // both held), in order: every entry of row i, or of a held row its awake partners'.
+  template <class Visit>
+  void for_computed_entries(long k, Visit&& visit) const {
+    const long i = checked_row(k);
+    if (row_mode_.empty() || row_mode_[i] == kAll) {
+      for (int e = list_.grain_pairs().begin(i); e < list_.grain_pairs().end(i); ++e) visit(i, e);
+    } else {
+      for (int m = awake_start_[k]; m < awake_start_[k + 1]; ++m) visit(i, awake_entries_[m]);
+    }
+  }
   // The held pairs' part of the checks that run every sample interval (energy, largest overlap,
   // coordination numbers). A pair of two held bodies keeps its spring, its `touching` and its
   // geometry while both stay held, so its part is taken once after each change of the held set

@@ -26,10 +26,8 @@ double VerletContacts::elastic_energy(const Particles& p, const Box& box, const 
   const PairList& pairs = list_.grain_pairs();
   double energy = ordered_sum<double>(checked_rows(), [&](long k) {
     double row = 0.0;
-    const long i = checked_row(k);
-    const std::uint8_t mode = row_mode(i);
-    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-      if (computed(mode, pairs.partner[e])) row += pair_energy(static_cast<int>(i), pairs.partner[e]);
+    for_computed_entries(k,
+                         [&](long i, int e) { row += pair_energy(static_cast<int>(i), pairs.partner[e]); });
     return row;
   });
   if (!row_mode_.empty()) energy += held_pairs_energy(p, box, c);
@@ -128,15 +126,12 @@ void VerletContacts::count_contacts(std::vector<int>& contacts) const {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     if (t > 0) extra[t].assign(n, 0);
     int* count = t == 0 ? contacts.data() : extra[t].data();
-    for (long k = rows * t / nt; k < rows * (t + 1) / nt; ++k) {
-      const long i = checked_row(k);
-      const std::uint8_t mode = row_mode(i);
-      for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-        if (grain_history_.touching[e] && computed(mode, pairs.partner[e])) {
-          ++count[i];
-          ++count[pairs.partner[e]];
-        }
-    }
+    for (long k = rows * t / nt; k < rows * (t + 1) / nt; ++k)
+      for_computed_entries(k, [&](long i, int e) {
+        if (!grain_history_.touching[e]) return;
+        ++count[i];
+        ++count[pairs.partner[e]];
+      });
 #pragma omp barrier
     if (nt > 1) {
 #pragma omp for schedule(static)
@@ -183,14 +178,19 @@ double VerletContacts::largest_overlap(const Particles& p, const Box& box, bool 
   // their distance too, but a bed's deepest overlap is asked before any step, held or not).
   const bool split = touching_only && !row_mode_.empty();
   double worst = split ? held_pairs_overlap(p, box) : 0.0;  // the largest is the same whatever the order
-  const long scanned = split ? checked_rows() : rows;
+  if (split) {
 #pragma omp parallel for schedule(static) reduction(max : worst)
-  for (long k = 0; k < scanned; ++k) {
-    const long i = split ? checked_row(k) : k;
-    const std::uint8_t mode = split ? row_mode(i) : std::uint8_t{kAll};
-    for (int e = pairs.begin(i); e < pairs.end(i); ++e)
-      if ((!touching_only || grain_history_.touching[e]) && computed(mode, pairs.partner[e]))
-        worst = std::max(worst, overlap(static_cast<int>(i), pairs.partner[e]));
+    for (long k = 0; k < checked_rows(); ++k)
+      for_computed_entries(k, [&](long i, int e) {
+        if (grain_history_.touching[e])
+          worst = std::max(worst, overlap(static_cast<int>(i), pairs.partner[e]));
+      });
+  } else {
+#pragma omp parallel for schedule(static) reduction(max : worst)
+    for (long i = 0; i < rows; ++i)
+      for (int e = pairs.begin(i); e < pairs.end(i); ++e)
+        if (!touching_only || grain_history_.touching[e])
+          worst = std::max(worst, overlap(static_cast<int>(i), pairs.partner[e]));
   }
   const PairList& intruders = list_.intruder_pairs();
   for (std::size_t b = 0; b < intruders.rows(); ++b)
