@@ -50,6 +50,8 @@ class Simulation {
 
   Particles& particles() { return p_; }
   const Particles& particles() const { return p_; }
+  // The bodies thread `thread` of a team of `threads` integrates: first, last (exclusive).
+  std::pair<long, long> body_range(int thread, int threads) const;
   const Box& box() const { return box_; }
   const ContactParams& contact() const { return contact_; }
   const Settings& settings() const { return settings_; }
@@ -101,10 +103,12 @@ class Simulation {
   // region holds body i.
   template <class Body>
   void for_stepped(long first, long last, Body&& body);
-  // The integrator's bodies are split into one contiguous range per thread of about equal cost.
+  // The integrator's bodies are split into one contiguous range per thread of about equal cost
+  // (of the listed bodies' when the region lists them).
   void balance_bodies(int threads);
+  bool stepping_listed() const;  // for_stepped visits the region's lists, not every body
+  void compute_kicks();
   void ensure_body_split();  // balances if the thread count or the number of bodies changed
-  std::pair<long, long> body_range(int thread, int threads) const;
 
   Particles p_;
   Box box_;

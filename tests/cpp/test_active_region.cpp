@@ -277,3 +277,42 @@ TEST(ActiveRegion, ARadiusInsideTheGrainsAroundTheIntruderIsRefused) {
     EXPECT_NE(std::string(e.what()).find("active_radius"), std::string::npos) << e.what();
   }
 }
+
+// The awake grains lie in a few places of the index range (about the intruder, and a failure
+// zone): the integrator's split must share the bodies it steps, not all bodies, between threads.
+TEST(ActiveRegion, TheIntegratorSplitsTheBodiesItStepsEvenlyBetweenThreads) {
+  support::ThreadCount tc(2);
+  PullSpec spec = sleeping_pull();
+  spec.checkpoint_every = 200;
+  long checks = 0, worst_share_permille = 500, species_worst = 500;
+  Pull pull(small_bed(), spec);
+  pull.run(false, [&](const Pull& run) {
+    const Simulation& sim = run.simulation();
+    const Particles& p = sim.particles();
+    const ActiveRegion& region = *sim.active_region();
+    // The integrator's cost of a body: an awake grain 4, a held one stepped 2, a quiet one 0.
+    auto cost = [&](long i) {
+      if (region.quiet()[i] == ActiveRegion::kQuiet) return 0L;
+      if (p.species[i] != Species::Mobile) return 1L;
+      return region.held()[i] ? 2L : 4L;
+    };
+    long total = 0, first = 0, quiet = 0;
+    for (long i = 0; i < static_cast<long>(p.size()); ++i) total += cost(i), quiet += cost(i) == 0;
+    if (quiet < 50) return;  // nothing much asleep yet
+    ++checks;
+    const auto [b0, e0] = sim.body_range(0, 2);
+    for (long i = b0; i < e0; ++i) first += cost(i);
+    const long share = 1000 * first / total;
+    worst_share_permille = std::max(worst_share_permille, std::max(share, 1000 - share));
+    // What a split of every body by species would have given thread 0: its first half.
+    long by_species = 0;
+    for (long i = 0; i < static_cast<long>(p.size()) / 2; ++i) by_species += cost(i);
+    const long s = 1000 * by_species / total;
+    species_worst = std::max(species_worst, std::max(s, 1000 - s));
+  });
+  ASSERT_GT(checks, 0);
+  // Each thread within 10 % of half, where an index split would be off by more (the test is
+  // not vacuous).
+  EXPECT_LE(worst_share_permille, 550);
+  EXPECT_GT(species_worst, 600);
+}
