@@ -89,27 +89,17 @@ void VerletContacts::balance_rows(int threads) {
   const PairList& pairs = list_.grain_pairs();
   const long n = static_cast<long>(pairs.rows());
   const std::uint8_t* touching = grain_history_.touching.data();
-  // The cost of what scan_rows visits. With bodies held, a skipped row costs nothing (the scan
-  // does not visit it) and a held row its awake partners' entries: counted as whole rows, in a
-  // mostly sleeping 70k bed one thread's even block took 8.0 s where the other's took 4.2, and
-  // the threads waited for each other a sixth of the contact loop.
+  // The cost of what scan_rows visits (for_computed_entries: with bodies held, nothing of a
+  // skipped row and a held row's awake partners only): counted as whole rows, in a mostly
+  // sleeping 70k bed one thread's even block took 8.0 s where the other's took 4.2, and the
+  // threads waited for each other a sixth of the contact loop.
   std::vector<long> cost(n + 1, 0);
+  const long rows = checked_rows();
 #pragma omp parallel for schedule(static)
-  for (long i = 0; i < n; ++i) {
-    long c = 0;
-    if (row_mode_.empty() || row_mode_[i] == kAll) {
-      c = 1 + pairs.end(i) - pairs.begin(i);
-      for (int e = pairs.begin(i); e < pairs.end(i); ++e) c += kTouchWeight * touching[e];
-    }
-    cost[i + 1] = c;
-  }
-  for (std::size_t r = 0; r < scanned_rows_.size(); ++r) {
-    const int i = scanned_rows_[r];
-    if (row_mode_[i] != kAwakePartners) continue;
+  for (long k = 0; k < rows; ++k) {
     long c = 1;
-    for (int k = awake_start_[r]; k < awake_start_[r + 1]; ++k)
-      c += 1 + kTouchWeight * touching[awake_entries_[k]];
-    cost[i + 1] = c;
+    for_computed_entries(k, [&](long, int e) { c += 1 + kTouchWeight * touching[e]; });
+    cost[checked_row(k) + 1] = c;
   }
   for (long i = 0; i < n; ++i) cost[i + 1] += cost[i];
   // Two blocks of rows per thread, of equal cost: thread t runs blocks 2t and 2t + 1.
