@@ -113,6 +113,47 @@ void VerletContacts::balance_rows(int threads) {
   // across a periodic sweep's boundary: rows of the first blocks reaching into the last one. A
   // bed in another order (imported) takes private arrays.
   colored_ = threads > 1 && colour_blocks_apart(pairs, row_split_);
+  private_reach_.clear();
+  if (threads == 1 || colored_) return;
+  // Thread t runs blocks 2t and 2t + 1; what lies beyond the next thread's rows is an excursion.
+  for (int t = 0; t < threads; ++t) {
+    const long i0 = row_split_[2 * t], i1 = row_split_[2 * t + 2];
+    const WriteReach w = write_reach(pairs, i0, i1, row_split_[std::min(2 * t + 4, blocks)]);
+    std::array<BodyRange, 2> r{BodyRange{i0, std::max(i1, w.near_end + 1)}, BodyRange{}};
+    if (w.far_last >= 0) r[1] = {w.far_first, w.far_last + 1};
+    private_reach_.push_back(r);
+  }
+}
+
+std::array<VerletContacts::BodyRange, 2> VerletContacts::private_ranges(int t, int nt, long i0,
+                                                                        long n) const {
+  if (nt == planned_threads_ && static_cast<int>(private_reach_.size()) == nt) return private_reach_[t];
+  return {BodyRange{i0, n}, BodyRange{}};  // a smaller team than planned: all it may write
+}
+
+long VerletContacts::private_span() const {
+  long span = 0;
+  for (std::size_t t = 1; t < private_reach_.size(); ++t)
+    for (const BodyRange& r : private_reach_[t]) span += r.last - r.first;
+  return span;
+}
+
+WriteReach write_reach(const PairList& pairs, long i0, long i1, long limit) {
+  WriteReach w{i1 - 1, LONG_MAX, -1};
+  for (long r = i0; r < i1; ++r) {
+    if (pairs.end(r) == pairs.begin(r)) continue;
+    const int* first = pairs.partner.data() + pairs.begin(r);
+    const int* last = pairs.partner.data() + pairs.end(r);
+    if (last[-1] < limit) {  // rows are sorted: no excursion
+      w.near_end = std::max<long>(w.near_end, last[-1]);
+      continue;
+    }
+    const int* far = std::lower_bound(first, last, limit);
+    if (far > first) w.near_end = std::max<long>(w.near_end, far[-1]);
+    w.far_first = std::min<long>(w.far_first, *far);
+    w.far_last = std::max<long>(w.far_last, last[-1]);
+  }
+  return w;
 }
 
 bool colour_blocks_apart(const PairList& pairs, const std::vector<long>& split) {
@@ -120,22 +161,10 @@ bool colour_blocks_apart(const PairList& pairs, const std::vector<long>& split) 
   const int blocks = static_cast<int>(split.size()) - 1;
   std::vector<long> near_end(blocks), far_first(blocks, LONG_MAX), far_last(blocks, -1);
   for (int b = 0; b < blocks; ++b) {
-    const long limit = b + 2 <= blocks ? split[b + 2] : split[blocks];
-    long reach = split[b + 1] - 1;
-    for (long r = split[b]; r < split[b + 1]; ++r) {
-      if (pairs.end(r) == pairs.begin(r)) continue;
-      const int* first = pairs.partner.data() + pairs.begin(r);
-      const int* last = pairs.partner.data() + pairs.end(r);
-      if (last[-1] < limit) {  // rows are sorted: no excursion
-        reach = std::max<long>(reach, last[-1]);
-        continue;
-      }
-      const int* far = std::lower_bound(first, last, limit);
-      if (far > first) reach = std::max<long>(reach, far[-1]);
-      far_first[b] = std::min<long>(far_first[b], *far);
-      far_last[b] = std::max<long>(far_last[b], last[-1]);
-    }
-    near_end[b] = reach;
+    const WriteReach w = write_reach(pairs, split[b], split[b + 1], split[std::min(b + 2, blocks)]);
+    near_end[b] = w.near_end;
+    far_first[b] = w.far_first;
+    far_last[b] = w.far_last;
   }
   // Two blocks of one colour, b < c (so c >= b + 2): b's near part ends before c starts, and
   // c's parts lie beyond it. What can meet is an excursion of either block: each block's are
@@ -308,11 +337,12 @@ void VerletContacts::accumulate_in_team(Particles& p, const Box& box, const Cont
     Vec3* f = p.f.data();
     Vec3* tq = p.torque.data();
     if (t > 0) {
-      // Partners j > i >= i0: the private arrays need only that range.
       thread_force_[t].resize(n);
       thread_torque_[t].resize(n);
-      std::fill(thread_force_[t].begin() + i0, thread_force_[t].end(), Vec3::Zero());
-      std::fill(thread_torque_[t].begin() + i0, thread_torque_[t].end(), Vec3::Zero());
+      for (const BodyRange& r : private_ranges(t, nt, i0, n)) {
+        std::fill(thread_force_[t].begin() + r.first, thread_force_[t].begin() + r.last, Vec3::Zero());
+        std::fill(thread_torque_[t].begin() + r.first, thread_torque_[t].begin() + r.last, Vec3::Zero());
+      }
       f = thread_force_[t].data();
       tq = thread_torque_[t].data();
     }
@@ -348,15 +378,15 @@ void VerletContacts::accumulate_in_team(Particles& p, const Box& box, const Cont
 void VerletContacts::finish_accumulate(Particles& p, long first, long last) {
   const int nt = omp_get_num_threads();
   if (!two_colours(nt) && nt > 1) {
-    // The private arrays, in thread order; thread s wrote nothing below its first row.
-    const long blocks = static_cast<long>(row_split_.size()) - 1;
-    for (long k = first; k < last; ++k) {
-      for (int s = 1; s < nt; ++s) {
-        if (k < row_split_[blocks * s / nt]) break;
-        p.f[k] += thread_force_[s][k];
-        p.torque[k] += thread_torque_[s][k];
-      }
-    }
+    // The private arrays, in thread order (each body receives its terms in ascending s), each
+    // over the ranges its thread cleared: nothing outside them was written.
+    const long blocks = static_cast<long>(row_split_.size()) - 1, n = static_cast<long>(p.size());
+    for (int s = 1; s < nt; ++s)
+      for (const BodyRange& r : private_ranges(s, nt, row_split_[blocks * s / nt], n))
+        for (long k = std::max(r.first, first); k < std::min(r.last, last); ++k) {
+          p.f[k] += thread_force_[s][k];
+          p.torque[k] += thread_torque_[s][k];
+        }
   }
   // Then the intruder pairs, in list order: each thread walks them all and adds the share of
   // its own bodies, so every body receives its terms in the order a serial sum gives them.

@@ -1,4 +1,5 @@
 #pragma once
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -14,6 +15,14 @@ namespace granudrag {
 // or a partner's. Conservative: each block's writes are taken as two ranges of bodies.
 bool colour_blocks_apart(const PairList& pairs, const std::vector<long>& split);
 
+// The bodies rows i0 .. i1 - 1 write, their own and their partners j > i (rows sorted): those
+// short of `limit` lie in i0 .. near_end, the others (rows of a periodic sweep reaching across
+// its boundary, or anywhere in a bed in another order) in far_first .. far_last (-1: none).
+struct WriteReach {
+  long near_end, far_first, far_last;
+};
+WriteReach write_reach(const PairList& pairs, long i0, long i1, long limit);
+
 // The production path. Each grain pair is evaluated once (Newton's third law), by the thread
 // that owns its row; rows are split into two contiguous blocks per thread of about equal cost
 // (list entries, touching pairs weighted as the contact law costs), re-balanced at each rebuild.
@@ -21,11 +30,13 @@ bool colour_blocks_apart(const PairList& pairs, const std::vector<long>& split);
 // a pour leaves them and a pull puts them: core/spatial_order.hpp), the even blocks run
 // together, then the odd ones, and every thread adds straight into the particles' forces.
 // Otherwise thread 0 adds into them directly, and the other threads into private copies summed
-// in thread order afterwards (whose clearing and summing cost memory traffic that grows with
-// N). No atomics, and a fixed summation order for a given thread count: runs are bitwise
-// reproducible for that count; one thread gives the serial order. (A per-pair buffer gathered
-// in fixed order would make them independent of the thread count too, but doubled the memory
-// traffic and the cost.)
+// in thread order afterwards, each cleared and summed over the bodies its rows can write only
+// (its rows and their reach ahead, and any excursions): bodies in a sweep's order at more
+// threads than the colours allow (a 40 d bed at 16) would otherwise clear and sum about N/2
+// entries per thread and step, traffic that grows with both. No atomics, and a fixed summation order for a
+// given thread count: runs are bitwise reproducible for that count; one thread gives the serial order. (A
+// per-pair buffer gathered in fixed order would make them independent of the thread count too, but doubled
+// the memory traffic and the cost.)
 class VerletContacts : public ContactLoop {
  public:
   explicit VerletContacts(double skin) : list_(skin), simd_(best_simd_level()) {}
@@ -55,6 +66,8 @@ class VerletContacts : public ContactLoop {
   const NeighborList& list() const { return list_; }
   // Whether the last balance allows the two-colour schedule (no private force arrays).
   bool colored() const { return colored_; }
+  // Without it: the bodies threads 1.. clear and sum in their private arrays at each step.
+  long private_span() const;
 
  private:
   NeighborList list_;
@@ -115,7 +128,15 @@ class VerletContacts : public ContactLoop {
                                         bool update_history, ContactBatch& b, Vec3* f, Vec3* tq);
 
   std::vector<std::vector<Vec3>> thread_force_, thread_torque_;  // threads 1.., per particle
-  std::vector<std::unique_ptr<ContactBatch>> batches_;           // one per thread
+  // Without the colours, for the team the rows were balanced for: per thread, the two ranges of
+  // bodies [first, last) its rows write, which are all of its private arrays that are used.
+  struct BodyRange {
+    long first = 0, last = 0;
+  };
+  std::vector<std::array<BodyRange, 2>> private_reach_;
+  // Thread t of a team of nt: its private ranges (rows from i0 on; n bodies).
+  std::array<BodyRange, 2> private_ranges(int t, int nt, long i0, long n) const;
+  std::vector<std::unique_ptr<ContactBatch>> batches_;  // one per thread
   std::vector<long> row_split_;  // block b is rows row_split_[b] .. row_split_[b+1]; thread t has 2t, 2t+1
   bool colored_ = false;         // blocks of one colour never write the same body
   int planned_threads_ = 1;      // the team prepare_accumulate() made ready (omp_get_max_threads())
