@@ -125,10 +125,11 @@ void VerletContacts::balance_rows(int threads) {
   }
 }
 
-std::array<VerletContacts::BodyRange, 2> VerletContacts::private_ranges(int t, int nt, long i0,
-                                                                        long n) const {
+std::array<VerletContacts::BodyRange, 2> VerletContacts::private_ranges(int t, int nt, long n) const {
   if (nt == planned_threads_ && static_cast<int>(private_reach_.size()) == nt) return private_reach_[t];
-  return {BodyRange{i0, n}, BodyRange{}};  // a smaller team than planned: all it may write
+  // A smaller team than planned takes whole blocks: from its first row on, all it may write.
+  const long blocks = static_cast<long>(row_split_.size()) - 1;
+  return {BodyRange{row_split_[blocks * t / nt], n}, BodyRange{}};
 }
 
 long VerletContacts::private_span() const {
@@ -159,22 +160,19 @@ WriteReach write_reach(const PairList& pairs, long i0, long i1, long limit) {
 bool colour_blocks_apart(const PairList& pairs, const std::vector<long>& split) {
   // Per block: the largest partner short of the block but one, and the hull of the excursions.
   const int blocks = static_cast<int>(split.size()) - 1;
-  std::vector<long> near_end(blocks), far_first(blocks, LONG_MAX), far_last(blocks, -1);
-  for (int b = 0; b < blocks; ++b) {
-    const WriteReach w = write_reach(pairs, split[b], split[b + 1], split[std::min(b + 2, blocks)]);
-    near_end[b] = w.near_end;
-    far_first[b] = w.far_first;
-    far_last[b] = w.far_last;
-  }
+  std::vector<WriteReach> w(blocks);
+  for (int b = 0; b < blocks; ++b)
+    w[b] = write_reach(pairs, split[b], split[b + 1], split[std::min(b + 2, blocks)]);
   // Two blocks of one colour, b < c (so c >= b + 2): b's near part ends before c starts, and
   // c's parts lie beyond it. What can meet is an excursion of either block: each block's are
   // checked against the near part and the excursions of every other block of its colour.
   for (int b = 0; b < blocks; ++b) {
-    if (far_last[b] < 0) continue;
+    if (w[b].far_last < 0) continue;
     for (int c = b % 2; c < blocks; c += 2) {
       if (c == b) continue;
-      const bool meets_near = far_first[b] <= near_end[c] && split[c] <= far_last[b];
-      const bool meets_far = far_last[c] >= 0 && far_first[b] <= far_last[c] && far_first[c] <= far_last[b];
+      const bool meets_near = w[b].far_first <= w[c].near_end && split[c] <= w[b].far_last;
+      const bool meets_far =
+          w[c].far_last >= 0 && w[b].far_first <= w[c].far_last && w[c].far_first <= w[b].far_last;
       if (meets_near || meets_far) return false;
     }
   }
@@ -339,7 +337,7 @@ void VerletContacts::accumulate_in_team(Particles& p, const Box& box, const Cont
     if (t > 0) {
       thread_force_[t].resize(n);
       thread_torque_[t].resize(n);
-      for (const BodyRange& r : private_ranges(t, nt, i0, n)) {
+      for (const BodyRange& r : private_ranges(t, nt, n)) {
         std::fill(thread_force_[t].begin() + r.first, thread_force_[t].begin() + r.last, Vec3::Zero());
         std::fill(thread_torque_[t].begin() + r.first, thread_torque_[t].begin() + r.last, Vec3::Zero());
       }
@@ -380,9 +378,9 @@ void VerletContacts::finish_accumulate(Particles& p, long first, long last) {
   if (!two_colours(nt) && nt > 1) {
     // The private arrays, in thread order (each body receives its terms in ascending s), each
     // over the ranges its thread cleared: nothing outside them was written.
-    const long blocks = static_cast<long>(row_split_.size()) - 1, n = static_cast<long>(p.size());
+    const long n = static_cast<long>(p.size());
     for (int s = 1; s < nt; ++s)
-      for (const BodyRange& r : private_ranges(s, nt, row_split_[blocks * s / nt], n))
+      for (const BodyRange& r : private_ranges(s, nt, n))
         for (long k = std::max(r.first, first); k < std::min(r.last, last); ++k) {
           p.f[k] += thread_force_[s][k];
           p.torque[k] += thread_torque_[s][k];

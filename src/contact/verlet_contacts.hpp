@@ -33,10 +33,10 @@ WriteReach write_reach(const PairList& pairs, long i0, long i1, long limit);
 // in thread order afterwards, each cleared and summed over the bodies its rows can write only
 // (its rows and their reach ahead, and any excursions): bodies in a sweep's order at more
 // threads than the colours allow (a 40 d bed at 16) would otherwise clear and sum about N/2
-// entries per thread and step, traffic that grows with both. No atomics, and a fixed summation order for a
-// given thread count: runs are bitwise reproducible for that count; one thread gives the serial order. (A
-// per-pair buffer gathered in fixed order would make them independent of the thread count too, but doubled
-// the memory traffic and the cost.)
+// entries per thread and step, traffic that grows with both. No atomics, and a fixed
+// summation order for a given thread count: runs are bitwise reproducible for that count; one
+// thread gives the serial order. (A per-pair buffer gathered in fixed order would make them
+// independent of the thread count too, but doubled the memory traffic and the cost.)
 class VerletContacts : public ContactLoop {
  public:
   explicit VerletContacts(double skin) : list_(skin), simd_(best_simd_level()) {}
@@ -134,8 +134,8 @@ class VerletContacts : public ContactLoop {
     long first = 0, last = 0;
   };
   std::vector<std::array<BodyRange, 2>> private_reach_;
-  // Thread t of a team of nt: its private ranges (rows from i0 on; n bodies).
-  std::array<BodyRange, 2> private_ranges(int t, int nt, long i0, long n) const;
+  // Thread t of a team of nt: its private ranges (of n bodies).
+  std::array<BodyRange, 2> private_ranges(int t, int nt, long n) const;
   std::vector<std::unique_ptr<ContactBatch>> batches_;  // one per thread
   std::vector<long> row_split_;  // block b is rows row_split_[b] .. row_split_[b+1]; thread t has 2t, 2t+1
   bool colored_ = false;         // blocks of one colour never write the same body
