@@ -3,7 +3,7 @@
 # misses of its steps (valgrind's cachegrind), per particle-step, for beds of any size. The counts
 # are the same on every run of one build, so they settle what a timing on a shared machine cannot
 # (docs/benchmark.md): whether a step touches memory as locally in a large bed as in a small one.
-#   bench/cache_counts.sh [--l2 BYTES] [--steps A B] BED.h5 [BED.h5 ...]
+#   bench/cache_counts.sh [--l2 BYTES] [--steps A B] [--binary GRANUDRAG] BED.h5 [BED.h5 ...]
 # Each bed is pulled (D's intruder at V = 1, one thread, no output but the run file) for A and for
 # B steps under cachegrind; the difference, over (B - A) x bodies, leaves out the start (reading
 # the bed, the first list build, the checks of the end). Printed per particle-step, for the
@@ -15,24 +15,25 @@
 # fetches, not what a fetch costs.
 #   e.g. bench/cache_counts.sh bench/out/bed-7.7k.h5 bench/out/bed-70k.h5   (compare_lammps.sh's
 #   recipe beds; about 5 minutes on one core)
-# Needs valgrind (apt-get install valgrind); uses build/granudrag (built if missing).
+# Needs valgrind (apt-get install valgrind); uses build/granudrag (built if missing) or --binary.
 set -euo pipefail
-cd "$(dirname "$0")/.."
-l2=1048576 steps_a=100 steps_b=400 beds=()
+l2=1048576 steps_a=100 steps_b=400 beds=() gd=build/granudrag
 while [ $# -gt 0 ]; do
   case "$1" in
     --l2) l2=$2; shift 2 ;;
     --steps) steps_a=$2 steps_b=$3; shift 3 ;;
+    --binary) gd=$(realpath -m "$2"); shift 2 ;;
     -h | --help) sed -n '2,19p' "$0"; exit 0 ;;
     -*) echo "cache_counts.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
-    *) beds+=("$1"); shift ;;
+    *) beds+=("$(realpath -m "$1")"); shift ;;
   esac
 done
+cd "$(dirname "$0")/.."  # the beds and --binary are resolved from where the script was called
 [ ${#beds[@]} -gt 0 ] || { echo "cache_counts.sh: name at least one bed file (see --help)" >&2; exit 2; }
 [ "$steps_b" -gt "$steps_a" ] || { echo "cache_counts.sh: --steps A B needs B > A (got $steps_a $steps_b)" >&2; exit 2; }
+[ "$gd" = build/granudrag ] || [ -x "$gd" ] || { echo "cache_counts.sh: --binary '$gd' is not an executable" >&2; exit 2; }
 command -v valgrind >/dev/null || { echo "cache_counts.sh: valgrind not found: apt-get install valgrind" >&2; exit 1; }
-gd=build/granudrag
-[ -x "$gd" ] || { cmake -S . -B build >/dev/null && cmake --build build -j "$(nproc)" >/dev/null; }
+[ "$gd" != build/granudrag ] || [ -x "$gd" ] || { cmake -S . -B build >/dev/null && cmake --build build -j "$(nproc)" >/dev/null; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 for bed in "${beds[@]}"; do
