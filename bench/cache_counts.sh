@@ -4,7 +4,7 @@
 # are the same on every run of one build, so they settle what a timing on a shared machine cannot
 # (docs/benchmark.md): whether a step touches memory as locally in a large bed as in a small one.
 #   bench/cache_counts.sh [--l2 BYTES] [--steps A B] [--binary GRANUDRAG] BED.h5 [BED.h5 ...]
-# Each bed is pulled (D's intruder at V = 1, one thread, no output but the run file) for A and for
+# Each bed is pulled (its intruder at V = 1, one thread, no output but the run file) for A and for
 # B steps under cachegrind; the difference, over (B - A) x bodies, leaves out the start (reading
 # the bed, the first list build, the checks of the end). Printed per particle-step, for the
 # contact loop (the scan of the Verlet rows and the batched law), the integrator (its two passes)
@@ -14,7 +14,7 @@
 # level, whatever that is on the machine that runs the bed: the counts say how much a step
 # fetches, not what a fetch costs.
 #   e.g. bench/cache_counts.sh bench/out/bed-7.7k.h5 bench/out/bed-70k.h5   (compare_lammps.sh's
-#   recipe beds; about 5 minutes on one core)
+#   recipe beds; 5-10 minutes on one core)
 # Needs valgrind (apt-get install valgrind); uses build/granudrag (built if missing) or --binary.
 set -euo pipefail
 l2=1048576 steps_a=100 steps_b=400 beds=() gd=build/granudrag
@@ -23,7 +23,7 @@ while [ $# -gt 0 ]; do
     --l2) l2=$2; shift 2 ;;
     --steps) steps_a=$2 steps_b=$3; shift 3 ;;
     --binary) gd=$(realpath -m "$2"); shift 2 ;;
-    -h | --help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,18p' "$0"; exit 0 ;;
     -*) echo "cache_counts.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
     *) beds+=("$(realpath -m "$1")"); shift ;;
   esac
