@@ -3,6 +3,7 @@
 # 70k bodies"), measured in one run so that a shared machine's drift falls on both sizes alike.
 #
 #   bench/size_growth.sh [--rounds N] [--threads T] [--lammps] [--small BED.h5] [--large BED.h5]
+#                        [--binary build/granudrag]
 #
 # Takes the two beds of bench/compare_lammps.sh's recipe (bench/out/bed-7.7k.h5 and bed-70k.h5;
 # run `bench/compare_lammps.sh --size 7.7k` and `--size 70k` once to pour them, or pass --small
@@ -25,7 +26,7 @@ while [ $# -gt 0 ]; do
     --small) small=$2; shift 2 ;;
     --large) large=$2; shift 2 ;;
     --binary) gd=$2; shift 2 ;;
-    -h | --help) sed -n '2,16p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,17p' "$0"; exit 0 ;;
     *) echo "size_growth.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
