@@ -103,19 +103,12 @@ bed=$(realpath "$bed")
 label="$size"  # the bed's name in the table: the recipe's size, or the file given with --bed
 [ "$bed" = "$(realpath "$out/bed-$size.h5")" ] || label=$(basename "$bed")
 [ "$bed" != "$(realpath -m "$out/bed-$size-lammps.h5")" ] || label="$size, poured by LAMMPS"
-dt=$(/usr/bin/python3 -c "import h5py; print(repr(float(h5py.File('$bed')['/contact'].attrs['dt'])))")
-# The study's sampling: `granudrag pull`'s default sample_interval, in steps of this bed's dt.
-if [ -z "$every" ]; then
-  sample=$("$gd" pull --help | awk '$1 == "sample_interval" {print $4}')
-  every=$(/usr/bin/python3 -c "print(max(1, round($sample / $dt)))")
-fi
+# shellcheck source=bench/recipe_pull.sh
+. bench/recipe_pull.sh
+recipe_pull "$gd" "$bed" "$steps" "$speed" "$every"
 run=$out/run-$size
 rm -rf "$run" && mkdir -p "$run"
 "$gd" export-lammps --bed "$bed" --output "$run/pull" --speed "$speed" --steps "$steps" --every "$every" >/dev/null
-# A distance half a step short of `steps` steps: granudrag rounds it up to exactly `steps`.
-distance=$(/usr/bin/python3 -c "print(repr(($steps - 0.5) * $dt * $speed))")
-interval=$(/usr/bin/python3 -c "print(repr($every * $dt))")
-checkpoint=$(/usr/bin/python3 -c "print(repr(($steps // 2) * $dt))")
 mpi_root=""
 [ "$(id -u)" -eq 0 ] && mpi_root="--allow-run-as-root"
 

@@ -42,18 +42,16 @@ run=bench/out/size_growth
 rm -rf "$run" && mkdir -p "$run"
 mpi_root=""
 [ "$(id -u)" -eq 0 ] && mpi_root="--allow-run-as-root"
-sample=$("$gd" pull --help | awk '$1 == "sample_interval" {print $4}')
+# shellcheck source=bench/recipe_pull.sh
+. bench/recipe_pull.sh
 
-# Per size: the bed, its steps, and the pull's arguments (those of bench/compare_lammps.sh).
+# Per size: the bed, its steps, and the pull's arguments (bench/compare_lammps.sh's pull).
 declare -A bed steps args
 bed[small]=$(realpath "$small") steps[small]=4000
 bed[large]=$(realpath "$large") steps[large]=1000
 for s in small large; do
-  dt=$(/usr/bin/python3 -c "import h5py; print(repr(float(h5py.File('${bed[$s]}')['/contact'].attrs['dt'])))")
-  every=$(/usr/bin/python3 -c "print(max(1, round($sample / $dt)))")
-  args[$s]=$(/usr/bin/python3 -c "
-n, dt, k = ${steps[$s]}, $dt, $every
-print(f'--distance {(n - 0.5) * dt!r} --sample_interval {k * dt!r} --checkpoint_interval {(n // 2) * dt!r}')")
+  recipe_pull "$gd" "${bed[$s]}" "${steps[$s]}" 1
+  args[$s]="--distance $distance --sample_interval $interval --checkpoint_interval $checkpoint"
   if [ -n "$lammps" ]; then
     mkdir -p "$run/$s"
     "$gd" export-lammps --bed "${bed[$s]}" --output "$run/$s/pull" --speed 1 --steps "${steps[$s]}" --every "$every" >/dev/null
