@@ -12,9 +12,10 @@ per run and shell width) and run.json (cost, machine, commit), run.json last: a 
 without run.json counts as not run.
 
 `table` reads <root>/ladder.yaml (the rungs in order, each with a label; a description per
-claim) and writes ladder.csv, ladder.md, claim_<letter>.png, and two diagnostics:
-kappa_shells.csv/.png (the slope of κ(Fr) against the shell width Z is counted in) and
-fr2_range.csv/.png (Fr_2 refitted on the points with Fr <= fr_max). If <root>/README.md has
+claim) and writes ladder.csv, ladder.md, claim_<letter>.png, and its diagnostics:
+kappa_shells.csv/.png (the slope of κ(Fr) against the shell width Z is counted in),
+fr2_range.csv/.png (Fr_2 refitted on the points with Fr <= fr_max) and box_axis.csv/.png (the
+drag of the same points in rungs of wider boxes). If <root>/README.md has
 the markers LADDER_BEGIN and LADDER_END, the text between them becomes ladder.md's.
 
 The verdicts are the report's: each rung's fits.json and table.csv are read as the report
@@ -22,7 +23,8 @@ rule reads them and passed to analysis.report.comparisons; nothing is re-judged 
 
 The rest of the ladder lives beside this module (all re-exported here): analysis.ladder_collect
 (collect), analysis.ladder_claims (the claims of a rung), analysis.ladder_diagnostics (κ shells,
-Fr_2 range and startup refits) and analysis.ladder_report (ladder.md and the figures).
+Fr_2 range and startup refits), analysis.ladder_box (the box axis) and analysis.ladder_report
+(ladder.md and the figures).
 analysis.ladder_refit makes each recorded rung's table.csv, fits.json and report.md again from
 its runs.csv after a change of the analysis (`python -m analysis.ladder_refit <root>`).
 """
@@ -32,6 +34,7 @@ from pathlib import Path
 import pandas as pd
 
 from .fits import write_text_atomic
+from .ladder_box import BOX_COLUMNS, SUMMARY_COLUMNS, box_axis, box_summary
 from .ladder_claims import (
     CLAIMS,
     NOT_RUN,
@@ -74,7 +77,7 @@ from .ladder_diagnostics import (
     kept_drag,
     startup_refit,
 )
-from .ladder_report import _claim_figures, _fr2_figure, _kappa_figure, ladder_markdown
+from .ladder_report import _box_figure, _claim_figures, _fr2_figure, _kappa_figure, ladder_markdown
 from .table import load_csv, write_csv
 
 __all__ = [
@@ -84,7 +87,8 @@ __all__ = [
     "write_startup", "read_shells", "FR_MAX_VALUES", "SLOPE_COLUMNS", "inside_box", "kappa_points",
     "kappa_shell_slopes", "DECOMPOSITION_COLUMNS", "DECOMPOSITION_FR", "DECOMPOSITION_WIDTHS",
     "kappa_decomposition", "STARTUP_FIT_COLUMNS", "PAPER_PULL", "kept_drag", "startup_refit", "FR2_COLUMNS",
-    "fr2_vs_range", "ladder_markdown", "read_ladder", "rung_run", "ladder_rows", "write_ladder",
+    "fr2_vs_range", "BOX_COLUMNS", "SUMMARY_COLUMNS", "box_axis", "box_summary", "ladder_markdown",
+    "read_ladder", "rung_run", "ladder_rows", "write_ladder",
 ]
 
 LADDER_BEGIN, LADDER_END = "<!-- ladder:begin -->", "<!-- ladder:end -->"
@@ -166,8 +170,8 @@ def ladder_rows(root, rungs):
 
 
 def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
-    """ladder.csv, ladder.md, claim_<letter>.png, kappa_shells.csv/.png and fr2_range.csv/.png
-    in root, from ladder.yaml and each rung's directory; README.md's ladder section replaced
+    """ladder.csv, ladder.md, claim_<letter>.png, kappa_shells.csv/.png, fr2_range.csv/.png and
+    box_axis.csv/.png in root, from ladder.yaml and each rung's directory; README.md's ladder section replaced
     when it has the markers. n_boot, seed: the bootstrap of the Fr_2-range refits. Returns the
     paths written."""
     root = Path(root)
@@ -197,8 +201,12 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     startup = pd.concat(startup, ignore_index=True) if startup else pd.DataFrame(columns=STARTUP_FIT_COLUMNS)
     write_csv(startup, root / "startup_fr2.csv")
     written.append(root / "startup_fr2.csv")
+    box = box_axis({r["name"]: load_csv(root / r["name"] / "table.csv") for r in rungs if infos[r["name"]] is not None})
+    write_csv(box, root / "box_axis.csv")
+    written.append(root / "box_axis.csv")
+    written += _box_figure(root, box)
     md = ladder_markdown(table, rungs, claims, infos, slopes, fr2, figures=[p.name for p in written],
-                         decomposition=decomposition, startup=startup)
+                         decomposition=decomposition, startup=startup, box_steps=box_summary(box))
     write_text_atomic(root / "ladder.md", md)
     written.append(root / "ladder.md")
     readme = root / "README.md"

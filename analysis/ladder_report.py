@@ -1,6 +1,6 @@
 """The ladder's outputs for reading: ladder.md (the rungs, the claims against them, the verdict
 at the top rung and the diagnostics' tables) and its figures claim_<letter>.png,
-kappa_shells.png and fr2_range.png."""
+kappa_shells.png, fr2_range.png and box_axis.png."""
 import math
 
 import numpy as np
@@ -39,7 +39,7 @@ def _rung_line(i, rung, info):
 
 
 def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=(), decomposition=None,
-                    startup=None):
+                    startup=None, box_steps=None):
     """ladder.md: the rungs, each claim's quantities against the rungs, the verdict at the top
     rung, and the two diagnostics. Deterministic: only what the rungs' files say."""
     names = [r["name"] for r in rungs]
@@ -79,7 +79,7 @@ def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=
             top = rows.loc[rows.order.idxmax()]
             body.append([letter, q, top.rung, top.fitted, top.published, _verdict(top)])
         out.append(_md_table(["claim", "quantity", "top rung", "fitted", "paper", "verdict"], body))
-    out += _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition, startup)
+    out += _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition, startup, box_steps)
     return "\n".join(out)
 
 
@@ -89,7 +89,29 @@ def _verdict(row):
     return f"{row.verdict} (model rejected)" if isinstance(rejected, str) and rejected else row.verdict
 
 
-def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None, startup=None):
+def _box_markdown(box_steps, figures):
+    """The box axis: per step to a wider box, the drag's ratio over Fr up to 4 and beyond."""
+    out = ["### The drag against the box's width\n",
+           "The same points (K_n, D, Fr; depths within 1 d) in rungs whose periodic box is "
+           "wider (the paper's system I: 40 d); each box's drag over the next narrower box's (box_axis.csv, "
+           "per point; analysis.ladder_box). A ratio near 1 says the narrower box was wide enough. Cells: "
+           "the median ratio (least – greatest; points beyond 2 errors of the narrower box's drag).\n"]
+    if "box_axis.png" in figures:
+        out.append("![drag against the box's width](box_axis.png)\n")
+    body = []
+    for (kn, D, lx, narrower), g in box_steps.groupby(["kn", "D", "lx", "narrower_lx"]):
+        cells = []
+        for lo in (0.0, 4.0):
+            hit = g[np.isclose(g.fr_lo, lo)]
+            r = hit.iloc[0] if len(hit) else None
+            cells.append("—" if r is None else f"×{r.ratio_median:.2f} ({r.ratio_min:.2f} – {r.ratio_max:.2f}; "
+                         f"{int(r.n_beyond_2sigma)} of {int(r.n_points)})")
+        body.append([f"{kn:.0e}", f"{D:g}", f"{narrower:g} → {lx:g} d"] + cells)
+    out.append(_md_table(["K_n", "D", "box", "Fr ≤ 4", "Fr > 4"], body))
+    return out
+
+
+def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None, startup=None, box_steps=None):
     out = []
     if slopes is not None and len(slopes):
         pooled = slopes[slopes.D.astype(str) == "all"]
@@ -161,6 +183,8 @@ def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None
         order = {n: i for i, n in enumerate(names)}
         body.sort(key=lambda b: (order.get(b[0], len(order)), float(b[1]), b[2] != "steady", b[3]))
         out.append(_md_table(["rung", "D", "drag", "Fr", "continuous fit", "discontinuous fit"], body))
+    if box_steps is not None and len(box_steps):
+        out += _box_markdown(box_steps, figures)
     return out
 
 
@@ -285,4 +309,32 @@ def _fr2_figure(root, fr2, rungs):
         ax.set(xlabel="largest Fr fitted, fr_max", title=f"{'continuous' if cont else 'discontinuous'} fit")
         ax.legend(fontsize=6)
     axes[0].set_ylabel("Fr_2")
+    return [_savefig(fig, path)]
+
+
+def _box_figure(root, box):
+    """box_axis.png: per K_n and D with more than one box, the drag against Fr in each box (top)
+    and each box's drag over the next narrower box's (bottom)."""
+    path = root / "box_axis.png"
+    if box.empty:
+        path.unlink(missing_ok=True)
+        return []
+    plt = _pyplot()
+    groups = list(box.groupby(["kn", "D"]))
+    fig, axes = plt.subplots(2, len(groups), figsize=(4.5 * len(groups), 6.5), squeeze=False, sharex=True,
+                             layout="constrained")
+    for col, ((kn, D), g) in enumerate(groups):
+        top, bottom = axes[0, col], axes[1, col]
+        for lx, s in g.groupby("lx"):
+            s = s.sort_values("Fr")
+            top.errorbar(s.Fr, s.drag, yerr=s.drag_err, fmt="o-", capsize=3, ms=4, label=f"{lx:g} d box")
+            r = s[np.isfinite(s.ratio.astype(float))]
+            if len(r):
+                bottom.errorbar(r.Fr, r.ratio, yerr=r.ratio_err, fmt="o-", capsize=3, ms=4,
+                                label=f"{lx:g} d / {r.narrower_lx.iloc[0]:g} d")
+        top.set(ylabel="drag F_D [ρ g d³]", title=f"K_n = {kn:.0e}, D = {D:g}")
+        top.legend(fontsize=7)
+        bottom.axhline(1.0, color="k", lw=0.8)
+        bottom.set(xlabel="Fr", ylabel="drag ratio to the narrower box")
+        bottom.legend(fontsize=7)
     return [_savefig(fig, path)]

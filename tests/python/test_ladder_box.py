@@ -1,0 +1,94 @@
+"""analysis.ladder_box: the drag of the same points in rungs of wider boxes, each against the next
+narrower box's, its summary, and its place in `ladder table`'s files."""
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+from test_ladder import FR, make_rung, point_table
+
+from analysis.ladder import box_axis, box_summary, write_ladder
+from analysis.point_errors import pooled_drag_err
+from analysis.table import save_csv
+
+SCALED = ("drag", "drag_err", "drag_err_within", "drag_err_between")
+
+
+def boxed(lx, factor=1.0, h_shift=0.0, kn=None):
+    """point_table's rung (the same noise for every box: seed 0) in a box lx wide, its drags and
+    their errors times factor(Fr), its depths shifted by h_shift."""
+    t = point_table().assign(lx=float(lx), ly=float(lx))
+    f = np.array([factor(fr) if callable(factor) else factor for fr in t.Fr])
+    for col in SCALED:
+        t[col] = t[col] * f
+    t["drag_var_excess"] = t.drag_var_excess * f ** 2
+    t["h"] = t.h + h_shift
+    if kn is not None:
+        t["kn"] = kn
+    return t
+
+
+def test_each_box_is_compared_with_the_next_narrower_one():
+    step = lambda fr: 1.2 if fr <= 4 else 1.8     # noqa: E731
+    box = box_axis({"b12": boxed(12), "b20": boxed(20, step), "b30": boxed(30, lambda fr: 1.2 * step(fr))})
+    assert set(box.lx) == {12.0, 20.0, 30.0} and set(box.D) == {2.0, 3.0}
+    assert len(box) == 3 * 2 * len(FR)
+    narrowest = box[box.lx == 12]
+    assert narrowest.ratio.isna().all() and narrowest.narrower_lx.isna().all()
+    b20, b30 = box[box.lx == 20], box[box.lx == 30]
+    assert (b20.narrower_lx == 12).all() and (b30.narrower_lx == 20).all()    # not the narrowest
+    assert b20.ratio.to_numpy() == pytest.approx([step(fr) for fr in b20.Fr])
+    assert b30.ratio.to_numpy() == pytest.approx(np.full(len(b30), 1.2))
+    # Relative errors in quadrature; z the difference over its error.
+    t = point_table()
+    first = (t.D == 2) & np.isclose(t.Fr, FR[0])
+    rel = (pooled_drag_err(t)[first] / t.drag[first]).iloc[0]
+    one = b20[(b20.D == 2) & np.isclose(b20.Fr, FR[0])].iloc[0]
+    narrow = narrowest[(narrowest.D == 2) & np.isclose(narrowest.Fr, FR[0])].iloc[0]
+    assert one.ratio_err == pytest.approx(1.2 * math.sqrt(2) * rel)
+    assert one.z == pytest.approx((one.drag - narrow.drag) / math.hypot(one.drag_err, narrow.drag_err))
+    assert one.drag_err == pytest.approx(1.2 * narrow.drag_err)
+
+
+def test_points_of_another_stiffness_or_depth_are_not_compared():
+    assert box_axis({"b12": boxed(12), "deeper": boxed(20, h_shift=3.0)}).empty
+    assert box_axis({"b12": boxed(12), "stiffer": boxed(20, kn=2e6)}).empty
+    assert box_axis({"b12": boxed(12)}).empty and box_axis({}).empty
+    near = box_axis({"b12": boxed(12), "b20": boxed(20, 1.1, h_shift=0.5)})
+    assert len(near) == 2 * 2 * len(FR) and near.ratio.dropna().to_numpy() == pytest.approx(1.1)
+
+
+def test_summary_splits_at_fr_4_and_counts_the_points_beyond_two_errors():
+    step = lambda fr: 1.0 if fr <= 4 else 2.0     # noqa: E731
+    s = box_summary(box_axis({"b12": boxed(12), "b20": boxed(20, step)}))
+    assert len(s) == 4 and set(s.D) == {2.0, 3.0}
+    low, high = s[s.fr_lo == 0].iloc[0], s[s.fr_lo == 4].iloc[0]
+    assert low.n_points == (FR <= 4).sum() and high.n_points == (FR > 4).sum()
+    assert low.ratio_median == pytest.approx(1.0) and low.n_beyond_2sigma == 0
+    assert high.ratio_min == pytest.approx(2.0) and high.n_beyond_2sigma == high.n_points
+
+
+def test_ladder_table_writes_the_box_axis(tmp_path):
+    (tmp_path / "ladder.yaml").write_text(
+        "rungs:\n  - {name: narrow, label: '12 d box'}\n  - {name: wide, label: '20 d box'}\n")
+    for name, lx, factor in (("narrow", 12, 1.0), ("wide", 20, 1.5)):
+        d = make_rung(tmp_path, name, (0.887, 0.185), seed=1)
+        save_csv(boxed(lx, factor), d / "table.csv")
+    written = write_ladder(tmp_path, n_boot=5, seed=0)
+    box = pd.read_csv(tmp_path / "box_axis.csv")
+    assert box[box.lx == 20].ratio.to_numpy() == pytest.approx(1.5)
+    assert tmp_path / "box_axis.png" in written and (tmp_path / "box_axis.png").stat().st_size > 1000
+    md = (tmp_path / "ladder.md").read_text()
+    assert "### The drag against the box's width" in md and "![drag against the box's width](box_axis.png)" in md
+    assert "| 2e+05 | 2 | 12 → 20 d | ×1.50 (1.50 – 1.50;" in md
+
+
+def test_ladder_without_two_boxes_writes_no_figure(tmp_path):
+    (tmp_path / "ladder.yaml").write_text("rungs: [{name: only, label: one box}]\n")
+    (tmp_path / "box_axis.png").write_bytes(b"stale")
+    d = make_rung(tmp_path, "only", (0.887, 0.185), seed=1)
+    save_csv(boxed(12), d / "table.csv")
+    write_ladder(tmp_path, n_boot=5, seed=0)
+    assert not (tmp_path / "box_axis.png").exists()
+    assert pd.read_csv(tmp_path / "box_axis.csv").empty
+    assert "box's width" not in (tmp_path / "ladder.md").read_text()
