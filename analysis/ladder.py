@@ -189,19 +189,19 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     decomposition = kappa_decomposition(shells) if len(shells) else pd.DataFrame(columns=DECOMPOSITION_COLUMNS)
     write_csv(decomposition, root / "kappa_decomposition.csv")
     written.append(root / "kappa_decomposition.csv")
-    fr2 = [fr2_vs_range(load_csv(root / r["name"] / "table.csv"), fr_max_values, n_boot=n_boot, seed=seed,
-                        rung=r["name"]) for r in rungs if infos[r["name"]] is not None]
+    # Each rung's point table, read once for the diagnostics below.
+    tables = {r["name"]: load_csv(root / r["name"] / "table.csv") for r in rungs if infos[r["name"]] is not None}
+    fr2 = [fr2_vs_range(t, fr_max_values, n_boot=n_boot, seed=seed, rung=name) for name, t in tables.items()]
     fr2 = pd.concat(fr2, ignore_index=True) if fr2 else pd.DataFrame(columns=FR2_COLUMNS)
     write_csv(fr2, root / "fr2_range.csv")
     written.append(root / "fr2_range.csv")
     written += _fr2_figure(root, fr2, rungs)
-    startup = [startup_refit(pd.read_csv(root / r["name"] / "startup.csv"), load_csv(root / r["name"] / "table.csv"),
-                             n_boot=n_boot, seed=seed, rung=r["name"])
-               for r in rungs if infos[r["name"]] is not None and (root / r["name"] / "startup.csv").is_file()]
+    startup = [startup_refit(pd.read_csv(root / name / "startup.csv"), t, n_boot=n_boot, seed=seed, rung=name)
+               for name, t in tables.items() if (root / name / "startup.csv").is_file()]
     startup = pd.concat(startup, ignore_index=True) if startup else pd.DataFrame(columns=STARTUP_FIT_COLUMNS)
     write_csv(startup, root / "startup_fr2.csv")
     written.append(root / "startup_fr2.csv")
-    box = box_axis({r["name"]: load_csv(root / r["name"] / "table.csv") for r in rungs if infos[r["name"]] is not None})
+    box = box_axis(tables)
     write_csv(box, root / "box_axis.csv")
     written.append(root / "box_axis.csv")
     written += _box_figure(root, box)

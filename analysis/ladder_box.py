@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pandas as pd
 
+from .ladder_diagnostics import _drag_series
 from .point_errors import pooled_drag_err
-from .table import is_yield, reference_params, select
 
 BOX_COLUMNS = ["kn", "D", "Fr", "h", "lx", "rung", "drag", "drag_err", "narrower_lx", "ratio", "ratio_err", "z"]
 SUMMARY_COLUMNS = ["kn", "D", "lx", "narrower_lx", "fr_lo", "fr_hi", "n_points", "ratio_median", "ratio_min",
@@ -19,11 +19,9 @@ SPLIT_FR = 4.0     # the summary's ranges: up to regime II's start, and beyond (
 
 
 def _series(table, rung):
-    """One rung's μ = 0.5 drag-vs-Fr points (system I, its reference contact law, yield pulls
-    out: the series the crossovers are fitted to), with their pooled errors."""
-    kn, gn = reference_params(table)
-    s = select(select(table, kn=kn, gamman=gn), mu=0.5, system="I")
-    s = s[~is_yield(s)]
+    """One rung's μ = 0.5 drag-vs-Fr points (the series the crossovers are fitted to,
+    ladder_diagnostics._drag_series), with their pooled errors."""
+    s, _, kn = _drag_series(table)
     if not len(s) or "lx" not in s.columns:
         return pd.DataFrame(columns=BOX_COLUMNS[:8])
     return pd.DataFrame({"kn": float(kn), "D": s.D.astype(float), "Fr": s.Fr.astype(float),

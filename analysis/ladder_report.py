@@ -6,6 +6,7 @@ import math
 import numpy as np
 
 from . import paper
+from .ladder_box import SAME_DEPTH, SPLIT_FR
 from .ladder_claims import CLAIMS, NOT_RUN, OTHER
 from .ladder_diagnostics import kappa_points
 
@@ -90,9 +91,9 @@ def _verdict(row):
 
 
 def _box_markdown(box_steps, figures):
-    """The box axis: per step to a wider box, the drag's ratio over Fr up to 4 and beyond."""
+    """The box axis: per step to a wider box, the drag's ratio over Fr up to SPLIT_FR and beyond."""
     out = ["### The drag against the box's width\n",
-           "The same points (K_n, D, Fr; depths within 1 d) in rungs whose periodic box is "
+           f"The same points (K_n, D, Fr; depths within {SAME_DEPTH:g} d) in rungs whose periodic box is "
            "wider (the paper's system I: 40 d); each box's drag over the next narrower box's (box_axis.csv, "
            "per point; analysis.ladder_box). A ratio near 1 says the narrower box was wide enough. Cells: "
            "the median ratio (least – greatest; points beyond 2 errors of the narrower box's drag).\n"]
@@ -101,13 +102,13 @@ def _box_markdown(box_steps, figures):
     body = []
     for (kn, D, lx, narrower), g in box_steps.groupby(["kn", "D", "lx", "narrower_lx"]):
         cells = []
-        for lo in (0.0, 4.0):
+        for lo in (0.0, SPLIT_FR):
             hit = g[np.isclose(g.fr_lo, lo)]
             r = hit.iloc[0] if len(hit) else None
             cells.append("—" if r is None else f"×{r.ratio_median:.2f} ({r.ratio_min:.2f} – {r.ratio_max:.2f}; "
                          f"{int(r.n_beyond_2sigma)} of {int(r.n_points)})")
         body.append([f"{kn:.0e}", f"{D:g}", f"{narrower:g} → {lx:g} d"] + cells)
-    out.append(_md_table(["K_n", "D", "box", "Fr ≤ 4", "Fr > 4"], body))
+    out.append(_md_table(["K_n", "D", "box", f"Fr ≤ {SPLIT_FR:g}", f"Fr > {SPLIT_FR:g}"], body))
     return out
 
 
