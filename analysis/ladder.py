@@ -14,17 +14,17 @@ without run.json counts as not run.
 `table` reads <root>/ladder.yaml (the rungs in order, each with a label; a description per
 claim) and writes ladder.csv, ladder.md, claim_<letter>.png, and its diagnostics:
 kappa_shells.csv/.png (the slope of κ(Fr) against the shell width Z is counted in),
-fr2_range.csv/.png (Fr_2 refitted on the points with Fr <= fr_max) and box_axis.csv/.png (the
-drag of the same points in rungs of wider boxes). If <root>/README.md has
-the markers LADDER_BEGIN and LADDER_END, the text between them becomes ladder.md's.
+fr2_range.csv/.png (Fr_2 refitted on the points with Fr <= fr_max), box_axis.csv/.png and
+stiffness_axis.csv/.png (the drag of the same points in rungs of wider boxes, of stiffer
+contacts). If <root>/README.md has the markers LADDER_BEGIN and LADDER_END, the text between them becomes ladder.md's.
 
 The verdicts are the report's: each rung's fits.json and table.csv are read as the report
 rule reads them and passed to analysis.report.comparisons; nothing is re-judged here.
 
 The rest of the ladder lives beside this module (all re-exported here): analysis.ladder_collect
 (collect), analysis.ladder_claims (the claims of a rung), analysis.ladder_diagnostics (κ shells,
-Fr_2 range and startup refits), analysis.ladder_box (the box axis) and analysis.ladder_report
-(ladder.md and the figures).
+Fr_2 range and startup refits), analysis.ladder_axes (the box and stiffness axes) and
+analysis.ladder_report (ladder.md and the figures).
 analysis.ladder_refit makes each recorded rung's table.csv, fits.json and report.md again from
 its runs.csv after a change of the analysis (`python -m analysis.ladder_refit <root>`).
 """
@@ -34,7 +34,8 @@ from pathlib import Path
 import pandas as pd
 
 from .fits import write_text_atomic
-from .ladder_box import BOX_COLUMNS, SUMMARY_COLUMNS, box_axis, box_summary
+from .ladder_axes import AXES, BOX, STIFFNESS, SUMMARY_COLUMNS, axis_steps, axis_summary, box_axis, stiffness_axis
+from .ladder_axes import COLUMNS as AXIS_COLUMNS
 from .ladder_claims import (
     CLAIMS,
     NOT_RUN,
@@ -77,7 +78,7 @@ from .ladder_diagnostics import (
     kept_drag,
     startup_refit,
 )
-from .ladder_report import _box_figure, _claim_figures, _fr2_figure, _kappa_figure, ladder_markdown
+from .ladder_report import _axis_figure, _claim_figures, _fr2_figure, _kappa_figure, ladder_markdown
 from .table import load_csv, write_csv
 
 __all__ = [
@@ -87,7 +88,8 @@ __all__ = [
     "write_startup", "read_shells", "FR_MAX_VALUES", "SLOPE_COLUMNS", "inside_box", "kappa_points",
     "kappa_shell_slopes", "DECOMPOSITION_COLUMNS", "DECOMPOSITION_FR", "DECOMPOSITION_WIDTHS",
     "kappa_decomposition", "STARTUP_FIT_COLUMNS", "PAPER_PULL", "kept_drag", "startup_refit", "FR2_COLUMNS",
-    "fr2_vs_range", "BOX_COLUMNS", "SUMMARY_COLUMNS", "box_axis", "box_summary", "ladder_markdown",
+    "fr2_vs_range", "AXES", "BOX", "STIFFNESS", "AXIS_COLUMNS", "SUMMARY_COLUMNS", "axis_steps", "axis_summary",
+    "box_axis", "stiffness_axis", "ladder_markdown",
     "read_ladder", "rung_run", "ladder_rows", "write_ladder",
 ]
 
@@ -171,9 +173,9 @@ def ladder_rows(root, rungs):
 
 def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     """ladder.csv, ladder.md, claim_<letter>.png, kappa_shells.csv/.png, fr2_range.csv/.png and
-    box_axis.csv/.png in root, from ladder.yaml and each rung's directory; README.md's ladder section replaced
-    when it has the markers. n_boot, seed: the bootstrap of the Fr_2-range refits. Returns the
-    paths written."""
+    each axis's <name>.csv/.png (box_axis, stiffness_axis) in root, from ladder.yaml and each
+    rung's directory; README.md's ladder section replaced when it has the markers. n_boot, seed:
+    the bootstrap of the Fr_2-range refits. Returns the paths written."""
     root = Path(root)
     rungs, claims = read_ladder(root)
     table = ladder_rows(root, rungs)
@@ -201,12 +203,15 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     startup = pd.concat(startup, ignore_index=True) if startup else pd.DataFrame(columns=STARTUP_FIT_COLUMNS)
     write_csv(startup, root / "startup_fr2.csv")
     written.append(root / "startup_fr2.csv")
-    box = box_axis(tables)
-    write_csv(box, root / "box_axis.csv")
-    written.append(root / "box_axis.csv")
-    written += _box_figure(root, box)
+    summaries = []
+    for axis in AXES:
+        steps = axis_steps(tables, axis)
+        write_csv(steps, root / f"{axis.name}.csv")
+        written.append(root / f"{axis.name}.csv")
+        written += _axis_figure(root, axis, steps)
+        summaries.append((axis, axis_summary(steps, axis)))
     md = ladder_markdown(table, rungs, claims, infos, slopes, fr2, figures=[p.name for p in written],
-                         decomposition=decomposition, startup=startup, box_steps=box_summary(box))
+                         decomposition=decomposition, startup=startup, axes=summaries)
     write_text_atomic(root / "ladder.md", md)
     written.append(root / "ladder.md")
     readme = root / "README.md"

@@ -1,12 +1,12 @@
 """The ladder's outputs for reading: ladder.md (the rungs, the claims against them, the verdict
 at the top rung and the diagnostics' tables) and its figures claim_<letter>.png,
-kappa_shells.png, fr2_range.png and box_axis.png."""
+kappa_shells.png, fr2_range.png and the axes' box_axis.png and stiffness_axis.png."""
 import math
 
 import numpy as np
 
 from . import paper
-from .ladder_box import SAME_DEPTH, SPLIT_FR
+from .ladder_axes import HEADS, SAME_DEPTH, SPLIT_FR, setting
 from .ladder_claims import CLAIMS, NOT_RUN, OTHER
 from .ladder_diagnostics import kappa_points
 
@@ -40,7 +40,7 @@ def _rung_line(i, rung, info):
 
 
 def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=(), decomposition=None,
-                    startup=None, box_steps=None):
+                    startup=None, axes=()):
     """ladder.md: the rungs, each claim's quantities against the rungs, the verdict at the top
     rung, and the two diagnostics. Deterministic: only what the rungs' files say."""
     names = [r["name"] for r in rungs]
@@ -80,7 +80,7 @@ def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=
             top = rows.loc[rows.order.idxmax()]
             body.append([letter, q, top.rung, top.fitted, top.published, _verdict(top)])
         out.append(_md_table(["claim", "quantity", "top rung", "fitted", "paper", "verdict"], body))
-    out += _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition, startup, box_steps)
+    out += _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition, startup, axes)
     return "\n".join(out)
 
 
@@ -90,29 +90,42 @@ def _verdict(row):
     return f"{row.verdict} (model rejected)" if isinstance(rejected, str) and rejected else row.verdict
 
 
-def _box_markdown(box_steps, figures):
-    """The box axis: per step to a wider box, the drag's ratio over Fr up to SPLIT_FR and beyond."""
-    out = ["### The drag against the box's width\n",
-           f"The same points (K_n, D, Fr; depths within {SAME_DEPTH:g} d) in rungs whose periodic box is "
-           "wider (the paper's system I: 40 d); each box's drag over the next narrower box's (box_axis.csv, "
-           "per point; analysis.ladder_box). A ratio near 1 says the narrower box was wide enough. Cells: "
-           "the median ratio (least – greatest; points beyond 2 errors of the narrower box's drag).\n"]
-    if "box_axis.png" in figures:
-        out.append("![drag against the box's width](box_axis.png)\n")
+# What each axis's section says before its table: what is held, what is compared, how to read it.
+_AXIS_ABOUT = {
+    "box_axis": "The same points (K_n, D, Fr; depths within {depth:g} d) in rungs whose periodic box is wider "
+                "(the paper's system I: 40 d); each box's drag over the next narrower box's (box_axis.csv, per "
+                "point; analysis.ladder_axes). A ratio near 1 says the narrower box was wide enough.",
+    "stiffness_axis": "The same points (box, D, Fr; depths within {depth:g} d) in rungs with stiffer contacts (the "
+                      "paper: K_n = 2e+08); each rung's drag over the next softer rung's (stiffness_axis.csv, per "
+                      "point; analysis.ladder_axes). The paper finds the levels of regimes I and II moving with K_n "
+                      "and the crossovers not (Sec. III I): the same ratio on both sides of Fr {split:g} says the "
+                      "curve's shape held.",
+}
+
+
+def _axis_markdown(axis, summary, figures):
+    """One axis of the ladder: per step along it, the drag's ratio over Fr up to SPLIT_FR and beyond."""
+    out = [f"### {axis.title}\n",
+           _AXIS_ABOUT[axis.name].format(depth=SAME_DEPTH, split=SPLIT_FR) + " Cells: the median ratio (least – "
+           "greatest; points beyond 2 errors of the previous rung's drag).\n"]
+    if f"{axis.name}.png" in figures:
+        out.append(f"![{axis.title.removeprefix('The ')}]({axis.name}.png)\n")
     body = []
-    for (kn, D, lx, narrower), g in box_steps.groupby(["kn", "D", "lx", "narrower_lx"]):
+    for (held, D, value, previous), g in summary.groupby([axis.held, "D", axis.along, "previous"]):
         cells = []
         for lo in (0.0, SPLIT_FR):
             hit = g[np.isclose(g.fr_lo, lo)]
             r = hit.iloc[0] if len(hit) else None
             cells.append("—" if r is None else f"×{r.ratio_median:.2f} ({r.ratio_min:.2f} – {r.ratio_max:.2f}; "
                          f"{int(r.n_beyond_2sigma)} of {int(r.n_points)})")
-        body.append([f"{kn:.0e}", f"{D:g}", f"{narrower:g} → {lx:g} d"] + cells)
-    out.append(_md_table(["K_n", "D", "box", f"Fr ≤ {SPLIT_FR:g}", f"Fr > {SPLIT_FR:g}"], body))
+        step = f"{setting(axis.along, previous)} → {setting(axis.along, value)}"
+        body.append([setting(axis.held, held), f"{D:g}", step] + cells)
+    heads = [HEADS[axis.held], "D", HEADS[axis.along], f"Fr ≤ {SPLIT_FR:g}", f"Fr > {SPLIT_FR:g}"]
+    out.append(_md_table(heads, body))
     return out
 
 
-def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None, startup=None, box_steps=None):
+def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None, startup=None, axes=()):
     out = []
     if slopes is not None and len(slopes):
         pooled = slopes[slopes.D.astype(str) == "all"]
@@ -184,8 +197,9 @@ def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None
         order = {n: i for i, n in enumerate(names)}
         body.sort(key=lambda b: (order.get(b[0], len(order)), float(b[1]), b[2] != "steady", b[3]))
         out.append(_md_table(["rung", "D", "drag", "Fr", "continuous fit", "discontinuous fit"], body))
-    if box_steps is not None and len(box_steps):
-        out += _box_markdown(box_steps, figures)
+    for axis, summary in axes:   # (Axis, axis_summary) pairs, in order
+        if len(summary):
+            out += _axis_markdown(axis, summary, figures)
     return out
 
 
@@ -313,29 +327,30 @@ def _fr2_figure(root, fr2, rungs):
     return [_savefig(fig, path)]
 
 
-def _box_figure(root, box):
-    """box_axis.png: per K_n and D with more than one box, the drag against Fr in each box (top)
-    and each box's drag over the next narrower box's (bottom)."""
-    path = root / "box_axis.png"
-    if box.empty:
+def _axis_figure(root, axis, steps):
+    """<axis.name>.png: per held setting and D with more than one value along the axis, the drag
+    against Fr at each value (top) and each value's drag over the previous one's (bottom)."""
+    path = root / f"{axis.name}.png"
+    if steps.empty:
         path.unlink(missing_ok=True)
         return []
     plt = _pyplot()
-    groups = list(box.groupby(["kn", "D"]))
+    groups = list(steps.groupby([axis.held, "D"]))
     fig, axes = plt.subplots(2, len(groups), figsize=(4.5 * len(groups), 6.5), squeeze=False, sharex=True,
                              layout="constrained")
-    for col, ((kn, D), g) in enumerate(groups):
+    for col, ((held, D), g) in enumerate(groups):
         top, bottom = axes[0, col], axes[1, col]
-        for lx, s in g.groupby("lx"):
+        for value, s in g.groupby(axis.along):
             s = s.sort_values("Fr")
-            top.errorbar(s.Fr, s.drag, yerr=s.drag_err, fmt="o-", capsize=3, ms=4, label=f"{lx:g} d box")
+            label = f"{HEADS[axis.along]} {setting(axis.along, value)}"
+            top.errorbar(s.Fr, s.drag, yerr=s.drag_err, fmt="o-", capsize=3, ms=4, label=label)
             r = s[np.isfinite(s.ratio.astype(float))]
             if len(r):
                 bottom.errorbar(r.Fr, r.ratio, yerr=r.ratio_err, fmt="o-", capsize=3, ms=4,
-                                label=f"{lx:g} d / {r.narrower_lx.iloc[0]:g} d")
-        top.set(ylabel="drag F_D [ρ g d³]", title=f"K_n = {kn:.0e}, D = {D:g}")
+                                label=f"{label} / {setting(axis.along, r.previous.iloc[0])}")
+        top.set(ylabel="drag F_D [ρ g d³]", title=f"{HEADS[axis.held]} {setting(axis.held, held)}, D = {D:g}")
         top.legend(fontsize=7)
         bottom.axhline(1.0, color="k", lw=0.8)
-        bottom.set(xlabel="Fr", ylabel="drag ratio to the narrower box")
+        bottom.set(xlabel="Fr", ylabel="drag ratio to the previous rung")
         bottom.legend(fontsize=7)
     return [_savefig(fig, path)]

@@ -1,5 +1,6 @@
-"""analysis.ladder_box: the drag of the same points in rungs of wider boxes, each against the next
-narrower box's, its summary, and its place in `ladder table`'s files."""
+"""analysis.ladder_axes: the drag of the same points in rungs of wider boxes or stiffer contacts,
+each against the previous rung's along the axis, the summary, and their place in `ladder table`'s
+files."""
 import math
 
 import numpy as np
@@ -7,7 +8,7 @@ import pandas as pd
 import pytest
 from test_ladder import FR, make_rung, point_table
 
-from analysis.ladder import box_axis, box_summary, write_ladder
+from analysis.ladder import BOX, STIFFNESS, axis_summary, box_axis, stiffness_axis, write_ladder
 from analysis.point_errors import pooled_drag_err
 from analysis.table import save_csv
 
@@ -34,9 +35,9 @@ def test_each_box_is_compared_with_the_next_narrower_one():
     assert set(box.lx) == {12.0, 20.0, 30.0} and set(box.D) == {2.0, 3.0}
     assert len(box) == 3 * 2 * len(FR)
     narrowest = box[box.lx == 12]
-    assert narrowest.ratio.isna().all() and narrowest.narrower_lx.isna().all()
+    assert narrowest.ratio.isna().all() and narrowest.previous.isna().all()
     b20, b30 = box[box.lx == 20], box[box.lx == 30]
-    assert (b20.narrower_lx == 12).all() and (b30.narrower_lx == 20).all()    # not the narrowest
+    assert (b20.previous == 12).all() and (b30.previous == 20).all()    # not the narrowest
     assert b20.ratio.to_numpy() == pytest.approx([step(fr) for fr in b20.Fr])
     assert b30.ratio.to_numpy() == pytest.approx(np.full(len(b30), 1.2))
     # Relative errors in quadrature; z the difference over its error.
@@ -60,7 +61,7 @@ def test_points_of_another_stiffness_or_depth_are_not_compared():
 
 def test_summary_splits_at_fr_4_and_counts_the_points_beyond_two_errors():
     step = lambda fr: 1.0 if fr <= 4 else 2.0     # noqa: E731
-    s = box_summary(box_axis({"b12": boxed(12), "b20": boxed(20, step)}))
+    s = axis_summary(box_axis({"b12": boxed(12), "b20": boxed(20, step)}), BOX)
     assert len(s) == 4 and set(s.D) == {2.0, 3.0}
     low, high = s[s.fr_lo == 0].iloc[0], s[s.fr_lo == 4].iloc[0]
     assert low.n_points == (FR <= 4).sum() and high.n_points == (FR > 4).sum()
@@ -80,15 +81,53 @@ def test_ladder_table_writes_the_box_axis(tmp_path):
     assert tmp_path / "box_axis.png" in written and (tmp_path / "box_axis.png").stat().st_size > 1000
     md = (tmp_path / "ladder.md").read_text()
     assert "### The drag against the box's width" in md and "![drag against the box's width](box_axis.png)" in md
-    assert "| 2e+05 | 2 | 12 → 20 d | ×1.50 (1.50 – 1.50;" in md
+    assert "| 2e+05 | 2 | 12 d → 20 d | ×1.50 (1.50 – 1.50;" in md
+    assert pd.read_csv(tmp_path / "stiffness_axis.csv").empty and "contacts' stiffness" not in md
 
 
 def test_ladder_without_two_boxes_writes_no_figure(tmp_path):
     (tmp_path / "ladder.yaml").write_text("rungs: [{name: only, label: one box}]\n")
     (tmp_path / "box_axis.png").write_bytes(b"stale")
+    (tmp_path / "stiffness_axis.png").write_bytes(b"stale")
     d = make_rung(tmp_path, "only", (0.887, 0.185), seed=1)
     save_csv(boxed(12), d / "table.csv")
     write_ladder(tmp_path, n_boot=5, seed=0)
-    assert not (tmp_path / "box_axis.png").exists()
+    assert not (tmp_path / "box_axis.png").exists() and not (tmp_path / "stiffness_axis.png").exists()
     assert pd.read_csv(tmp_path / "box_axis.csv").empty
     assert "box's width" not in (tmp_path / "ladder.md").read_text()
+
+
+def test_each_stiffness_is_compared_with_the_next_softer_one_in_the_same_box():
+    # The paper's shape (Sec. III I): the level moves with K_n, the crossover does not, so a ratio
+    # that changes across Fr 4 is what the axis is there to show.
+    bend = lambda fr: 1.3 if fr <= 4 else 0.8     # noqa: E731
+    tables = {"k5": boxed(12, kn=2e5), "k6": boxed(12, 1.3, kn=2e6), "k7": boxed(12, lambda fr: 1.3 * bend(fr), kn=2e7),
+              "k6-wide": boxed(20, 2.0, kn=2e6)}
+    axis = stiffness_axis(tables)
+    assert set(axis.lx) == {12.0} and set(axis.kn) == {2e5, 2e6, 2e7}    # the 20 d rung has no partner
+    k6, k7 = axis[axis.kn == 2e6], axis[axis.kn == 2e7]
+    assert (k6.previous == 2e5).all() and (k7.previous == 2e6).all()     # the next softer, not the softest
+    assert k6.ratio.to_numpy() == pytest.approx(1.3)
+    assert k7.ratio.to_numpy() == pytest.approx([bend(fr) for fr in k7.Fr])
+    s = axis_summary(axis, STIFFNESS)
+    step = s[(s.kn == 2e7) & (s.D == 2)]
+    assert step[step.fr_lo == 0].ratio_median.iloc[0] == pytest.approx(1.3)
+    assert step[step.fr_lo == 4].ratio_median.iloc[0] == pytest.approx(0.8)
+    # The box axis of the same tables pairs only the two boxes at 2e6.
+    box = box_axis(tables)
+    assert set(box.kn) == {2e6} and box.ratio.dropna().to_numpy() == pytest.approx(2.0 / 1.3)
+
+
+def test_ladder_table_writes_the_stiffness_axis(tmp_path):
+    (tmp_path / "ladder.yaml").write_text(
+        "rungs:\n  - {name: soft, label: 'K_n 2e6'}\n  - {name: stiff, label: 'K_n 2e7'}\n")
+    for name, kn, factor in (("soft", 2e6, 1.0), ("stiff", 2e7, 0.7)):
+        d = make_rung(tmp_path, name, (0.887, 0.185), seed=1)
+        save_csv(boxed(20, factor, kn=kn), d / "table.csv")
+    written = write_ladder(tmp_path, n_boot=5, seed=0)
+    assert tmp_path / "stiffness_axis.png" in written
+    assert pd.read_csv(tmp_path / "stiffness_axis.csv").ratio.dropna().to_numpy() == pytest.approx(0.7)
+    md = (tmp_path / "ladder.md").read_text()
+    assert "### The drag against the contacts' stiffness" in md and "(stiffness_axis.png)" in md
+    assert "| 20 d | 3 | 2e+06 → 2e+07 | ×0.70 (0.70 – 0.70;" in md
+    assert "box's width" not in md
