@@ -14,9 +14,10 @@ without run.json counts as not run.
 `table` reads <root>/ladder.yaml (the rungs in order, each with a label; a description per
 claim) and writes ladder.csv, ladder.md, claim_<letter>.png, and its diagnostics:
 kappa_shells.csv/.png (the slope of κ(Fr) against the shell width Z is counted in),
-fr2_range.csv/.png (Fr_2 refitted on the points with Fr <= fr_max), box_axis.csv/.png and
-stiffness_axis.csv/.png (the drag of the same points in rungs of wider boxes, of stiffer
-contacts). If <root>/README.md has the markers LADDER_BEGIN and LADDER_END, the text between them becomes ladder.md's.
+fr2_range.csv/.png (Fr_2 refitted on the points with Fr <= fr_max), box_axis.csv/.png,
+stiffness_axis.csv/.png and length_axis.csv/.png (the drag of the same points in rungs of wider
+boxes, of stiffer contacts, of longer pulls). If <root>/README.md has the markers LADDER_BEGIN
+and LADDER_END, the text between them becomes ladder.md's.
 
 The verdicts are the report's: each rung's fits.json and table.csv are read as the report
 rule reads them and passed to analysis.report.comparisons; nothing is re-judged here.
@@ -34,7 +35,18 @@ from pathlib import Path
 import pandas as pd
 
 from .fits import write_text_atomic
-from .ladder_axes import AXES, BOX, STIFFNESS, SUMMARY_COLUMNS, axis_steps, axis_summary, box_axis, stiffness_axis
+from .ladder_axes import (
+    AXES,
+    BOX,
+    LENGTH,
+    STIFFNESS,
+    SUMMARY_COLUMNS,
+    axis_steps,
+    axis_summary,
+    box_axis,
+    length_axis,
+    stiffness_axis,
+)
 from .ladder_axes import COLUMNS as AXIS_COLUMNS
 from .ladder_claims import (
     CLAIMS,
@@ -88,8 +100,8 @@ __all__ = [
     "write_startup", "read_shells", "FR_MAX_VALUES", "SLOPE_COLUMNS", "inside_box", "kappa_points",
     "kappa_shell_slopes", "DECOMPOSITION_COLUMNS", "DECOMPOSITION_FR", "DECOMPOSITION_WIDTHS",
     "kappa_decomposition", "STARTUP_FIT_COLUMNS", "PAPER_PULL", "kept_drag", "startup_refit", "FR2_COLUMNS",
-    "fr2_vs_range", "AXES", "BOX", "STIFFNESS", "AXIS_COLUMNS", "SUMMARY_COLUMNS", "axis_steps", "axis_summary",
-    "box_axis", "stiffness_axis", "ladder_markdown",
+    "fr2_vs_range", "AXES", "BOX", "STIFFNESS", "LENGTH", "AXIS_COLUMNS", "SUMMARY_COLUMNS", "axis_steps",
+    "axis_summary", "box_axis", "stiffness_axis", "length_axis", "ladder_markdown",
     "read_ladder", "rung_run", "ladder_rows", "write_ladder",
 ]
 
@@ -173,7 +185,7 @@ def ladder_rows(root, rungs):
 
 def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     """ladder.csv, ladder.md, claim_<letter>.png, kappa_shells.csv/.png, fr2_range.csv/.png and
-    each axis's <name>.csv/.png (box_axis, stiffness_axis) in root, from ladder.yaml and each
+    each axis's <name>.csv/.png (box_axis, stiffness_axis, length_axis) in root, from ladder.yaml and each
     rung's directory; README.md's ladder section replaced when it has the markers. n_boot, seed:
     the bootstrap of the Fr_2-range refits. Returns the paths written."""
     root = Path(root)

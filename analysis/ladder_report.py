@@ -100,7 +100,17 @@ _AXIS_ABOUT = {
                       "point; analysis.ladder_axes). The paper finds the levels of regimes I and II moving with K_n "
                       "and the crossovers not (Sec. III I): the same ratio on both sides of Fr {split:g} says the "
                       "curve's shape held.",
+    "length_axis": "The same points (K_n, box, D, Fr; depths within {depth:g} d) in rungs whose pulls are longer "
+                   "(the paper: one box length, Sec. II), the same transient discarded at the start; each pull's drag "
+                   "over the next shorter pull's (length_axis.csv, per point; analysis.ladder_axes). A ratio near 1 "
+                   "says the shorter pull had reached the steady drag; one away from 1, a drag that drifts along "
+                   "the pull.",
 }
+
+
+def _held(axis, values):
+    """The held settings of one group, as a table cell or a title: "K_n 2e+06, box 20 d"."""
+    return ", ".join(f"{HEADS[c]} {setting(c, v)}" for c, v in zip(axis.held, values))
 
 
 def _axis_markdown(axis, summary, figures):
@@ -111,7 +121,7 @@ def _axis_markdown(axis, summary, figures):
     if f"{axis.name}.png" in figures:
         out.append(f"![{axis.title.removeprefix('The ')}]({axis.name}.png)\n")
     body = []
-    for (held, D, value, previous), g in summary.groupby([axis.held, "D", axis.along, "previous"]):
+    for (*held, D, value, previous), g in summary.groupby([*axis.held, "D", axis.along, "previous"]):
         cells = []
         for lo in (0.0, SPLIT_FR):
             hit = g[np.isclose(g.fr_lo, lo)]
@@ -119,8 +129,8 @@ def _axis_markdown(axis, summary, figures):
             cells.append("—" if r is None else f"×{r.ratio_median:.2f} ({r.ratio_min:.2f} – {r.ratio_max:.2f}; "
                          f"{int(r.n_beyond_2sigma)} of {int(r.n_points)})")
         step = f"{setting(axis.along, previous)} → {setting(axis.along, value)}"
-        body.append([setting(axis.held, held), f"{D:g}", step] + cells)
-    heads = [HEADS[axis.held], "D", HEADS[axis.along], f"Fr ≤ {SPLIT_FR:g}", f"Fr > {SPLIT_FR:g}"]
+        body.append([_held(axis, held), f"{D:g}", step] + cells)
+    heads = ["held", "D", HEADS[axis.along], f"Fr ≤ {SPLIT_FR:g}", f"Fr > {SPLIT_FR:g}"]
     out.append(_md_table(heads, body))
     return out
 
@@ -335,10 +345,10 @@ def _axis_figure(root, axis, steps):
         path.unlink(missing_ok=True)
         return []
     plt = _pyplot()
-    groups = list(steps.groupby([axis.held, "D"]))
+    groups = list(steps.groupby([*axis.held, "D"]))
     fig, axes = plt.subplots(2, len(groups), figsize=(4.5 * len(groups), 6.5), squeeze=False, sharex=True,
                              layout="constrained")
-    for col, ((held, D), g) in enumerate(groups):
+    for col, ((*held, D), g) in enumerate(groups):
         top, bottom = axes[0, col], axes[1, col]
         for value, s in g.groupby(axis.along):
             s = s.sort_values("Fr")
@@ -348,7 +358,7 @@ def _axis_figure(root, axis, steps):
             if len(r):
                 bottom.errorbar(r.Fr, r.ratio, yerr=r.ratio_err, fmt="o-", capsize=3, ms=4,
                                 label=f"{label} / {setting(axis.along, r.previous.iloc[0])}")
-        top.set(ylabel="drag F_D [ρ g d³]", title=f"{HEADS[axis.held]} {setting(axis.held, held)}, D = {D:g}")
+        top.set(ylabel="drag F_D [ρ g d³]", title=f"{_held(axis, held)}, D = {D:g}")
         top.legend(fontsize=7)
         bottom.axhline(1.0, color="k", lw=0.8)
         bottom.set(xlabel="Fr", ylabel="drag ratio to the previous rung")

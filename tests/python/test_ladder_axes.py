@@ -1,4 +1,4 @@
-"""analysis.ladder_axes: the drag of the same points in rungs of wider boxes or stiffer contacts,
+"""analysis.ladder_axes: the drag of the same points in rungs of wider boxes, stiffer contacts or longer pulls,
 each against the previous rung's along the axis, the summary, and their place in `ladder table`'s
 files."""
 import math
@@ -8,17 +8,18 @@ import pandas as pd
 import pytest
 from test_ladder import FR, make_rung, point_table
 
-from analysis.ladder import BOX, STIFFNESS, axis_summary, box_axis, stiffness_axis, write_ladder
+from analysis.ladder import BOX, LENGTH, STIFFNESS, axis_summary, box_axis, length_axis, stiffness_axis, write_ladder
 from analysis.point_errors import pooled_drag_err
 from analysis.table import save_csv
 
 SCALED = ("drag", "drag_err", "drag_err_within", "drag_err_between")
 
 
-def boxed(lx, factor=1.0, h_shift=0.0, kn=None):
-    """point_table's rung (the same noise for every box: seed 0) in a box lx wide, its drags and
-    their errors times factor(Fr), its depths shifted by h_shift."""
-    t = point_table().assign(lx=float(lx), ly=float(lx))
+def boxed(lx, factor=1.0, h_shift=0.0, kn=None, distance=12.0):
+    """point_table's rung (the same noise for every box: seed 0) in a box lx wide, pulls of
+    `distance` (a pull ends a little past its target), its drags and their errors times
+    factor(Fr), its depths shifted by h_shift."""
+    t = point_table().assign(lx=float(lx), ly=float(lx), distance=distance + 0.003)
     f = np.array([factor(fr) if callable(factor) else factor for fr in t.Fr])
     for col in SCALED:
         t[col] = t[col] * f
@@ -81,7 +82,7 @@ def test_ladder_table_writes_the_box_axis(tmp_path):
     assert tmp_path / "box_axis.png" in written and (tmp_path / "box_axis.png").stat().st_size > 1000
     md = (tmp_path / "ladder.md").read_text()
     assert "### The drag against the box's width" in md and "![drag against the box's width](box_axis.png)" in md
-    assert "| 2e+05 | 2 | 12 d → 20 d | ×1.50 (1.50 – 1.50;" in md
+    assert "| K_n 2e+05, pull 12 d | 2 | 12 d → 20 d | ×1.50 (1.50 – 1.50;" in md
     assert pd.read_csv(tmp_path / "stiffness_axis.csv").empty and "contacts' stiffness" not in md
 
 
@@ -89,10 +90,11 @@ def test_ladder_without_two_boxes_writes_no_figure(tmp_path):
     (tmp_path / "ladder.yaml").write_text("rungs: [{name: only, label: one box}]\n")
     (tmp_path / "box_axis.png").write_bytes(b"stale")
     (tmp_path / "stiffness_axis.png").write_bytes(b"stale")
+    (tmp_path / "length_axis.png").write_bytes(b"stale")
     d = make_rung(tmp_path, "only", (0.887, 0.185), seed=1)
     save_csv(boxed(12), d / "table.csv")
     write_ladder(tmp_path, n_boot=5, seed=0)
-    assert not (tmp_path / "box_axis.png").exists() and not (tmp_path / "stiffness_axis.png").exists()
+    assert not any((tmp_path / f"{name}_axis.png").exists() for name in ("box", "stiffness", "length"))
     assert pd.read_csv(tmp_path / "box_axis.csv").empty
     assert "box's width" not in (tmp_path / "ladder.md").read_text()
 
@@ -129,5 +131,39 @@ def test_ladder_table_writes_the_stiffness_axis(tmp_path):
     assert pd.read_csv(tmp_path / "stiffness_axis.csv").ratio.dropna().to_numpy() == pytest.approx(0.7)
     md = (tmp_path / "ladder.md").read_text()
     assert "### The drag against the contacts' stiffness" in md and "(stiffness_axis.png)" in md
-    assert "| 20 d | 3 | 2e+06 → 2e+07 | ×0.70 (0.70 – 0.70;" in md
+    assert "| box 20 d, pull 12 d | 3 | 2e+06 → 2e+07 | ×0.70 (0.70 – 0.70;" in md
     assert "box's width" not in md
+
+
+def test_each_pull_is_compared_with_the_next_shorter_one_and_the_other_axes_hold_the_length():
+    # A rung of longer pulls in the same box and K_n is a step along the pull's length only: the
+    # box axis must pair the 30 d box with the 20 d rung of its own pull length, not the longer one.
+    drift = lambda fr: 1.0 if fr <= 4 else 1.25     # noqa: E731
+    tables = {"b20": boxed(20, kn=2e6), "b20-long": boxed(20, drift, kn=2e6, distance=20.0),
+              "b30": boxed(30, 1.1, kn=2e6), "k7": boxed(20, 0.9, kn=2e7)}
+    length = length_axis(tables)
+    assert set(length.distance) == {12.0, 20.0} and set(length.lx) == {20.0} and set(length.kn) == {2e6}
+    long = length[length.distance == 20]
+    assert (long.previous == 12).all()
+    assert long.ratio.to_numpy() == pytest.approx([drift(fr) for fr in long.Fr])
+    s = axis_summary(length, LENGTH)
+    assert set(s.distance) == {20.0} and s[s.fr_lo == 4].ratio_median.to_numpy() == pytest.approx(1.25)
+    box = box_axis(tables)
+    assert set(box.distance) == {12.0} and box.ratio.dropna().to_numpy() == pytest.approx(1.1)
+    stiff = stiffness_axis(tables)
+    assert set(stiff.distance) == {12.0} and stiff.ratio.dropna().to_numpy() == pytest.approx(0.9)
+
+
+def test_ladder_table_writes_the_length_axis(tmp_path):
+    (tmp_path / "ladder.yaml").write_text(
+        "rungs:\n  - {name: short, label: '12 d pulls'}\n  - {name: long, label: '20 d pulls'}\n")
+    for name, distance, factor in (("short", 12.0, 1.0), ("long", 20.0, 1.1)):
+        d = make_rung(tmp_path, name, (0.887, 0.185), seed=1)
+        save_csv(boxed(20, factor, kn=2e6, distance=distance), d / "table.csv")
+    written = write_ladder(tmp_path, n_boot=5, seed=0)
+    assert tmp_path / "length_axis.png" in written
+    assert pd.read_csv(tmp_path / "length_axis.csv").ratio.dropna().to_numpy() == pytest.approx(1.1)
+    md = (tmp_path / "ladder.md").read_text()
+    assert "### The drag against the pull's length" in md and "(length_axis.png)" in md
+    assert "| K_n 2e+06, box 20 d | 3 | 12 d → 20 d | ×1.10 (1.10 – 1.10;" in md
+    assert "box's width" not in md and "contacts' stiffness" not in md
