@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 
 from .pull_length import read_convergence
-from .table import write_csv
+from .table import bed_mean, write_csv
 
 PROFILE_COLUMNS = ["D", "Fr", "seed", "x_lo", "x_hi", "drag", "samples"]
 LATE_COLUMNS = ["D", "Fr", "beds", "travel", "transient", "drag", "drag_err", "late_from", "late_drag",
@@ -56,46 +56,37 @@ def late_drag(travel, drag, start, width):
     return mean, err
 
 
-def _combine(values, errors):
-    """A point's value over its beds: the mean, with the larger of the propagated error and the
-    beds' scatter (the error of a mean of independent beds)."""
-    values, errors = np.asarray(values, float), np.asarray(errors, float)
-    n = len(values)
-    within = math.sqrt(np.nansum(errors ** 2)) / n
-    between = float(values.std(ddof=1) / math.sqrt(n)) if n > 1 else 0.0
-    return float(values.mean()), max(within, between)
+def read_series(runs):
+    """Each run's force series (read_convergence's: travel, drag, transient), in the runs' order."""
+    return [read_convergence(path)[1] for path in runs.path]
 
 
-def profiles(runs, width=2.0):
-    """Every run of a runs.csv table (path, D, Fr, seed): its windows of travel."""
-    parts = []
-    for _, r in runs.iterrows():
-        _, series = read_convergence(r.path)
-        w = windows(series["travel"], series["drag"], width)
-        parts.append(w.assign(D=float(r.D), Fr=float(r.Fr), seed=int(r.seed)))
+def profiles(runs, width=2.0, series=None):
+    """Every run of a runs.csv table (path, D, Fr, seed): its windows of travel. series: the
+    runs' read_series, when already read."""
+    series = read_series(runs) if series is None else series
+    parts = [windows(sr["travel"], sr["drag"], width).assign(D=float(r.D), Fr=float(r.Fr), seed=int(r.seed))
+             for (_, r), sr in zip(runs.iterrows(), series)]
     return pd.concat(parts, ignore_index=True)[PROFILE_COLUMNS] if parts else pd.DataFrame(columns=PROFILE_COLUMNS)
 
 
-def compare(runs, late_from=8.0, width=2.0):
-    """Per D and Fr, over the beds: the table's drag (runs.csv's drag and drag_err, after the
-    run's transient) against the drag after `late_from` of travel; ratio late / table and
-    z = (late - table) / hypot(errors)."""
+def compare(runs, late_from=8.0, width=2.0, series=None):
+    """Per D and Fr, over the beds (bed_mean, the point table's rule): the table's drag (runs.csv's
+    drag and drag_err, after the run's transient) against the drag after `late_from` of travel;
+    ratio late / table and z = (late - table) / hypot(errors). series: as in profiles. A pull too
+    short for its late part's error counts with none."""
+    series = read_series(runs) if series is None else series
+    runs = runs.reset_index(drop=True)
     rows = []
     for (D, Fr), g in runs.groupby(["D", "Fr"]):
-        late, late_err, travel, transient = [], [], [], []
-        for _, r in g.iterrows():
-            _, series = read_convergence(r.path)
-            m, e = late_drag(series["travel"], series["drag"], late_from, width)
-            late.append(m)
-            late_err.append(e)
-            travel.append(series["travel"][-1])
-            transient.append(series["transient"])
-        table, table_err = _combine(g.drag, g.drag_err)
-        m, e = _combine(late, late_err)
-        rows.append({"D": D, "Fr": Fr, "beds": len(g), "travel": float(np.mean(travel)),
-                     "transient": float(np.mean(transient)), "drag": table, "drag_err": table_err,
-                     "late_from": late_from, "late_drag": m, "late_err": e, "ratio": m / table,
-                     "z": (m - table) / math.hypot(e, table_err)})
+        mine = [series[i] for i in g.index]
+        late = [late_drag(sr["travel"], sr["drag"], late_from, width) for sr in mine]
+        table, table_err = bed_mean(g.drag, g.drag_err)
+        m, e = bed_mean([v for v, _ in late], np.nan_to_num([err for _, err in late]))
+        rows.append({"D": D, "Fr": Fr, "beds": len(g), "travel": float(np.mean([sr["travel"][-1] for sr in mine])),
+                     "transient": float(np.mean([sr["transient"] for sr in mine])), "drag": table,
+                     "drag_err": table_err, "late_from": late_from, "late_drag": m, "late_err": e,
+                     "ratio": m / table, "z": (m - table) / math.hypot(e, table_err)})
     return pd.DataFrame(rows, columns=LATE_COLUMNS)
 
 
@@ -112,7 +103,8 @@ def main(argv=None):
     missing = {"path", "D", "Fr", "seed", "drag", "drag_err"} - set(runs.columns)
     if missing:
         parser.error(f"{a.runs} has no column(s) {sorted(missing)}: give a study's runs.csv")
-    prof, late = profiles(runs, a.window), compare(runs, a.late, a.window)
+    series = read_series(runs)          # each run file read once, for both tables
+    prof, late = profiles(runs, a.window, series), compare(runs, a.late, a.window, series)
     if a.output_dir:
         out = Path(a.output_dir)
         out.mkdir(parents=True, exist_ok=True)

@@ -293,6 +293,16 @@ def _moments(codes, k, y, e):
     return m, np.where(k >= 2, s2, np.nan), np.bincount(codes, e ** 2) / k
 
 
+def bed_mean(values, errors):
+    """One point's value over its beds and its error, by combine_beds's rule: the mean, and
+    sqrt(max(s^2, W) / k) with s^2 the beds' variance (none for one bed) and W their mean squared
+    error."""
+    y, e = np.asarray(values, float), np.asarray(errors, float)
+    k = np.array([len(y)])
+    m, s2, W = _moments(np.zeros(len(y), int), k, y, e)
+    return float(m[0]), float(np.sqrt(max(np.nan_to_num(s2[0]), W[0]) / k[0]))
+
+
 def between_bed_scatter(runs):
     """(r2, dof): the pooled relative between-bed variance sigma_B^2/drag^2 over the points
     with two or more beds, and its degrees of freedom sum(k - 1); (NaN, 0) if none has."""
