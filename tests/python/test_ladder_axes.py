@@ -30,6 +30,16 @@ def boxed(lx, factor=1.0, h_shift=0.0, kn=None, distance=12.0):
     return t
 
 
+def write_rungs(root, rungs):
+    """A ladder of rungs (name, label, point table) in order, each with its claims' files
+    (make_rung) and the given table; then `ladder table` (write_ladder). Returns the paths written."""
+    (root / "ladder.yaml").write_text(
+        "rungs:\n" + "".join(f"  - {{name: {name}, label: '{label}'}}\n" for name, label, _ in rungs))
+    for name, _, table in rungs:
+        save_csv(table, make_rung(root, name, (0.887, 0.185), seed=1) / "table.csv")
+    return write_ladder(root, n_boot=5, seed=0)
+
+
 def test_each_box_is_compared_with_the_next_narrower_one():
     step = lambda fr: 1.2 if fr <= 4 else 1.8     # noqa: E731
     box = box_axis({"b12": boxed(12), "b20": boxed(20, step), "b30": boxed(30, lambda fr: 1.2 * step(fr))})
@@ -71,12 +81,7 @@ def test_summary_splits_at_fr_4_and_counts_the_points_beyond_two_errors():
 
 
 def test_ladder_table_writes_the_box_axis(tmp_path):
-    (tmp_path / "ladder.yaml").write_text(
-        "rungs:\n  - {name: narrow, label: '12 d box'}\n  - {name: wide, label: '20 d box'}\n")
-    for name, lx, factor in (("narrow", 12, 1.0), ("wide", 20, 1.5)):
-        d = make_rung(tmp_path, name, (0.887, 0.185), seed=1)
-        save_csv(boxed(lx, factor), d / "table.csv")
-    written = write_ladder(tmp_path, n_boot=5, seed=0)
+    written = write_rungs(tmp_path, [("narrow", "12 d box", boxed(12)), ("wide", "20 d box", boxed(20, 1.5))])
     box = pd.read_csv(tmp_path / "box_axis.csv")
     assert box[box.lx == 20].ratio.to_numpy() == pytest.approx(1.5)
     assert tmp_path / "box_axis.png" in written and (tmp_path / "box_axis.png").stat().st_size > 1000
@@ -87,13 +92,9 @@ def test_ladder_table_writes_the_box_axis(tmp_path):
 
 
 def test_ladder_without_two_boxes_writes_no_figure(tmp_path):
-    (tmp_path / "ladder.yaml").write_text("rungs: [{name: only, label: one box}]\n")
-    (tmp_path / "box_axis.png").write_bytes(b"stale")
-    (tmp_path / "stiffness_axis.png").write_bytes(b"stale")
-    (tmp_path / "length_axis.png").write_bytes(b"stale")
-    d = make_rung(tmp_path, "only", (0.887, 0.185), seed=1)
-    save_csv(boxed(12), d / "table.csv")
-    write_ladder(tmp_path, n_boot=5, seed=0)
+    for name in ("box", "stiffness", "length"):
+        (tmp_path / f"{name}_axis.png").write_bytes(b"stale")
+    write_rungs(tmp_path, [("only", "one box", boxed(12))])
     assert not any((tmp_path / f"{name}_axis.png").exists() for name in ("box", "stiffness", "length"))
     assert pd.read_csv(tmp_path / "box_axis.csv").empty
     assert "box's width" not in (tmp_path / "ladder.md").read_text()
@@ -121,12 +122,8 @@ def test_each_stiffness_is_compared_with_the_next_softer_one_in_the_same_box():
 
 
 def test_ladder_table_writes_the_stiffness_axis(tmp_path):
-    (tmp_path / "ladder.yaml").write_text(
-        "rungs:\n  - {name: soft, label: 'K_n 2e6'}\n  - {name: stiff, label: 'K_n 2e7'}\n")
-    for name, kn, factor in (("soft", 2e6, 1.0), ("stiff", 2e7, 0.7)):
-        d = make_rung(tmp_path, name, (0.887, 0.185), seed=1)
-        save_csv(boxed(20, factor, kn=kn), d / "table.csv")
-    written = write_ladder(tmp_path, n_boot=5, seed=0)
+    written = write_rungs(tmp_path, [("soft", "K_n 2e6", boxed(20, kn=2e6)),
+                                     ("stiff", "K_n 2e7", boxed(20, 0.7, kn=2e7))])
     assert tmp_path / "stiffness_axis.png" in written
     assert pd.read_csv(tmp_path / "stiffness_axis.csv").ratio.dropna().to_numpy() == pytest.approx(0.7)
     md = (tmp_path / "ladder.md").read_text()
@@ -155,12 +152,8 @@ def test_each_pull_is_compared_with_the_next_shorter_one_and_the_other_axes_hold
 
 
 def test_ladder_table_writes_the_length_axis(tmp_path):
-    (tmp_path / "ladder.yaml").write_text(
-        "rungs:\n  - {name: short, label: '12 d pulls'}\n  - {name: long, label: '20 d pulls'}\n")
-    for name, distance, factor in (("short", 12.0, 1.0), ("long", 20.0, 1.1)):
-        d = make_rung(tmp_path, name, (0.887, 0.185), seed=1)
-        save_csv(boxed(20, factor, kn=2e6, distance=distance), d / "table.csv")
-    written = write_ladder(tmp_path, n_boot=5, seed=0)
+    written = write_rungs(tmp_path, [("short", "12 d pulls", boxed(20, kn=2e6, distance=12.0)),
+                                     ("long", "20 d pulls", boxed(20, 1.1, kn=2e6, distance=20.0))])
     assert tmp_path / "length_axis.png" in written
     assert pd.read_csv(tmp_path / "length_axis.csv").ratio.dropna().to_numpy() == pytest.approx(1.1)
     md = (tmp_path / "ladder.md").read_text()
