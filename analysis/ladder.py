@@ -14,7 +14,8 @@ without run.json counts as not run.
 `table` reads <root>/ladder.yaml (the rungs in order, each with a label; a description per
 claim) and writes ladder.csv, ladder.md, claim_<letter>.png, and its diagnostics:
 kappa_shells.csv/.png (the slope of κ(Fr) against the shell width Z is counted in),
-fr2_range.csv/.png (Fr_2 refitted on the points with Fr <= fr_max), box_axis.csv/.png,
+fr2_range.csv/.png (Fr_2 refitted on the points with Fr <= fr_max), knee_fr5.csv (the drag's
+slope above Fr 5 against below, a test of regime III that needs no fitted crossover), box_axis.csv/.png,
 stiffness_axis.csv/.png and length_axis.csv/.png (the drag of the same points in rungs of wider
 boxes, of stiffer contacts, of longer pulls). If <root>/README.md has the markers LADDER_BEGIN
 and LADDER_END, the text between them becomes ladder.md's.
@@ -79,6 +80,7 @@ from .ladder_diagnostics import (
     DECOMPOSITION_WIDTHS,
     FR2_COLUMNS,
     FR_MAX_VALUES,
+    KNEE_COLUMNS,
     PAPER_PULL,
     SLOPE_COLUMNS,
     STARTUP_FIT_COLUMNS,
@@ -88,6 +90,7 @@ from .ladder_diagnostics import (
     kappa_points,
     kappa_shell_slopes,
     kept_drag,
+    knee_at_five,
     startup_refit,
 )
 from .ladder_report import _axis_figure, _claim_figures, _fr2_figure, _kappa_figure, ladder_markdown
@@ -100,7 +103,8 @@ __all__ = [
     "write_startup", "read_shells", "FR_MAX_VALUES", "SLOPE_COLUMNS", "inside_box", "kappa_points",
     "kappa_shell_slopes", "DECOMPOSITION_COLUMNS", "DECOMPOSITION_FR", "DECOMPOSITION_WIDTHS",
     "kappa_decomposition", "STARTUP_FIT_COLUMNS", "PAPER_PULL", "kept_drag", "startup_refit", "FR2_COLUMNS",
-    "fr2_vs_range", "AXES", "BOX", "STIFFNESS", "LENGTH", "AXIS_COLUMNS", "SUMMARY_COLUMNS", "axis_steps",
+    "fr2_vs_range", "KNEE_COLUMNS", "knee_at_five",
+    "AXES", "BOX", "STIFFNESS", "LENGTH", "AXIS_COLUMNS", "SUMMARY_COLUMNS", "axis_steps",
     "axis_summary", "box_axis", "stiffness_axis", "length_axis", "ladder_markdown",
     "read_ladder", "rung_run", "ladder_rows", "write_ladder",
 ]
@@ -184,7 +188,7 @@ def ladder_rows(root, rungs):
 
 
 def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
-    """ladder.csv, ladder.md, claim_<letter>.png, kappa_shells.csv/.png, fr2_range.csv/.png and
+    """ladder.csv, ladder.md, claim_<letter>.png, kappa_shells.csv/.png, fr2_range.csv/.png, knee_fr5.csv and
     each axis's <name>.csv/.png (box_axis, stiffness_axis, length_axis) in root, from ladder.yaml and each
     rung's directory; README.md's ladder section replaced when it has the markers. n_boot, seed:
     the bootstrap of the Fr_2-range refits. Returns the paths written."""
@@ -210,6 +214,10 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     write_csv(fr2, root / "fr2_range.csv")
     written.append(root / "fr2_range.csv")
     written += _fr2_figure(root, fr2, rungs)
+    knee = [knee_at_five(t, rung=name) for name, t in tables.items()]
+    knee = pd.concat(knee, ignore_index=True) if knee else pd.DataFrame(columns=KNEE_COLUMNS)
+    write_csv(knee, root / "knee_fr5.csv")
+    written.append(root / "knee_fr5.csv")
     startup = [startup_refit(pd.read_csv(root / name / "startup.csv"), t, n_boot=n_boot, seed=seed, rung=name)
                for name, t in tables.items() if (root / name / "startup.csv").is_file()]
     startup = pd.concat(startup, ignore_index=True) if startup else pd.DataFrame(columns=STARTUP_FIT_COLUMNS)
@@ -223,7 +231,7 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
         written += _axis_figure(root, axis, steps)
         summaries.append((axis, axis_summary(steps, axis)))
     md = ladder_markdown(table, rungs, claims, infos, slopes, fr2, figures=[p.name for p in written],
-                         decomposition=decomposition, startup=startup, axes=summaries)
+                         decomposition=decomposition, startup=startup, axes=summaries, knee=knee)
     write_text_atomic(root / "ladder.md", md)
     written.append(root / "ladder.md")
     readme = root / "README.md"

@@ -220,3 +220,62 @@ def fr2_vs_range(table_df, fr_max_values=FR_MAX_VALUES, *, n_boot=100, seed=0, r
                              **_crossover_fit(used.Fr, used.drag, pooled_drag_err(used), continuous,
                                               bed_scatter=bed_scatter, beds=beds, n_boot=n_boot, seed=seed)})
     return pd.DataFrame(rows, columns=FR2_COLUMNS)
+
+
+# --- the drag's slope above Fr 5 against below -----------------------------------
+
+KNEE_COLUMNS = ["rung", "D", "knee", "fr_low", "fr_high", "level", "level_err", "slope_below", "slope_below_err",
+                "slope_above", "slope_above_err", "ratio", "ratio_err", "steepening", "steepening_err", "z",
+                "chi2_red", "n_points", "note"]
+KNEE_FR = 5.0            # the paper's Fr_2
+KNEE_RANGE = (1.0, 10.0)  # its regime II starts at Fr_1 ≈ 1; its data end at Fr = 10
+
+
+def broken_line(fr, drag, err, knee=KNEE_FR):
+    """drag = level + slope_below min(Fr - knee, 0) + slope_above max(Fr - knee, 0), weighted
+    least squares (weights 1/err²), its covariance scaled up by the reduced χ² when that exceeds 1
+    (as fits.fit_linear). Returns (params [level, below, above], covariance, chi2_red)."""
+    fr, drag, err = (np.asarray(a, float) for a in (fr, drag, err))
+    X = np.column_stack([np.ones_like(fr), np.minimum(fr - knee, 0.0), np.maximum(fr - knee, 0.0)])
+    w = 1.0 / err ** 2
+    A = X.T @ (X * w[:, None])
+    cov = np.linalg.inv(A)
+    p = cov @ (X.T @ (w * drag))
+    dof = len(fr) - 3
+    chi2_red = float(np.sum(w * (drag - X @ p) ** 2) / dof) if dof > 0 else math.nan
+    return p, cov * max(1.0, chi2_red) if np.isfinite(chi2_red) else cov, chi2_red
+
+
+def knee_at_five(table_df, *, knee=KNEE_FR, fr_range=KNEE_RANGE, rung=""):
+    """Does the drag steepen past Fr = 5, as the paper's regime III (linear up to Fr_2 ≈ 5,
+    quadratic beyond) says it must? A test that needs no fitted crossover: the μ = 0.5 series of
+    each D (the point table's, weighted as fr2_vs_range weighs it: pooled_drag_err) on
+    fr_range, fitted by a line broken at `knee` (broken_line). slope_above / slope_below is 1 for
+    one straight line, above 1 for a quadratic rise beyond the knee (a regime III a2 + b2 Fr²
+    joined smoothly to a regime II line at 5, i.e. with its slope 10 b2 there, has a secant slope
+    15 b2 over 5-10: 1.5), near 0 for a plateau. steepening = slope_above - slope_below and z its ratio to
+    its error: z > 2 says the drag steepens past 5, z < -2 that it flattens. Needs 2 points on
+    each side of the knee."""
+    series, _, _ = _drag_series(table_df)
+    rows = []
+    for D, g in series.groupby("D"):
+        g = g[(g.Fr >= fr_range[0] - 1e-9) & (g.Fr <= fr_range[1] + 1e-9)].sort_values("Fr")
+        fr, err = g.Fr.to_numpy(float), np.asarray(pooled_drag_err(g), float)
+        base = {"rung": rung, "D": float(D), "knee": knee, "fr_low": fr_range[0], "fr_high": fr_range[1],
+                "n_points": len(g)}
+        if (fr < knee).sum() < 2 or (fr > knee).sum() < 2:
+            rows.append({**base, "note": f"needs 2 points on each side of Fr = {knee:g} in "
+                                         f"{fr_range[0]:g}-{fr_range[1]:g}"})
+            continue
+        p, cov, chi2_red = broken_line(fr, g.drag.to_numpy(float), err, knee)
+        e = np.sqrt(np.diag(cov))
+        ratio = p[2] / p[1]
+        # First order in both slopes, with their covariance.
+        grad = np.array([0.0, -p[2] / p[1] ** 2, 1.0 / p[1]])
+        diff_err = math.sqrt(cov[1, 1] + cov[2, 2] - 2 * cov[1, 2])
+        rows.append({**base, "level": p[0], "level_err": e[0], "slope_below": p[1], "slope_below_err": e[1],
+                     "slope_above": p[2], "slope_above_err": e[2], "ratio": ratio,
+                     "ratio_err": math.sqrt(grad @ cov @ grad), "steepening": p[2] - p[1],
+                     "steepening_err": diff_err, "z": (p[2] - p[1]) / diff_err, "chi2_red": chi2_red,
+                     "note": "slope below the knee not positive: the ratio means nothing" if p[1] <= 0 else ""})
+    return pd.DataFrame(rows, columns=KNEE_COLUMNS)

@@ -40,9 +40,9 @@ def _rung_line(i, rung, info):
 
 
 def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=(), decomposition=None,
-                    startup=None, axes=()):
+                    startup=None, axes=(), knee=None):
     """ladder.md: the rungs, each claim's quantities against the rungs, the verdict at the top
-    rung, and the two diagnostics. Deterministic: only what the rungs' files say."""
+    rung, and the diagnostics. Deterministic: only what the rungs' files say."""
     names = [r["name"] for r in rungs]
     out = ["The reproduction ladder: each rung is a study that moves one factor toward the paper's "
            "conditions (ladder.yaml). Verdicts are the report's (analysis/report.py): within error bars = "
@@ -80,7 +80,7 @@ def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=
             top = rows.loc[rows.order.idxmax()]
             body.append([letter, q, top.rung, top.fitted, top.published, _verdict(top)])
         out.append(_md_table(["claim", "quantity", "top rung", "fitted", "paper", "verdict"], body))
-    out += _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition, startup, axes)
+    out += _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition, startup, axes, knee)
     return "\n".join(out)
 
 
@@ -135,7 +135,8 @@ def _axis_markdown(axis, summary, figures):
     return out
 
 
-def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None, startup=None, axes=()):
+def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None, startup=None, axes=(),
+                          knee=None):
     out = []
     if slopes is not None and len(slopes):
         pooled = slopes[slopes.D.astype(str) == "all"]
@@ -188,6 +189,8 @@ def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None
         order = {n: i for i, n in enumerate(names)}
         body.sort(key=lambda b: (order.get(b[0], len(order)), float(b[1]), b[2] != "continuous"))
         out.append(_md_table(["rung", "D", "fit"] + [f"Fr ≤ {m:g}" for m in fr_max], body))
+    if knee is not None and len(knee):
+        out += _knee_markdown(knee, names)
     if startup is not None and len(startup):
         out.append("### Fr_2 with the start of each pull kept, as a cumulative average over 40 d\n")
         out.append("The paper's drag is \"the cumulative average\" of the force (Fig. 4); it does not say a start was "
@@ -210,6 +213,28 @@ def _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition=None
     for axis, summary in axes:   # (Axis, axis_summary) pairs, in order
         if len(summary):
             out += _axis_markdown(axis, summary, figures)
+    return out
+
+
+def _knee_markdown(knee, names):
+    r0 = knee.iloc[0]
+    out = [f"### The drag's slope above Fr {r0.knee:g} against below\n",
+           f"The paper's regime III is quadratic from Fr_2 ≈ {r0.knee:g} on, so the drag must steepen there: a "
+           f"line broken at Fr = {r0.knee:g} through the μ = 0.5 points with {r0.fr_low:g} ≤ Fr ≤ {r0.fr_high:g} "
+           "(analysis.ladder.knee_at_five; knee_fr5.csv) has a slope above the knee at least that below it (1.5 "
+           "times it for a quadratic joined smoothly to the line). A test that needs no fitted crossover. Cells: "
+           "the slopes (ρ d³ g per unit Fr), their ratio, and z of the difference (above 2: steepens; below −2: "
+           "flattens).\n"]
+    order = {n: i for i, n in enumerate(names)}
+    body = []
+    for r in sorted(knee.itertuples(), key=lambda r: (order.get(r.rung, len(order)), r.D)):
+        if not np.isfinite(r.slope_below):
+            body.append([r.rung, f"{r.D:g}", "—", "—", "—", "—", str(r.note)])
+            continue
+        ratio = _pm(r.ratio, r.ratio_err) if r.slope_below > 0 else "n/a"
+        body.append([r.rung, f"{r.D:g}", _pm(r.slope_below, r.slope_below_err), _pm(r.slope_above, r.slope_above_err),
+                     ratio, f"{r.z:.1f}", f"{int(r.n_points)}"])
+    out.append(_md_table(["rung", "D", "slope below", "slope above", "above / below", "z", "points"], body))
     return out
 
 

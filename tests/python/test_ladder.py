@@ -25,11 +25,13 @@ from analysis.ladder import (
     kappa_decomposition,
     kappa_shell_slopes,
     kept_drag,
+    knee_at_five,
     parse_fitted,
     rung_claims,
     startup_refit,
     write_ladder,
 )
+from analysis.ladder_diagnostics import broken_line
 from analysis.report import comparisons
 from analysis.table import combine_beds, load_csv, save_csv
 
@@ -248,6 +250,9 @@ def test_ladder_md_and_readme_section(ladder_root):
     assert not list(root.glob("*.tmp"))
     slopes = pd.read_csv(root / "kappa_shells.csv")
     assert set(slopes.rung) == {"rung-a", "rung-b"} and {"all", "2", "3"} == set(slopes.D.astype(str))
+    knee = pd.read_csv(root / "knee_fr5.csv")
+    assert len(knee) == 4 and set(knee.rung) == {"rung-a", "rung-b"} and (knee.z > 2).all()
+    assert "### The drag's slope above Fr 5 against below" in md
 
 
 def test_readme_without_markers_is_left_alone(tmp_path):
@@ -347,6 +352,33 @@ def test_fr2_vs_range_recovers_fr2_and_drops_points_above_fr_max():
     short = r.loc[(0.5, True)]                               # 2 points: no fit, said why
     assert np.isnan(short.Fr2) and "at least" in short.note
     assert (r.rung == "x").all() and (r.D == 2).all()
+
+
+def test_broken_line_recovers_an_exact_broken_line():
+    fr = np.array([1.0, 2, 3, 4, 6, 7, 8, 10])
+    drag = 500 + 60 * np.minimum(fr - 5, 0) + 20 * np.maximum(fr - 5, 0)
+    p, cov, chi2_red = broken_line(fr, drag, np.full(fr.shape, 10.0))
+    assert p == pytest.approx([500, 60, 20]) and chi2_red == pytest.approx(0, abs=1e-20)
+    # Unscaled (χ² < 1): the covariance is the weights' alone; halving the errors halves the slopes' errors.
+    _, cov_half, _ = broken_line(fr, drag, np.full(fr.shape, 5.0))
+    assert np.sqrt(np.diag(cov_half)) == pytest.approx(np.sqrt(np.diag(cov)) / 2)
+
+
+def test_knee_at_five_tells_a_quadratic_rise_from_a_plateau():
+    table = point_table(seed=5)                     # regime III: a2 + b2 Fr² from Fr_2 = 5 on
+    rise = knee_at_five(table, rung="x").set_index("D")
+    assert list(rise.index) == [2.0, 3.0] and (rise.n_points == int(np.sum((FR >= 1) & (FR <= 10)))).all()
+    assert (rise.z > 2).all() and (rise.ratio > 1.5).all(), rise[["ratio", "z"]]
+    # The same drag held at its Fr = 5 level beyond: a plateau flattens the line past the knee.
+    flat = table.copy()
+    above = flat.Fr > 5
+    flat.loc[above, "drag"] = [synth.drag_true(D, 14.0, 0.5, 5.0) for D in flat.D[above]]
+    plateau = knee_at_five(flat, rung="x").set_index("D")
+    assert (plateau.z < -2).all() and (plateau.ratio.abs() < 0.3).all(), plateau[["ratio", "z"]]
+    assert (plateau.ratio_err > 0).all() and (plateau.note == "").all()
+    # Too few points on a side: a row that says why, no numbers.
+    few = knee_at_five(table[table.Fr <= 6], rung="x")
+    assert few.slope_above.isna().all() and few.note.str.contains("2 points on each side").all()
 
 
 # --- the command line ------------------------------------------------------------
