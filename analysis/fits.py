@@ -37,7 +37,7 @@ from .table import (
 )
 
 __all__ = ["Fit", "Param", "fit_regimes", "regime_curve", "fit_theta", "fit_kappa",
-           "fit_linear", "fit_power_law", "fit_saturation", "fit_phi", "fit_alpha",
+           "fit_linear", "fit_broken_line", "fit_power_law", "fit_saturation", "fit_phi", "fit_alpha",
            "theta_start", "sum_rule", "fit_scaling_law", "ScalingLaw", "evaluate",
            "save_fits", "load_fits", "FitFileError"]
 
@@ -56,6 +56,12 @@ def linear_curve(x, k0, k1):
     return k0 + k1 * np.asarray(x, float)
 
 
+def broken_line_curve(x, level, below, above, knee=5.0):
+    """A line broken at x = knee: slope `below` before it, `above` after, `level` at it."""
+    x = np.asarray(x, float)
+    return level + below * np.minimum(x - knee, 0.0) + above * np.maximum(x - knee, 0.0)
+
+
 def power_curve(x, A, p):
     return A * np.power(np.asarray(x, float), p)
 
@@ -66,18 +72,19 @@ def saturation_curve(mu, F0, dF, mu_c):
 
 
 MODELS = {"regimes": regime_curve, "theta": theta_curve, "linear": linear_curve,
-          "power_law": power_curve, "saturation": saturation_curve}
+          "power_law": power_curve, "saturation": saturation_curve, "broken_line": broken_line_curve}
 
 
 def evaluate(fit, x):
-    """The fitted curve of any Fit at x."""
-    return MODELS[fit.model](x, **fit.values())
+    """The fitted curve of any Fit at x (with the parameters it held fixed, meta["fixed"])."""
+    return MODELS[fit.model](x, **fit.values(), **fit.meta.get("fixed", {}))
 
 
 def evaluate_replicates(fit, x):
     """The curve of every bootstrap refit, shape (n_refits, len(x))."""
     names = list(fit.params)
-    return np.array([MODELS[fit.model](x, **dict(zip(names, row))) for row in fit.replicates])
+    fixed = fit.meta.get("fixed", {})
+    return np.array([MODELS[fit.model](x, **dict(zip(names, row)), **fixed) for row in fit.replicates])
 
 
 # --- least squares with covariance errors -------------------------------
@@ -120,6 +127,7 @@ def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf
         method = "least-squares covariance scaled by reduced chi^2 when > 1"
     err = np.sqrt(np.diag(pcov)) if dof > 0 else np.full(len(names), np.nan)
     return Fit(model=name, params={k: Param(float(v), float(e)) for k, v, e in zip(names, popt, err)},
+               covariance=pcov if dof > 0 else None,
                method=method + ("" if s is not None else " (unweighted: no per-point errors)"),
                n_points=len(x), x_range=(float(x.min()), float(x.max())),
                meta={"at_bounds": _at_bounds(names, popt, bounds), "weighted": s is not None,
@@ -186,6 +194,19 @@ def fit_linear(x, y, sigma=None, groups=None, shared=None, beds=None):
     """y = k0 + k1 x."""
     return _covariance_fit(linear_curve, "linear", x, y, sigma, [0.0, 1.0], ["k0", "k1"], groups=groups,
                            shared=shared, beds=beds)
+
+
+def fit_broken_line(x, y, sigma=None, knee=5.0):
+    """y = level + below min(x - knee, 0) + above max(x - knee, 0), the knee held fixed
+    (meta["fixed"]); Fit.covariance is the parameters' covariance, for a ratio or a difference of
+    the slopes."""
+    def model(x, level, below, above):
+        return broken_line_curve(x, level, below, above, knee)
+    y = np.asarray(y, float)
+    fit = _covariance_fit(model, "broken_line", x, y, sigma, [float(np.nanmean(y)), 1.0, 1.0],
+                          ["level", "below", "above"])
+    fit.meta["fixed"] = {"knee": float(knee)}
+    return fit
 
 
 def fit_kappa(df, pool=None):

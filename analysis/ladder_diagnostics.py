@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 
 from . import paper
-from .fits import fit_linear
+from .fits import fit_broken_line, fit_linear
 from .fitset import point_bed_scatter
 from .regimes import fit_regimes, profile_fr2
 from .table import is_yield, pooled_drag_err, reference_params, select
@@ -231,26 +231,11 @@ KNEE_FR = 5.0            # the paper's Fr_2
 KNEE_RANGE = (1.0, 10.0)  # its regime II starts at Fr_1 ≈ 1; its data end at Fr = 10
 
 
-def broken_line(fr, drag, err, knee=KNEE_FR):
-    """drag = level + slope_below min(Fr - knee, 0) + slope_above max(Fr - knee, 0), weighted
-    least squares (weights 1/err²), its covariance scaled up by the reduced χ² when that exceeds 1
-    (as fits.fit_linear). Returns (params [level, below, above], covariance, chi2_red)."""
-    fr, drag, err = (np.asarray(a, float) for a in (fr, drag, err))
-    X = np.column_stack([np.ones_like(fr), np.minimum(fr - knee, 0.0), np.maximum(fr - knee, 0.0)])
-    w = 1.0 / err ** 2
-    A = X.T @ (X * w[:, None])
-    cov = np.linalg.inv(A)
-    p = cov @ (X.T @ (w * drag))
-    dof = len(fr) - 3
-    chi2_red = float(np.sum(w * (drag - X @ p) ** 2) / dof) if dof > 0 else math.nan
-    return p, cov * max(1.0, chi2_red) if np.isfinite(chi2_red) else cov, chi2_red
-
-
 def knee_at_five(table_df, *, knee=KNEE_FR, fr_range=KNEE_RANGE, rung=""):
     """Does the drag steepen past Fr = 5, as the paper's regime III (linear up to Fr_2 ≈ 5,
     quadratic beyond) says it must? A test that needs no fitted crossover: the μ = 0.5 series of
     each D (the point table's, weighted as fr2_vs_range weighs it: pooled_drag_err) on
-    fr_range, fitted by a line broken at `knee` (broken_line). slope_above / slope_below is 1 for
+    fr_range, fitted by a line broken at `knee` (fits.fit_broken_line). slope_above / slope_below is 1 for
     one straight line, above 1 for a quadratic rise beyond the knee (a regime III a2 + b2 Fr²
     joined smoothly to a regime II line at 5, i.e. with its slope 10 b2 there, has a secant slope
     15 b2 over 5-10: 1.5), near 0 for a plateau. steepening = slope_above - slope_below and z its ratio to
@@ -267,8 +252,8 @@ def knee_at_five(table_df, *, knee=KNEE_FR, fr_range=KNEE_RANGE, rung=""):
             rows.append({**base, "note": f"needs 2 points on each side of Fr = {knee:g} in "
                                          f"{fr_range[0]:g}-{fr_range[1]:g}"})
             continue
-        p, cov, chi2_red = broken_line(fr, g.drag.to_numpy(float), err, knee)
-        e = np.sqrt(np.diag(cov))
+        fit = fit_broken_line(fr, g.drag.to_numpy(float), err, knee)
+        p, cov, e = np.array(list(fit.values().values())), fit.covariance, [q.err for q in fit.params.values()]
         ratio = p[2] / p[1]
         # First order in both slopes, with their covariance.
         grad = np.array([0.0, -p[2] / p[1] ** 2, 1.0 / p[1]])
@@ -276,6 +261,7 @@ def knee_at_five(table_df, *, knee=KNEE_FR, fr_range=KNEE_RANGE, rung=""):
         rows.append({**base, "level": p[0], "level_err": e[0], "slope_below": p[1], "slope_below_err": e[1],
                      "slope_above": p[2], "slope_above_err": e[2], "ratio": ratio,
                      "ratio_err": math.sqrt(grad @ cov @ grad), "steepening": p[2] - p[1],
-                     "steepening_err": diff_err, "z": (p[2] - p[1]) / diff_err, "chi2_red": chi2_red,
+                     "steepening_err": diff_err, "z": (p[2] - p[1]) / diff_err,
+                     "chi2_red": fit.meta["goodness"]["chi2_dof"],
                      "note": "slope below the knee not positive: the ratio means nothing" if p[1] <= 0 else ""})
     return pd.DataFrame(rows, columns=KNEE_COLUMNS)

@@ -41,6 +41,8 @@ class Fit:
     method     how the errors were obtained, in words
     replicates bootstrap refits (one row per refit, columns = params), kept
                so a prediction can carry correlated uncertainties
+    covariance the parameters' covariance of a least-squares fit (fits._covariance_fit), for a
+               derived quantity's error; not written to a fit file
     """
     model: str
     params: dict
@@ -49,6 +51,7 @@ class Fit:
     x_range: tuple
     meta: dict = field(default_factory=dict)
     replicates: np.ndarray = None
+    covariance: np.ndarray = None
 
     def __getitem__(self, name):
         return self.params[name]

@@ -12,6 +12,7 @@ import pytest
 import synth
 from test_runs import write_run
 
+from analysis.fits import evaluate, fit_broken_line
 from analysis.fitset import load_results, run_fits, save_results
 from analysis.ladder import (
     LADDER_BEGIN,
@@ -31,7 +32,6 @@ from analysis.ladder import (
     startup_refit,
     write_ladder,
 )
-from analysis.ladder_diagnostics import broken_line
 from analysis.report import comparisons
 from analysis.table import combine_beds, load_csv, save_csv
 
@@ -357,11 +357,17 @@ def test_fr2_vs_range_recovers_fr2_and_drops_points_above_fr_max():
 def test_broken_line_recovers_an_exact_broken_line():
     fr = np.array([1.0, 2, 3, 4, 6, 7, 8, 10])
     drag = 500 + 60 * np.minimum(fr - 5, 0) + 20 * np.maximum(fr - 5, 0)
-    p, cov, chi2_red = broken_line(fr, drag, np.full(fr.shape, 10.0))
-    assert p == pytest.approx([500, 60, 20]) and chi2_red == pytest.approx(0, abs=1e-20)
+    fit = fit_broken_line(fr, drag, np.full(fr.shape, 10.0))
+    assert list(fit.values().values()) == pytest.approx([500, 60, 20])
+    assert fit.meta["goodness"]["chi2_dof"] == pytest.approx(0, abs=1e-12)
+    assert evaluate(fit, [0.0, 5.0, 9.0]) == pytest.approx([200, 500, 580])     # the knee kept
     # Unscaled (χ² < 1): the covariance is the weights' alone; halving the errors halves the slopes' errors.
-    _, cov_half, _ = broken_line(fr, drag, np.full(fr.shape, 5.0))
-    assert np.sqrt(np.diag(cov_half)) == pytest.approx(np.sqrt(np.diag(cov)) / 2)
+    half = fit_broken_line(fr, drag, np.full(fr.shape, 5.0))
+    assert np.sqrt(np.diag(half.covariance)) == pytest.approx(np.sqrt(np.diag(fit.covariance)) / 2)
+    # The knee is a fixed parameter: a line bent at 4 is recovered with knee=4.
+    bent4 = 440 + 60 * np.minimum(fr - 4, 0) + 20 * np.maximum(fr - 4, 0)
+    at4 = fit_broken_line(fr, bent4, np.full(fr.shape, 10.0), knee=4.0)
+    assert at4.meta["fixed"] == {"knee": 4.0} and list(at4.values().values()) == pytest.approx([440, 60, 20])
 
 
 def test_knee_at_five_tells_a_quadratic_rise_from_a_plateau():
