@@ -1,6 +1,7 @@
 """granudrag_study, the workflow's library: the plan of beds and pulls, paths, arguments, cost."""
 import copy
 import math
+import os
 import subprocess
 from pathlib import Path
 
@@ -78,6 +79,24 @@ def test_adding_a_grid_value_only_adds_jobs():
     assert set(after.pulls) - set(before.pulls) == {
         k for k in after.pulls if k.endswith("/Fr~2")}
     assert set(before.pulls) < set(after.pulls)
+
+
+def test_the_plan_file_is_rewritten_only_when_the_pulls_change(tmp_path):
+    """Its time stamp is what remakes the table when a sweep grows (manifest.py): the same
+    pulls leave the file untouched, in any order; one more rewrites it, sorted."""
+    results = str(tmp_path / "results")
+    pulls = study.plan(copy.deepcopy(BASE)).pulls
+    path = Path(study.write_plan(results, pulls))
+    assert path == Path(study.plan_file(results)) and path.read_text().splitlines() == sorted(pulls)
+    os.utime(path, ns=(1, 1))
+    study.write_plan(results, list(reversed(list(pulls))))
+    assert path.stat().st_mtime_ns == 1
+    config = copy.deepcopy(BASE)
+    config["sweeps"][0]["Fr"].append(2)
+    grown = study.plan(config).pulls
+    study.write_plan(results, grown)
+    assert path.stat().st_mtime_ns > 1 and path.read_text().splitlines() == sorted(grown)
+    assert [p.name for p in path.parent.iterdir()] == ["pulls.txt"]      # no temporary left
 
 
 def test_arguments_use_the_path_numbers():

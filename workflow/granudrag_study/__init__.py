@@ -10,6 +10,7 @@ Snakemake, so it is tested on its own (tests/workflow/test_study.py).
     estimate  the job count and cost of a config (command line)
     script    the common start of the workflow's scripts (logging to the rule's log)
     failures  a failed job's record and the placeholders of table.allow_failed
+    manifest  the plan's pulls as a file, so a grown sweep remakes the table by file time alone
 
 The names below are the library's interface: `import granudrag_study as study; study.plan(config)`.
 """
@@ -41,6 +42,7 @@ from .cost import (
     pull_retries,
     summary,
 )
+from .manifest import plan_file, write_plan
 from .paths import BED_PATTERN, SPEED_PATTERN, Bed, Pull, bed_file, fmt, number, parse_speed, run_file
 from .plan import (
     PAPER_FLOW_FIELD,
@@ -82,6 +84,7 @@ __all__ = [
     "number",
     "parse_speed",
     "plan",
+    "plan_file",
     "poured_bed",
     "pour_settings",
     "pour_args",
@@ -95,6 +98,7 @@ __all__ = [
     "pull_distance",
     "pull_retries",
     "reference_law",
+    "write_plan",
     "resolve_beds_from",
     "resolve_binary",
     "run_file",

@@ -7,7 +7,8 @@
 
 rule table:
     input:
-        ALL_RUNS,
+        runs=ALL_RUNS,
+        plan=PLAN_FILE,
     output:
         table=f"{RESULTS}/table.csv",
         runs=f"{RESULTS}/runs.csv",

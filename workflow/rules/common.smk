@@ -58,6 +58,15 @@ def run_file(key):
 
 ALL_BEDS = [bed_file(k) for k in PLAN.beds]
 ALL_RUNS = [run_file(k) for k in PLAN.pulls]
+# The table's input with ALL_RUNS: rewritten only when the list of pulls changes, so a grown
+# sweep remakes the table even where Snakemake has no metadata (granudrag_study/manifest.py).
+try:
+    PLAN_FILE = study.write_plan(RESULTS, PLAN.pulls)
+except OSError as exc:
+    raise WorkflowError(
+        f"cannot write the study's list of pulls under results: {RESULTS} ({exc}); "
+        "the results directory must be writable (the config's `results` key)"
+    ) from None
 TRACE_RUN = run_file(study.trace_pull(PLAN).key)
 FLOW_RUNS = [run_file(p.key) for p in study.flow_pulls(PLAN)]
 

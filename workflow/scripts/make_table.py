@@ -19,8 +19,8 @@ from granudrag_study.script import start
 
 sm = snakemake
 log = start(sm)
-failed = [p for p in sm.input if is_placeholder(p)]
-df, problems = load_runs([p for p in sm.input if p not in failed], root=sm.params.root, errors="collect")
+failed = [p for p in sm.input.runs if is_placeholder(p)]
+df, problems = load_runs([p for p in sm.input.runs if p not in failed], root=sm.params.root, errors="collect")
 problems = [describe(p, sm.params.root) for p in failed] + problems
 Path(sm.output.problems).write_text("".join(p + "\n" for p in problems))
 Path(sm.output.failed).write_text("".join(p + "\n" for p in problems[: len(failed)]))
@@ -28,7 +28,7 @@ for p in problems:
     log.error(p)
 if problems and not sm.params.allow_failed:
     sys.exit(
-        f"table: {len(problems)} of {len(sm.input)} run files unusable (listed in "
+        f"table: {len(problems)} of {len(sm.input.runs)} run files unusable (listed in "
         f"{sm.output.problems} and {sm.log[0]}); set table.allow_failed: true to leave them out"
     )
 if df.empty:
