@@ -245,7 +245,12 @@ def knee_at_five(table_df, *, knee=KNEE_FR, fr_range=KNEE_RANGE, rung=""):
     rows = []
     for D, g in series.groupby("D"):
         g = g[(g.Fr >= fr_range[0] - 1e-9) & (g.Fr <= fr_range[1] + 1e-9)].sort_values("Fr")
-        fr, err = g.Fr.to_numpy(float), np.asarray(pooled_drag_err(g), float)
+        # Points with a drag and an error only: the fit would drop a missing drag, and one missing
+        # error would make it unweighted.
+        err = np.asarray(pooled_drag_err(g), float)
+        usable = np.isfinite(g.drag.to_numpy(float)) & np.isfinite(err) & (err > 0)
+        g, err = g[usable], err[usable]
+        fr = g.Fr.to_numpy(float)
         base = {"rung": rung, "D": float(D), "knee": knee, "fr_low": fr_range[0], "fr_high": fr_range[1],
                 "n_points": len(g)}
         if (fr < knee).sum() < 2 or (fr > knee).sum() < 2:

@@ -5,8 +5,8 @@
 # small result files (table, fits, report, kappa shells) with the measured wall time, the
 # core-hours of its jobs and the machine into results/reproduction/<rung>/, and regenerates the
 # ladder table and figures (granudrag-analysis ladder table results/reproduction).
-# Only a whole study run here is timed: if the rung's results directory exists (a finished or an
-# interrupted study, whose resumed run would be timed from the resume), nothing is measured and
+# Only a whole study run here is timed: if the rung's results directory holds beds or pulls (a
+# finished or an interrupted study, whose resumed run would be timed from the resume), nothing is measured and
 # the script stops (delete the directory to measure the rung again). The installation and the
 # engine's build come first and are not timed.
 set -euo pipefail
@@ -15,8 +15,9 @@ config=${1:?usage: tools/ladder.sh config/ladder/RUNG.yaml [snakemake arguments]
 shift
 [ -f "$config" ] || { echo "tools/ladder.sh: no config '$config' (the rungs: config/ladder/*.yaml)" >&2; exit 2; }
 results=$(/usr/bin/python3 -c 'import sys, yaml; print(yaml.safe_load(open(sys.argv[1])).get("results", "results"))' "$config")
-if [ -e "$results" ]; then
-  echo "tools/ladder.sh: $results exists, so the whole study's wall time cannot be measured here;" >&2
+# Beds or pulls, not the directory: a dry run leaves only the plan's list of pulls there.
+if [ -e "$results/beds" ] || [ -e "$results/pulls" ]; then
+  echo "tools/ladder.sh: $results holds beds or pulls, so the whole study's wall time cannot be measured here;" >&2
   echo "  delete $results to run the rung again, or record a measured run by hand with" >&2
   echo "  .venv/bin/granudrag-analysis ladder collect --config $config --results $results --wall-seconds S --cores N" >&2
   exit 2

@@ -385,6 +385,12 @@ def test_knee_at_five_tells_a_quadratic_rise_from_a_plateau():
     # Too few points on a side: a row that says why, no numbers.
     few = knee_at_five(table[table.Fr <= 6], rung="x")
     assert few.slope_above.isna().all() and few.note.str.contains("2 points on each side").all()
+    # A point without a drag (a failed pull) is left out, not fitted as missing: the rest agree.
+    holed = table.copy()
+    holed.loc[(holed.Fr == 8) & (holed.D == 2), "drag"] = np.nan
+    gap = knee_at_five(holed, rung="x").set_index("D")
+    assert gap.n_points[2.0] == rise.n_points[2.0] - 1 and gap.loc[3.0].equals(rise.loc[3.0])
+    assert np.isfinite(gap.z[2.0]) and gap.z[2.0] > 2 and np.isfinite(gap.chi2_red[2.0])
 
 
 # --- the command line ------------------------------------------------------------

@@ -9,6 +9,7 @@ This file is rewritten when the list changes, and only then, so its time stamp s
 """
 
 import os
+import tempfile
 from pathlib import Path
 
 
@@ -16,19 +17,31 @@ def plan_file(results):
     return f"{results}/plan/pulls.txt"
 
 
+def _holds(path, text):
+    try:
+        return path.read_text() == text
+    except (OSError, ValueError):   # missing, unreadable, or not text: rewrite it
+        return False
+
+
 def write_plan(results, keys):
-    """Write the pulls' keys, one a line, sorted, to plan_file(results) if the file does not
-    hold them already (atomically: a concurrent reader sees the old list or the new one).
-    Returns the file's path."""
+    """Write the pulls' keys, one a line, sorted, to plan_file(results) unless the file holds
+    them already; atomically (a reader sees the old list or the new one), and safe when several
+    processes parse the same config at once (cluster jobs on a shared file system). Returns the
+    file's path."""
     path = Path(plan_file(results))
     text = "".join(f"{k}\n" for k in sorted(keys))
-    try:
-        if path.read_text() == text:
-            return str(path)
-    except OSError:
-        pass
+    if _holds(path, text):
+        return str(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(text)
-    tmp.replace(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except OSError:
+        if not _holds(path, text):   # another process wrote the same list first: fine
+            raise
+    finally:
+        Path(tmp).unlink(missing_ok=True)
     return str(path)
