@@ -466,3 +466,16 @@ def test_a_recorded_rung_is_refitted_from_its_runs(tmp_path):
     assert doc["options"]["n_boot"] == 3 and doc["options"]["seed"] == 4
     assert "## Fitted numbers beside the paper's" in (d / "report.md").read_text()
     assert not (root / "rung-b").exists()
+
+
+def test_ladder_script_refuses_a_rung_whose_results_hold_beds_or_pulls(tmp_path):
+    """A resumed study would be timed from its resume: tools/ladder.sh measures only whole runs,
+    and says how to record one by hand. A dry run's plan file alone is no reason to refuse
+    (that case goes on to run the study, so it is not run here)."""
+    results = tmp_path / "rung"
+    (results / "pulls").mkdir(parents=True)
+    config = tmp_path / "rung.yaml"
+    config.write_text(f"results: {results}\n")
+    r = subprocess.run([str(ROOT / "tools" / "ladder.sh"), str(config)], capture_output=True, text=True,
+                       timeout=60)
+    assert r.returncode == 2 and "holds beds or pulls" in r.stderr and "ladder collect" in r.stderr, r.stderr
