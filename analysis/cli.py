@@ -28,7 +28,7 @@ import sys
 from pathlib import Path
 
 from .alpha_drag import ALPHA_SPEEDS
-from .fits import FitFileError
+from .fit_file import FitFileError
 
 
 def _speeds(text):

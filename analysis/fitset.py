@@ -15,6 +15,7 @@ import pandas as pd
 
 from . import paper
 from .alpha_drag import ALPHA_DRAG_COLUMNS, ALPHA_SPEED_COLUMNS, ALPHA_SPEEDS, fit_alpha_drag
+from .fit_file import load_fits, save_fits
 from .fits import (
     GOODNESS_COLUMNS,
     fit_alpha,
@@ -24,8 +25,6 @@ from .fits import (
     fit_saturation,
     fit_scaling_law,
     fit_theta,
-    load_fits,
-    save_fits,
     series_labels,
     sum_rule,
 )

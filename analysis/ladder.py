@@ -35,7 +35,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from .fits import write_text_atomic
+from .fit_file import write_text_atomic
 from .ladder_axes import (
     AXES,
     BOX,

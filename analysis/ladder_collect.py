@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .fits import write_text_atomic
+from .fit_file import write_text_atomic
 from .ladder_claims import LadderError
 from .runs import RunFileError, read_run
 from .table import write_csv

@@ -18,7 +18,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .fits import write_text_atomic
+from .fit_file import write_text_atomic
 from .ladder_claims import LadderError
 
 __all__ = ["refit_table", "refit_fits", "rewrite_report", "refit_rung", "main"]

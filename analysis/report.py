@@ -34,7 +34,7 @@ from . import paper
 from .claims import CLAIMS, claim_of
 from .figure_list import FIGURES, NAMES, Inputs, draw
 from .figures import not_drawn_reason
-from .fits import write_text_atomic
+from .fit_file import write_text_atomic
 from .fitset import Results, load_results, named_fits, run_fits, save_results
 from .goodness import describe, rejection_text
 from .report_notes import (

@@ -7,8 +7,8 @@ import pytest
 import synth
 
 from analysis import paper
+from analysis.fit_file import FitFileError, load_fits, save_fits
 from analysis.fits import (
-    FitFileError,
     ScalingLaw,
     evaluate,
     fit_alpha,
@@ -18,8 +18,6 @@ from analysis.fits import (
     fit_saturation,
     fit_scaling_law,
     fit_theta,
-    load_fits,
-    save_fits,
     sum_rule,
 )
 from analysis.table import select, yield_rows

@@ -20,7 +20,7 @@ import pytest
 import synth
 import yaml
 
-from analysis.fits import FitFileError, load_fits
+from analysis.fit_file import FitFileError, load_fits
 from analysis.fitset import run_fits, save_results
 from analysis.runs import RunFileError, read_run
 from analysis.table import TableError, load_csv, write_csv

@@ -6,7 +6,7 @@ import sys
 import pytest
 import synth
 
-from analysis.fits import load_fits
+from analysis.fit_file import load_fits
 from analysis.predict import predict
 from analysis.table import froude
 
