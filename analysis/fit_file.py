@@ -1,7 +1,6 @@
 """The JSON fit file: `save_fits` writes what the fits found (laws, fits, tables, notes and the
 summary's further keys), `load_fits` reads it back (also for `python -m analysis.predict`);
-the format is described in save_fits. `write_text_atomic` is the atomic write every written
-file of the analysis goes through.
+the format is described in save_fits.
 """
 import json
 from dataclasses import dataclass, field
@@ -12,6 +11,7 @@ import pandas as pd
 from . import __version__
 from .fits import ScalingLaw
 from .result import Fit
+from .table import write_text_atomic
 
 FORMAT, VERSION = "granudrag-fits", 1
 _OWN_KEYS = ("format", "version", "written_by", "units", "laws", "fits", "tables", "notes")
@@ -56,15 +56,6 @@ def save_fits(path, laws=(), fits=None, tables=None, notes=(), summary=None):
             raise ValueError(f"summary key {k!r} would overwrite the fit file's own")
         doc[k] = v
     write_text_atomic(path, json.dumps(doc, indent=1, allow_nan=False))
-
-
-def write_text_atomic(path, text):
-    """Write text to path through a temporary file beside it and a rename (as
-    table.write_csv), so an interrupted write never leaves a truncated file."""
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text)
-    tmp.replace(path)
 
 
 def load_fits(path):

@@ -35,7 +35,6 @@ from pathlib import Path
 
 import pandas as pd
 
-from .fit_file import write_text_atomic
 from .ladder_axes import (
     AXES,
     BOX,
@@ -94,7 +93,7 @@ from .ladder_diagnostics import (
     startup_refit,
 )
 from .ladder_report import _axis_figure, _claim_figures, _fr2_figure, _kappa_figure, ladder_markdown
-from .table import load_csv, write_csv
+from .table import load_csv, write_csv, write_text_atomic
 
 __all__ = [
     "LADDER_BEGIN", "LADDER_END", "CLAIMS", "OTHER", "NOT_RUN", "LadderError", "claim_of", "parse_fitted",

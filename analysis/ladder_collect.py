@@ -11,10 +11,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .fit_file import write_text_atomic
 from .ladder_claims import LadderError
 from .runs import RunFileError, read_run
-from .table import write_csv
+from .table import write_csv, write_text_atomic
 
 # A rung's files: (name in the rung directory, path under the study's results, required).
 RUNG_FILES = (("table.csv", "table.csv", True), ("runs.csv", "runs.csv", False),

@@ -18,8 +18,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .fit_file import write_text_atomic
 from .ladder_claims import LadderError
+from .table import write_text_atomic
 
 __all__ = ["refit_table", "refit_fits", "rewrite_report", "refit_rung", "main"]
 

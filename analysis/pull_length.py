@@ -40,7 +40,7 @@ import pandas as pd
 
 from .agreement import Z_AGREE, ValidationError
 from .runs import _open
-from .table import write_csv
+from .table import write_csv, write_text_atomic
 
 TARGET = 0.05      # the relative error quoted (a 5 % drag)
 HONEST = 0.5       # a prefix's error below half the whole pull's e sqrt(T/L) is too small to stop on
@@ -266,9 +266,7 @@ def validate(runs, outdir):
     write_csv(rows, outdir / "validate_pull_length.csv")
     write_csv(answers, outdir / "validate_pull_length_answers.csv")
     md = outdir / "validate_pull_length.md"
-    tmp = md.with_suffix(".md.tmp")
-    tmp.write_text("### Validation: pull length\n\n"
-                   "![the travel from which a pull's drag and error hold](validate_pull_length.png)\n\n"
-                   f"{conclusion(answers)}\n")
-    tmp.replace(md)
+    write_text_atomic(md, "### Validation: pull length\n\n"
+                          "![the travel from which a pull's drag and error hold](validate_pull_length.png)\n\n"
+                          f"{conclusion(answers)}\n")
     return paths + [outdir / "validate_pull_length.csv", md]

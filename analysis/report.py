@@ -34,7 +34,6 @@ from . import paper
 from .claims import CLAIMS, claim_of
 from .figure_list import FIGURES, NAMES, Inputs, draw
 from .figures import not_drawn_reason
-from .fit_file import write_text_atomic
 from .fitset import Results, load_results, named_fits, run_fits, save_results
 from .goodness import describe, rejection_text
 from .report_notes import (
@@ -47,7 +46,7 @@ from .report_notes import (
 )
 from .report_render import SYMBOLS, markdown, to_html
 from .result import Param, format_pm
-from .table import is_yield, reference_params, select, yield_rows
+from .table import is_yield, reference_params, select, write_text_atomic, yield_rows
 from .verdicts import (  # noqa: F401  (re-exported: the report's verdict rules)
     COVERAGE,
     INCONCLUSIVE,

@@ -123,6 +123,14 @@ def write_csv(df, path, float_format="%.10g"):
     tmp.replace(path)
 
 
+def write_text_atomic(path, text):
+    """Write text to path as write_csv writes a table: a temporary file beside it, then a rename."""
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text)
+    tmp.replace(path)
+
+
 def save_csv(df, path):
     """Write a validated table so that load_csv reads it back unchanged."""
     validate_table(df)

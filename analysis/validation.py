@@ -41,7 +41,7 @@ import pandas as pd
 
 from . import pull_length
 from .agreement import Z_AGREE, ValidationError
-from .table import combine_beds, write_csv
+from .table import combine_beds, write_csv, write_text_atomic
 from .validation_shifts import resolved_shifts
 
 
@@ -483,8 +483,6 @@ def validate(runs, study, outdir):
     paths = draw(cmp, study, outdir)
     write_csv(cmp, outdir / f"validate_{study.name}.csv")
     md = outdir / f"validate_{study.name}.md"
-    tmp = md.with_suffix(".md.tmp")
-    tmp.write_text(f"### Validation: {study.name.replace('_', ' ')}\n\n"
-                   f"![{study.question}](validate_{study.name}.png)\n\n{conclusion(cmp, study)}\n")
-    tmp.replace(md)
+    write_text_atomic(md, f"### Validation: {study.name.replace('_', ' ')}\n\n"
+                          f"![{study.question}](validate_{study.name}.png)\n\n{conclusion(cmp, study)}\n")
     return paths + [outdir / f"validate_{study.name}.csv", md]

@@ -34,7 +34,7 @@ import pandas as pd
 
 from .agreement import Z_AGREE, ValidationError
 from .physics import default_wake_force
-from .table import write_csv
+from .table import write_csv, write_text_atomic
 from .validation import SETTINGS_BEFORE_RECORDED, STUDIES, settings_set, shown_settings
 
 # What a study's variant is measured against, to put its studies on one scale: the active radius
@@ -177,7 +177,5 @@ def write(paths, study, outdir, wake_relative=False):
     outdir.mkdir(parents=True, exist_ok=True)
     csv, md = outdir / f"pool_{study}.csv", outdir / f"pool_{study}.md"
     write_csv(pooled, csv)
-    tmp = md.with_suffix(".md.tmp")
-    tmp.write_text(f"### Validation pooled: {study.replace('_', ' ')}\n\n{conclusion(pooled, study)}\n")
-    tmp.replace(md)
+    write_text_atomic(md, f"### Validation pooled: {study.replace('_', ' ')}\n\n{conclusion(pooled, study)}\n")
     return [csv, md]

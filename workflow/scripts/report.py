@@ -5,10 +5,9 @@ table.allow_failed) are listed under the title, each with its reason."""
 import html
 from pathlib import Path
 
-from analysis.fit_file import write_text_atomic
 from analysis.fitset import load_results
 from analysis.report import write_report
-from analysis.table import load_csv
+from analysis.table import load_csv, write_text_atomic
 from granudrag_study.script import start
 
 TITLE = "Pulls left out of the table"
