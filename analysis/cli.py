@@ -127,6 +127,20 @@ def _ladder(args):
     return 0
 
 
+def _regime_tests(args):
+    from .regime_figure import draw
+    from .regime_tests import write_tests
+    from .table import load_csv
+
+    df = load_csv(args.table)
+    tests, path = write_tests(df, args.out, n_sim=args.n_sim, seed=args.seed)
+    draw(df, args.out)
+    for r in tests[tests.verdict.notna()].itertuples():
+        print(f"D={r.D:g} mu={r.mu:g} {r.averaging} Fr {r.fr_low:g}-{r.fr_high:g} {r.test}: {r.verdict}")
+    print(path)
+    return 0
+
+
 def _predict(argv):
     from .predict import main as predict_main
 
@@ -173,6 +187,11 @@ def parser():
     sub.add_parser("predict", help="drag from a fit file (python -m analysis predict --help)",
                    add_help=False)
     _ladder_parser(sub)
+    rt = sub.add_parser("regime-tests", help="claim (a) tested with calibrated power: regime_tests.csv, figures")
+    rt.add_argument("table", help="pull table (CSV)")
+    rt.add_argument("--out", required=True, help="directory of regime_tests.csv and the figures")
+    rt.add_argument("--n-sim", type=_non_negative(int, "--n-sim"), default=2000, help="synthetic copies per test")
+    rt.add_argument("--seed", type=_non_negative(int, "--seed"), default=0, help="seed of the copies")
     return ap
 
 
@@ -203,7 +222,8 @@ def main(argv=None):
     from .table import TableError
 
     try:
-        commands = {"fit": _fit, "report": _report, "validate": _validate, "pool": _pool, "ladder": _ladder}
+        commands = {"fit": _fit, "report": _report, "validate": _validate, "pool": _pool, "ladder": _ladder,
+                    "regime-tests": _regime_tests}
         return commands[args.command](args)
     except (TableError, FitFileError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
