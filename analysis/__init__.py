@@ -4,7 +4,7 @@ Everything works on one tidy pandas table with a row per pull (see
 `analysis.table.COLUMNS`), in the project's dimensionless units: lengths in
 d, speeds in sqrt(g d), forces in rho d^3 g.
 
-Modules:
+The main modules (each a file of this folder; a test checks that every name here is one):
     table    schema, Froude number, validation, CSV loading
     runs     run files (HDF5, from `granudrag pull`) into the table
     restitution  Kuwabara-Kono e(v_n) theory curve (Fig. 2)
@@ -22,7 +22,9 @@ Modules:
     report_render  the report's blocks as Markdown and HTML
     predict  command-line drag prediction from a saved fit file
     ladder, ladder_*  the reproduction ladder (collect, claims, diagnostics, report)
-    study    the workflow's library (config, plan, paths, cost)
+
+The workflow's library (config, plan, paths, cost) is another package, `granudrag_study`
+(workflow/granudrag_study/), which the analysis does not import.
 
 Importing the package does not import matplotlib; only the figure modules do.
 """

@@ -47,6 +47,25 @@ def test_workflow_does_not_touch_sys_path():
     assert offenders == []
 
 
+def test_every_module_the_package_docstring_names_exists():
+    # The list of modules in analysis/__init__.py's docstring: each name (or ladder_*-style
+    # pattern) at the list's indent is a module of the package.
+    import ast
+    import fnmatch
+    import re
+
+    pkg = ROOT / "analysis"
+    doc = ast.get_docstring(ast.parse((pkg / "__init__.py").read_text()))
+    listed = doc.split("The main modules", 1)[1]
+    names = [name for line in listed.splitlines()
+             if (m := re.match(r"    ([a-z_*]+(?:, [a-z_*]+)*)", line)) and not line.startswith("     ")
+             for name in m.group(1).split(", ")]
+    modules = [p.stem for p in pkg.glob("*.py")]
+    assert len(names) >= 20, names
+    missing = [name for name in names if not fnmatch.filter(modules, name)]
+    assert missing == [], f"analysis/__init__.py names modules that do not exist: {missing}"
+
+
 def test_the_analysis_modules_import_each_other_without_a_cycle():
     # One direction per pair (analysis.validation dispatches to pull_length; both take what
     # "agrees" means from analysis.agreement): a cycle makes the import order matter and hides
