@@ -84,6 +84,14 @@ void BruteForceContacts::new_contacts_of(int body, std::vector<int>& grains) con
     if (i == body || j == body) grains.push_back(i == body ? j : i);
 }
 
+void BruteForceContacts::touching_contacts_of(int body, std::vector<int>& grains) const {
+  grains.clear();
+  for (const auto& entry : history_) {
+    const auto [i, j] = entry.first;
+    if (i == body || j == body) grains.push_back(i == body ? j : i);
+  }
+}
+
 void BruteForceContacts::count_contacts(std::vector<int>& contacts) const {
   for (const auto& entry : history_) {
     ++contacts[entry.first.first];

@@ -24,6 +24,7 @@ class BruteForceContacts : public ContactLoop {
   double max_overlap(const Particles& p, const Box& box) const override;
   double deepest_overlap(const Particles& p, const Box& box) const override;
   void new_contacts_of(int body, std::vector<int>& grains) const override;
+  void touching_contacts_of(int body, std::vector<int>& grains) const override;
   void count_contacts(std::vector<int>& contacts) const override;
   void rebuild(Particles&, const Box&) override {}
   std::vector<PairHistory> export_history() const override;

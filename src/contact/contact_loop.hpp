@@ -58,6 +58,9 @@ class ContactLoop {
   // Grains that touched particle `body` (an intruder) at the last force evaluation but not at
   // the one before: the contacts that formed in the last step (contact angle, paper Eq. 6).
   virtual void new_contacts_of(int body, std::vector<int>& grains) const = 0;
+  // Grains touching particle `body` (an intruder) at the last force evaluation: the contacts
+  // present at an instant (the time-weighted contact angle).
+  virtual void touching_contacts_of(int body, std::vector<int>& grains) const = 0;
   // Adds 1 to contacts[k] for every touching pair (k, other): coordination numbers.
   virtual void count_contacts(std::vector<int>& contacts) const = 0;
   // Largest overlap delta among touching pairs, d.

@@ -110,6 +110,17 @@ void VerletContacts::new_contacts_of(int body, std::vector<int>& grains) const {
   }
 }
 
+void VerletContacts::touching_contacts_of(int body, std::vector<int>& grains) const {
+  grains.clear();
+  const PairList& intruders = list_.intruder_pairs();
+  const std::vector<int>& bodies = list_.intruder_bodies();
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    if (bodies[b] != body) continue;
+    for (int e = intruders.begin(b); e < intruders.end(b); ++e)
+      if (intruder_history_.touching[e]) grains.push_back(intruders.partner[e]);
+  }
+}
+
 void VerletContacts::count_contacts(std::vector<int>& contacts) const {
   // A row's partners belong to other threads' rows: threads past the first count into private
   // arrays, added afterwards (integers: the same result in any order). Atomic increments instead

@@ -32,6 +32,8 @@ void write_pull_record(h5::File& f, const PullRecord& r) {
           std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
   f.write("/pull/theta_sum_series", r.theta_sum_series);
   f.write("/pull/theta_count_series", r.theta_count_series);
+  f.write("/pull/theta_present_sum", r.theta_present_sum);
+  f.write("/pull/theta_present_count", r.theta_present_count);
   f.write("/pull/z_histogram", std::vector<std::int64_t>(r.z_histogram.begin(), r.z_histogram.end()));
   f.write("/pull/shell_grains", std::vector<std::int64_t>(r.shells.grains.begin(), r.shells.grains.end()));
   f.write("/pull/shell_contacts",
@@ -107,6 +109,12 @@ PullRecord read_pull_record(const h5::File& f) {
     if (r.theta_sum_series.size() != r.time.size() || r.theta_count_series.size() != r.time.size())
       throw Error("/pull/theta_sum_series or /pull/theta_count_series is not as long as /pull/time");
   }  // else written before the series: the resumed Pull takes its totals as the baseline
+  if (f.exists("/pull/theta_present_sum")) {
+    r.theta_present_sum = f.read_doubles("/pull/theta_present_sum");
+    r.theta_present_count = f.read_doubles("/pull/theta_present_count");
+    if (r.theta_present_sum.size() != r.time.size() || r.theta_present_count.size() != r.time.size())
+      throw Error("/pull/theta_present_sum or /pull/theta_present_count is not as long as /pull/time");
+  }  // else written before the series: the resumed Pull marks its intervals unknown (NaN)
   const auto zh = f.read_int64("/pull/z_histogram");
   r.z_histogram.assign(zh.begin(), zh.end());
   // Checkpoints written before the shells have none: counted from the resume on.

@@ -115,6 +115,17 @@ void save_run(const std::string& path, const Pull& pull, const Parameters& pull_
   f.set_attr("/observables/theta", "error_method",
              std::string("the angles' sum and count per sample interval, the ratio's error by the "
                          "delta method and the drag's estimator (correlated formations counted as such)"));
+  scalar("theta_present", res.theta_present, res.theta_present_error,
+         "mean angle between the intruder velocity and the intruder-to-grain line over the contacts "
+         "present at each sample after the transient (time-weighted; theta counts each contact once, "
+         "at its formation), rad");
+  f.set_attr("/observables/theta_present", "error_dof", res.theta_present_dof);
+  f.write("/observables/theta_present/sum", r.theta_present_sum);
+  f.write("/observables/theta_present/count", r.theta_present_count);
+  f.set_attr("/observables/theta_present", "series_meaning",
+             std::string("sum and count of the angles of the contacts present at the end of each sample "
+                         "interval (every interval, the transient's too; NaN where a resumed checkpoint "
+                         "did not record them)"));
   f.write("/observables/theta/histogram",
           std::vector<std::int64_t>(r.theta_histogram.begin(), r.theta_histogram.end()));
   scalar("bulk_coordination", res.bulk_coordination, NAN,

@@ -133,6 +133,12 @@ Pull::Pull(const Bed& bed, const PullSpec& spec, const Simulation::State& state,
       record_.theta_count_series.back() = static_cast<double>(record_.theta_count);
     }
   }
+  // A record written before the present contacts' series: its intervals are unknown.
+  if (record_.theta_present_sum.size() != record_.time.size() ||
+      record_.theta_present_count.size() != record_.time.size()) {
+    record_.theta_present_sum.assign(record_.time.size(), NAN);
+    record_.theta_present_count.assign(record_.time.size(), NAN);
+  }
   guard_ = RunGuard(guard_.limits(), record_.energy_start);
   guard_.restore(record_.max_overlap, record_.grains_lost);
 }
@@ -253,10 +259,7 @@ void Pull::after_step() {
   if (travelled < transient_distance()) return;
   sim_.contacts().new_contacts_of(in, scratch_);
   for (int g : scratch_) {
-    // Angle between the intruder's velocity and the line from intruder to grain (Eq. 6 of the
-    // paper writes X - x; its data, theta near pi/2.45 falling with Fr, fit x - X).
-    const Vec3 d = bed_.box.min_image(p.x[g] - p.x[in]);
-    const double theta = std::acos(std::clamp(d.x() / d.norm(), -1.0, 1.0));
+    const double theta = contact_angle(g);
     record_.theta_sum += theta;
     ++record_.theta_count;
     const int bin = std::min(35, static_cast<int>(theta / M_PI * 36));
@@ -264,10 +267,23 @@ void Pull::after_step() {
   }
 }
 
+double Pull::contact_angle(int grain) const {
+  // Angle between the intruder's velocity and the line from intruder to grain (Eq. 6 of the
+  // paper writes X - x; its data, theta near pi/2.45 falling with Fr, fit x - X).
+  const Particles& p = sim_.particles();
+  const Vec3 d = bed_.box.min_image(p.x[grain] - p.x[intruder_]);
+  return std::acos(std::clamp(d.x() / d.norm(), -1.0, 1.0));
+}
+
 void Pull::end_of_interval() {
   const Particles& p = sim_.particles();
   const int in = intruder_;
   const double k = static_cast<double>(record_.samples_per_interval);
+  sim_.contacts().touching_contacts_of(in, scratch_);
+  double present = 0;
+  for (int g : scratch_) present += contact_angle(g);
+  record_.theta_present_sum.push_back(present);
+  record_.theta_present_count.push_back(static_cast<double>(scratch_.size()));
   record_.time.push_back(sim_.time());
   record_.fx.push_back(record_.force_sum.x() / k);
   record_.fy.push_back(record_.force_sum.y() / k);
@@ -376,7 +392,7 @@ PullResult Pull::result() const {
   r.froude = froude_number(spec_.speed, D);
   r.transient_distance = transient_distance();
   const double t0 = r.transient_distance / spec_.speed;
-  std::vector<double> fx, n;
+  std::vector<double> fx, n, present_sums, present_counts;
   for (std::size_t k = 0; k < record_.time.size(); ++k) {
     // An interval counts when it starts after the transient.
     if (record_.time[k] - record_.samples_per_interval * sim_.dt() < t0 - 1e-12) {
@@ -385,6 +401,10 @@ PullResult Pull::result() const {
     }
     fx.push_back(-record_.fx[k]);
     n.push_back(record_.contacts[k]);
+    if (std::isfinite(record_.theta_present_sum[k])) {
+      present_sums.push_back(record_.theta_present_sum[k]);
+      present_counts.push_back(record_.theta_present_count[k]);
+    }
   }
   std::vector<double> resistance(record_.fx.size());
   for (std::size_t k = 0; k < resistance.size(); ++k) resistance[k] = -record_.fx[k];
@@ -406,6 +426,10 @@ PullResult Pull::result() const {
     r.theta_error = e.error;
     r.theta_dof = e.dof;
   }
+  const MeanError present = ratio_error(present_sums, present_counts);
+  r.theta_present = present.mean;
+  r.theta_present_error = present.error;
+  r.theta_present_dof = present.dof;
   long total = 0, weighted = 0;
   for (std::size_t z = 0; z < record_.z_histogram.size(); ++z) {
     total += record_.z_histogram[z];

@@ -87,6 +87,10 @@ struct PullRecord {
   // theta_sum and theta_count at the end of each sample interval: the series theta's error is
   // estimated from (ratio_error). NaN for the intervals of a checkpoint written before it.
   std::vector<double> theta_sum_series, theta_count_series;
+  // The angles of the contacts present at the end of each sample interval (every interval, the
+  // transient too), their sum and count: theta weighted by how long each contact lasts, where
+  // theta_sum counts each contact once, as it forms. NaN for a checkpoint written before it.
+  std::vector<double> theta_present_sum, theta_present_count;
   // Bulk coordination number of grains in the shell, after the transient.
   std::vector<long> z_histogram = std::vector<long>(16, 0);  // Z = 0 .. 15 (15: >= 15)
   CoordinationShells shells;  // Z in nested shells of every width, the same samples
@@ -126,9 +130,12 @@ struct PullResult {
   double coordination = NAN;                               // n: mean number of grains touching the intruder
   double coordination_error = NAN;                         // its standard error (mean_error, as the drag's)
   double theta = NAN, theta_error = NAN, theta_dof = NAN;  // theta's error: ratio_error
-  double bulk_coordination = NAN;                          // Z
-  std::vector<double> z_distribution;                      // P(Z)
-  double kappa = NAN;                                      // (Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8
+  // theta over the contacts present at each sample after the transient (time-weighted), and
+  // its error (ratio_error of the samples' sums and counts).
+  double theta_present = NAN, theta_present_error = NAN, theta_present_dof = NAN;
+  double bulk_coordination = NAN;            // Z
+  std::vector<double> z_distribution;        // P(Z)
+  double kappa = NAN;                        // (Z/n)(D+d)^2/(2 sqrt(3) d^2), paper Eq. 8
   std::vector<double> shell_z, shell_kappa;  // Z and kappa within R + CoordinationShells::widths
   double froude = NAN;                       // 2V sqrt(2D/g)/(D+d), paper Eq. 4
 };
@@ -186,6 +193,7 @@ class Pull {
   long samples_in_transient() const;
   double transient_distance() const;
   MeanError theta_error(double t0) const;
+  double contact_angle(int grain) const;  // theta of a grain touching the intruder, rad
   int grains_lost() const;
 
   Bed bed_;

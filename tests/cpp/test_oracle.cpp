@@ -75,8 +75,16 @@ double force_scale(const Particles& p) {
 struct OracleStep {
   std::vector<Vec3> f, torque;
   int intruder_contacts = 0;
+  std::vector<int> intruder_touching;  // sorted: the grains touching the intruder
   double scale = 0;
 };
+
+std::vector<int> touching_of(const ContactLoop& contacts, int body) {
+  std::vector<int> grains;
+  contacts.touching_contacts_of(body, grains);
+  std::sort(grains.begin(), grains.end());
+  return grains;
+}
 
 std::vector<OracleStep> oracle_run(const Scene& scene, const ContactParams& c, int steps) {
   ThreadCount one(1);
@@ -90,6 +98,7 @@ std::vector<OracleStep> oracle_run(const Scene& scene, const ContactParams& c, i
     r.f = brute.particles().f;
     r.torque = brute.particles().torque;
     r.intruder_contacts = brute.contacts().contacts_of(intruder);
+    r.intruder_touching = touching_of(brute.contacts(), intruder);
     r.scale = force_scale(brute.particles());
   }
   return record;
@@ -125,6 +134,13 @@ TEST(Oracle, FastForcesEqualBruteForceOnIntruderScene) {
       intruder_contacts = fast.contacts().contacts_of(intruder);
       most_intruder_contacts = std::max(most_intruder_contacts, intruder_contacts);
       ASSERT_EQ(intruder_contacts, b.intruder_contacts) << "step " << step;
+      // The contacts present (the time-weighted contact angle): the same grains, each touching.
+      const std::vector<int> touching = touching_of(fast.contacts(), intruder);
+      ASSERT_EQ(touching, b.intruder_touching) << "step " << step;
+      ASSERT_EQ(static_cast<int>(touching.size()), intruder_contacts) << "step " << step;
+      for (int g : touching)
+        ASSERT_LT(scene.box.min_image(a.x[g] - a.x[intruder]).norm(), a.radius[g] + a.radius[intruder])
+            << "grain " << g << " at step " << step;
     }
     EXPECT_GE(most_intruder_contacts, 3);  // the intruder really was in the thick of it
     const auto& fc = dynamic_cast<const VerletContacts&>(fast.contacts());

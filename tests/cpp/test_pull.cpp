@@ -54,6 +54,22 @@ TEST(Pull, MeasuresDragAndContactsOfAMovingIntruder) {
   EXPECT_GT(r.theta_error, 0.0);
   EXPECT_LT(r.theta_error, 0.2);
   EXPECT_EQ(rec.theta_count_series.back(), static_cast<double>(rec.theta_count));
+  // The time-weighted theta: the contacts present at each sample past the transient, whose
+  // count averages to n (n is the mean over every step, these over the samples' instants).
+  ASSERT_EQ(rec.theta_present_sum.size(), rec.time.size());
+  std::vector<double> present_sums, present_counts;
+  for (std::size_t k = r.transient_samples; k < rec.time.size(); ++k) {
+    present_sums.push_back(rec.theta_present_sum[k]);
+    present_counts.push_back(rec.theta_present_count[k]);
+    EXPECT_LE(rec.theta_present_sum[k], M_PI * rec.theta_present_count[k]);
+  }
+  const MeanError present = ratio_error(present_sums, present_counts);
+  EXPECT_EQ(present.mean, r.theta_present);
+  EXPECT_EQ(present.error, r.theta_present_error);
+  EXPECT_GT(r.theta_present, 0.0);
+  EXPECT_LT(r.theta_present, M_PI);
+  EXPECT_GT(r.theta_present_error, 0.0);
+  EXPECT_NEAR(mean(present_counts), r.coordination, 0.15 * r.coordination);
   EXPECT_GT(r.bulk_coordination, 2.0);
   EXPECT_LT(r.bulk_coordination, 8.0);
   double total = 0;

@@ -254,10 +254,14 @@ TEST(CheckpointFile, ACheckpointWrittenBeforeThetasSeriesResumesWithItsTotalsAsT
   const std::vector<std::string> controls = {"threads", "quiet"};
   EXPECT_EQ(load_checkpoint(path, bed, pull_parameters(), controls).record.theta_count_series,
             pull.record().theta_count_series);
+  EXPECT_EQ(load_checkpoint(path, bed, pull_parameters(), controls).record.theta_present_sum,
+            pull.record().theta_present_sum);
   {
     const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
     ASSERT_GE(H5Ldelete(f, "/pull/theta_sum_series", H5P_DEFAULT), 0);
     ASSERT_GE(H5Ldelete(f, "/pull/theta_count_series", H5P_DEFAULT), 0);
+    ASSERT_GE(H5Ldelete(f, "/pull/theta_present_sum", H5P_DEFAULT), 0);
+    ASSERT_GE(H5Ldelete(f, "/pull/theta_present_count", H5P_DEFAULT), 0);
     H5Fclose(f);
   }
   const Checkpoint c = load_checkpoint(path, bed, pull_parameters(), controls);
@@ -271,4 +275,7 @@ TEST(CheckpointFile, ACheckpointWrittenBeforeThetasSeriesResumesWithItsTotalsAsT
   for (std::size_t k = 0; k + 1 < r.time.size(); ++k) EXPECT_TRUE(std::isnan(r.theta_sum_series[k])) << k;
   EXPECT_EQ(r.theta_sum_series.back(), pull.record().theta_sum);
   EXPECT_EQ(r.theta_count_series.back(), static_cast<double>(pull.record().theta_count));
+  // The present contacts' series of those intervals are unknown: NaN, left out of its mean.
+  ASSERT_EQ(r.theta_present_sum.size(), r.time.size());
+  for (double s : r.theta_present_sum) EXPECT_TRUE(std::isnan(s));
 }
