@@ -20,7 +20,7 @@ from scipy.optimize import curve_fit
 from .beds import BedDraws, bed_covariance
 from .goodness import goodness
 from .regimes import RegimeFitter, fit_regimes, regime_curve
-from .result import Fit, Param
+from .result import N_BOOT, Fit, Param
 from .table import (
     bed_labels,
     froude,
@@ -369,7 +369,7 @@ class ScalingLaw:
 
 
 def fit_scaling_law(df, phi, alpha, *, mu, kn=None, gamman=None, h_min=None,
-                    n_boot=200, seed=0):
+                    n_boot=N_BOOT, seed=0):
     """Collapse every pull at (mu, kn, gamman) by h^alpha (D*+1)^phi and fit
     the three regimes to the collapsed drag: the lambdas of Eq. 12.
 

@@ -29,6 +29,7 @@ from .fits import (
     sum_rule,
 )
 from .goodness import describe
+from .result import N_BOOT
 from .table import (
     bed_labels,
     is_yield,
@@ -46,7 +47,7 @@ from .table import (
 class Options:
     """The choices of the fits that a study's config sets (report.* keys)."""
 
-    n_boot: int = 200
+    n_boot: int = N_BOOT
     seed: int = 0
     h_min: float = 0.0                 # Eq. 12 and Fig. 19 use pulls at h >= h_min only (0: all)
     alpha_speeds: tuple = ALPHA_SPEEDS  # speeds of the averaged alpha_mu (Sec. III H)
@@ -58,7 +59,7 @@ class Options:
     @classmethod
     def from_dict(cls, d):
         d = d or {}
-        return cls(n_boot=int(d.get("n_boot", 200)), seed=int(d.get("seed", 0)),
+        return cls(n_boot=int(d.get("n_boot", N_BOOT)), seed=int(d.get("seed", 0)),
                    h_min=float(d.get("h_min") or 0.0),
                    alpha_speeds=tuple(float(v) for v in d.get("alpha_speeds", ALPHA_SPEEDS)))
 
@@ -124,7 +125,7 @@ def point_bed_scatter(points):
     return float(np.sqrt(pooled_bed_r2(rep)))
 
 
-def run_fits(df, n_boot=200, seed=0, options=None):
+def run_fits(df, n_boot=N_BOOT, seed=0, options=None):
     """Every fit of the report, on the reference contact law where it applies. options (an
     Options) overrides n_boot and seed."""
     validate_table(df)

@@ -45,7 +45,7 @@ takes the normal quantile; "residuals": the fit's Student-t).
 import numpy as np
 
 from .goodness import goodness
-from .result import Fit, Param
+from .result import N_BOOT, Fit, Param
 
 MIN_POINTS = {"I": 2, "I_power": 4, "II": 3, "III": 3}
 # Bounds of the regime-I exponent c0 of a0 + b0 Fr^c0, from the model rather than from a
@@ -81,7 +81,7 @@ def regime_curve(Fr, a0, a1, b1, a2, b2, Fr1, Fr2, b0=0.0, c0=1.0):
 
 
 def fit_regimes(Fr, drag, sigma=None, *, regime1="constant", continuous=True,
-                n_boot=200, seed=0, grid=40, bed_scatter=0.0, beds=1, noise=None):
+                n_boot=N_BOOT, seed=0, grid=40, bed_scatter=0.0, beds=1, noise=None):
     """Fit the three-regime law; return a Fit with params (a0, [b0, c0,] a1, b1,
     a2, b2, Fr1, Fr2), each with a bootstrap standard error (NaN if n_boot=0).
 

@@ -45,7 +45,7 @@ from .report_notes import (
     uniform_bed_scatter,
 )
 from .report_render import SYMBOLS, markdown, to_html
-from .result import Param, format_pm
+from .result import N_BOOT, Param, format_pm
 from .table import is_yield, reference_params, select, write_text_atomic, yield_rows
 from .verdicts import (  # noqa: F401  (re-exported: the report's verdict rules)
     COVERAGE,
@@ -384,7 +384,7 @@ def write_report(df, r, outdir, n_boot, seed):
     return outdir / "report.md"
 
 
-def build_report(df, outdir, n_boot=200, seed=0, restitution=None, trace=None, coordination=None, flow=None,
+def build_report(df, outdir, n_boot=N_BOOT, seed=0, restitution=None, trace=None, coordination=None, flow=None,
                  options=None):
     """Fit, draw and write fits.json, every figure, report.md and report.html into outdir (what
     the workflow's fits, figure and report rules do one step at a time).

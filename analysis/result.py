@@ -4,6 +4,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+# Bootstrap refits behind a fit's errors (the regime fits', Eq. 12's) unless told otherwise: the
+# analysis's one default for it (Options, run_fits, fit_regimes, fit_scaling_law, build_report). A
+# study's config states its own (report.n_boot).
+N_BOOT = 200
+
 
 def format_pm(value, err):
     """'1.23 ± 0.05' with the value rounded to the error's second digit."""

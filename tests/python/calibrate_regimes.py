@@ -6,7 +6,7 @@ fit_regimes, and compares for every parameter the mean reported standard
 error with the actual scatter of the estimates around the truth:
 
     nice -n 19 /usr/bin/python3 tests/python/calibrate_regimes.py [--sets N] [--mu 0.5]
-        [--noise 0.02] [--n-boot 200] [--grid synth|tests] [--sigma observed|true]
+        [--noise 0.02] [--n-boot N] [--grid synth|tests] [--sigma observed|true]
         [--discontinuous] [--seed S]
 
 The defaults mimic one series of the synthetic pull table (tests/python/synth.py):
@@ -27,6 +27,7 @@ import synth  # tests/python/synth.py, beside this script
 
 from analysis.physics import froude
 from analysis.regimes import fit_regimes, regime_curve
+from analysis.result import N_BOOT
 from analysis.table import YIELD_SPEED
 
 GRIDS = {
@@ -38,7 +39,7 @@ GRIDS = {
 }
 
 
-def calibrate(n_sets, mu=0.5, noise=0.02, n_boot=200, grid="synth", sigma="observed", seed0=0,
+def calibrate(n_sets, mu=0.5, noise=0.02, n_boot=N_BOOT, grid="synth", sigma="observed", seed0=0,
               continuous=True):
     """Per parameter: (truth, estimates, reported errors), arrays over the sets."""
     Fr = GRIDS[grid]
@@ -76,7 +77,8 @@ def main(argv=None):
     ap.add_argument("--sets", type=int, default=200)
     ap.add_argument("--mu", type=float, default=0.5, help="0 fits the power-law regime I")
     ap.add_argument("--noise", type=float, default=0.02, help="relative noise per point")
-    ap.add_argument("--n-boot", type=int, default=200)
+    ap.add_argument("--n-boot", type=int, default=N_BOOT,
+                    help="bootstrap refits per fit (default %(default)s, the analysis's N_BOOT)")
     ap.add_argument("--grid", choices=sorted(GRIDS), default="synth")
     ap.add_argument("--sigma", choices=("true", "observed"), default="observed",
                     help="weights from the true drag, or from the noisy one as in the pull table")
