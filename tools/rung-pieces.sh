@@ -25,37 +25,23 @@ pieces=${RUNG_PIECES_DIR:-results/reproduction/$rung/pieces}   # (the override: 
 # The finished outputs under a directory, relative to it: beds, pulls and their benchmarks.
 finished() {
   [ -d "$1" ] || return 0
-  (cd "$1" && find beds pulls benchmarks \( -name bed.h5 -o -name bed.h5.xz -o -name run.h5 -o -name '*.tsv' \) \
-    -type f 2>/dev/null | sort)
+  (cd "$1" && find beds pulls benchmarks \( -name bed.h5 -o -name run.h5 -o -name '*.tsv' \) -type f 2>/dev/null | sort)
 }
 
-# Copies each finished file from $1 to $2 that $2 lacks; prints how many. A bed (20 MB at 70,000
-# grains, doubles that do not compress in HDF5's gzip) is kept xz-compressed among the pieces
-# (about 2/3 of its size): saved as bed.h5.xz, restored as bed.h5, its time kept.
+# Copies each finished file from $1 to $2 that $2 lacks; prints how many.
 copy_missing() {
-  local from=$1 to=$2 n=0 f src dst
+  local from=$1 to=$2 n=0 f
   while IFS= read -r f; do
     [ -n "$f" ] || continue
-    src="$from/$f" dst="$to/$f"
-    case "$direction:$f" in
-      save:*/bed.h5) dst="$to/$f.xz" ;;
-      restore:*/bed.h5.xz) dst="$to/${f%.xz}" ;;
-    esac
-    [ -e "$dst" ] && continue
-    mkdir -p "$(dirname "$dst")"
-    case "$direction:$f" in
-      save:*/bed.h5) xz -T1 -6 -c "$src" > "$dst.tmp.$$" ;;
-      restore:*/bed.h5.xz) xz -d -c "$src" > "$dst.tmp.$$" ;;
-      *) cp -p "$src" "$dst.tmp.$$" ;;
-    esac
-    touch -r "$src" "$dst.tmp.$$"
-    mv "$dst.tmp.$$" "$dst"
+    [ -e "$to/$f" ] && continue
+    mkdir -p "$to/$(dirname "$f")"
+    cp -p "$from/$f" "$to/$f.tmp.$$"
+    mv "$to/$f.tmp.$$" "$to/$f"
     n=$((n + 1))
   done < <(finished "$from")
   echo "$n"
 }
 
-direction=$action
 case "$action" in
   save)
     [ -d "$results" ] || { echo "tools/rung-pieces.sh: no results directory '$results' (run the rung first)" >&2; exit 2; }
@@ -71,7 +57,7 @@ case "$action" in
     tools/study.sh --configfile "$config" --dry-run --quiet >/dev/null 2>&1 || true
     planned=$(wc -l < "$results/plan/pulls.txt" 2>/dev/null || echo "?")
     pulls=$(finished "$pieces" | grep -c '/run.h5$' || true)
-    beds=$(finished "$pieces" | grep -c '/bed.h5.xz$' || true)
+    beds=$(finished "$pieces" | grep -c '/bed.h5$' || true)
     echo "$rung: $pulls of $planned pulls and $beds bed(s) saved in $pieces"
     ;;
   *) usage ;;
