@@ -2,20 +2,16 @@
 # Bad input gets a clear error naming the problem (and exit code 1), never a crash or a hang.
 #   bad_input.sh path/to/granudrag
 set -uo pipefail
-gd=$(realpath "$1")
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-fails=0
+# shellcheck source=tests/cli/lib.sh
+. "$(dirname "$0")/lib.sh"
 expect() {  # expect "what it should say" command...
   local want=$1; shift
   local out code
-  out=$(timeout 60 "$@" 2>&1); code=$?
-  if [ "$code" -ne 1 ] || ! grep -qF -- "$want" <<<"$out"; then
-    echo "FAIL: '$*' -> exit $code, expected 1 and a message containing '$want'; got:"; echo "$out"
-    fails=$((fails + 1))
-  else
+  capture 60 "$@"
+  if said "$want"; then
     echo "ok: $want"
+  else
+    fail "'$*' -> exit $code, expected 1 and a message containing '$want'; got:"; echo "$out"
   fi
 }
 small=(--ly 8 --grains 400 --kn 2e4 --max_settle_time 1 --quiet)
@@ -33,7 +29,7 @@ expect "bad.yaml" "$gd" pour --output b.h5 --config bad.yaml
 expect "missing.h5" "$gd" pull --bed missing.h5 --output r.h5
 echo "not hdf5" > text.h5
 expect "text.h5" "$gd" pull --bed text.h5 --output r.h5
-"$gd" pour --output good.h5 "${small[@]}" --lx 8 --depth 2 >/dev/null 2>&1 || { echo "FAIL: a good pour failed"; fails=$((fails + 1)); }
+"$gd" pour --output good.h5 "${small[@]}" --lx 8 --depth 2 >/dev/null 2>&1 || fail "a good pour failed"
 head -c 20000 good.h5 > truncated.h5
 expect "truncated.h5" "$gd" pull --bed truncated.h5 --output r.h5
 expect "'speed'" "$gd" pull --bed good.h5 --output r.h5 --speed -1
@@ -55,16 +51,13 @@ expect "bad.data', line 3" "$gd" import-lammps --data bad.data --output i.h5
 long=(--bed good.h5 --output k.h5 --distance 100 --checkpoint_interval 0.05)
 "$gd" pull "${long[@]}" --speed 0.5 --quiet >/dev/null 2>&1 &
 pid=$!
-for _ in $(seq 6000); do
-  [ -f k.h5.checkpoint.h5 ] || ! kill -0 "$pid" 2>/dev/null && break
-  sleep 0.1
-done
+wait_for_file k.h5.checkpoint.h5 "$pid"
 kill -9 "$pid" 2>/dev/null
 wait "$pid" 2>/dev/null
 if [ -f k.h5.checkpoint.h5 ]; then
   expect "now:        speed: 0.7" "$gd" pull "${long[@]}" --speed 0.7 --resume
 else
-  echo "FAIL: the pull wrote no checkpoint (it ended, or wrote none in 600 s)"; fails=$((fails + 1))
+  fail "the pull wrote no checkpoint (it ended, or wrote none in 600 s)"
 fi
 [ "$fails" -eq 0 ] && echo "PASS: every bad input was refused with its message"
 exit "$fails"

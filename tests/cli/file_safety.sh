@@ -5,27 +5,14 @@
 # input tried: input | exit code | message.
 #   file_safety.sh path/to/granudrag
 set -uo pipefail
-gd=$(realpath "$1")
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
-table() { printf '| %s | %s | %s |\n' "$1" "$2" "$(head -c 300 <<<"$3" | tr '\n' ' ')"; }
+# shellcheck source=tests/cli/lib.sh
+. "$(dirname "$0")/lib.sh"
 expect() {  # expect "what it should say" command...
   local want=$1; shift
   local out code
-  out=$(timeout 300 "$@" 2>&1); code=$?
+  capture 300 "$@"
   table "$*" "$code" "$(grep -F 'error' <<<"$out" | head -1)"
-  if [ "$code" -ne 1 ] || ! grep -qF -- "$want" <<<"$out"; then
-    fail "'$*' -> exit $code, expected 1 and a message containing '$want'; got:"; echo "$out"
-  fi
-}
-wait_for_file() {  # wait_for_file FILE PID: until FILE exists or PID ended (600 s bound only for a hang)
-  for _ in $(seq 6000); do
-    [ -f "$1" ] || ! kill -0 "$2" 2>/dev/null && return 0
-    sleep 0.1
-  done
+  said "$want" || { fail "'$*' -> exit $code, expected 1 and a message containing '$want'; got:"; echo "$out"; }
 }
 small=(--lx 8 --ly 8 --depth 2 --grains 400 --kn 2e4 --max_settle_time 1 --quiet)
 "$gd" pour --output b.h5 "${small[@]}" >/dev/null 2>&1 || fail "a good pour failed"
@@ -69,7 +56,7 @@ if kill -0 "$pid" 2>/dev/null; then
   out=$("$gd" pull "${long[@]}" --resume 2>&1) || fail "the retry after kill -9 failed: $out"
   grep -q "taking over the stale lock 'r2.h5.lock' of process $pid" <<<"$out" || fail "no take-over: $out"
   grep -q "resuming from r2.h5.checkpoint.h5" <<<"$out" || fail "the retry did not resume: $out"
-  [ -f r2.h5 ] && [ ! -e r2.h5.lock ] || fail "after the retry: no run file, or the lock is left"
+  { [ -f r2.h5 ] && [ ! -e r2.h5.lock ]; } || fail "after the retry: no run file, or the lock is left"
 else
   fail "the pull ended before its first checkpoint"
 fi
@@ -97,8 +84,8 @@ b = bytearray(open('ck.h5', 'rb').read()); b[${damage#bitflip}] ^= 0x04; open('r
   esac
   out=$("$gd" pull "${short[@]}" 2>&1); code=$?
   table "pull --resume with a $damage checkpoint" "$code" "$(grep -F 'granudrag:' <<<"$out" | head -2)"
-  [ "$code" -eq 0 ] && grep -q "moved it aside to 'r5.h5.checkpoint.h5.corrupt' and starting over" <<<"$out" \
-    && [ -f r5.h5.checkpoint.h5.corrupt ] && [ -f r5.h5 ] || fail "$damage checkpoint: exit $code: $out"
+  { [ "$code" -eq 0 ] && grep -q "moved it aside to 'r5.h5.checkpoint.h5.corrupt' and starting over" <<<"$out" \
+    && [ -f r5.h5.checkpoint.h5.corrupt ] && [ -f r5.h5 ]; } || fail "$damage checkpoint: exit $code: $out"
 done
 # A run file where the checkpoint goes is somebody's result: refused, not moved or replaced.
 rm -f r5.h5
@@ -135,7 +122,7 @@ for cmd in pull pour; do
   else args=(pour --output b.h5 "${small[@]}"); target=b.h5; fi
   out=$(bash -c 'trap "" XFSZ; ulimit -f 24; exec "$@"' _ "$gd" "${args[@]}" 2>&1); code=$?
   table "$cmd with a 24 kB file size limit" "$code" "$(grep -F 'error' <<<"$out" | head -1)"
-  [ "$code" -eq 1 ] && grep -q "$target" <<<"$out" || fail "$cmd under ulimit -f: exit $code: $out"
+  { [ "$code" -eq 1 ] && grep -q "$target" <<<"$out"; } || fail "$cmd under ulimit -f: exit $code: $out"
   cmp -s "$target" "${target%.h5}.before" || fail "$cmd under ulimit -f changed the previous $target"
   [ -e "$target.tmp" ] && fail "$cmd under ulimit -f left $target.tmp"
   [ -e "$target.lock" ] && fail "$cmd under ulimit -f left $target.lock"
@@ -146,7 +133,7 @@ speeds=$(seq -s, 0.01 0.01 0.8)  # 80 lines of CSV: more than the 1 kB allowed
 out=$(bash -c 'trap "" XFSZ; ulimit -f 1; exec "$@"' _ "$gd" restitution --output x.csv --speeds "$speeds" \
   --kn 2e4 2>&1); code=$?
 table "restitution of 80 speeds with a 1 kB file size limit" "$code" "$(grep -F 'error' <<<"$out" | head -1)"
-[ "$code" -eq 1 ] && grep -q "x.csv" <<<"$out" || fail "restitution under ulimit -f: $code: $out"
+{ [ "$code" -eq 1 ] && grep -q "x.csv" <<<"$out"; } || fail "restitution under ulimit -f: $code: $out"
 cmp -s x.csv x.before || fail "restitution under ulimit -f changed the previous x.csv"
 [ -e x.csv.tmp ] && fail "restitution under ulimit -f left x.csv.tmp"
 

@@ -3,10 +3,8 @@
 # (--dump_interval), bit for bit, as an uninterrupted pull with the same thread count.
 #   kill_resume.sh path/to/granudrag
 set -euo pipefail
-gd=$(realpath "$1")
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
+# shellcheck source=tests/cli/lib.sh
+. "$(dirname "$0")/lib.sh"
 "$gd" pour --output bed.h5 --lx 10 --ly 10 --grains 1200 --intruder_diameter 2 --depth 4 \
   --kn 2e4 --ke_threshold 1e-4 --max_settle_time 40 --threads 2 --quiet >/dev/null
 args=(--bed bed.h5 --speed 0.5 --distance 4 --checkpoint_interval 0.5 --dump_interval 0.25 --threads 2 --quiet)
@@ -17,10 +15,7 @@ pid=$!
 # Kill hard as soon as the first of its 8 checkpoints exists (written to a temporary file, then
 # renamed: complete when it appears). Event-driven, however slowly the machine runs; 600 s only
 # bounds a pull that never checkpoints.
-for _ in $(seq 6000); do
-  [ -f killed.h5.checkpoint.h5 ] || ! kill -0 "$pid" 2>/dev/null && break
-  sleep 0.1
-done
+wait_for_file killed.h5.checkpoint.h5 "$pid"
 kill -9 "$pid" 2>/dev/null || { echo "FAIL: the pull finished before it could be killed"; exit 1; }
 wait "$pid" 2>/dev/null || true
 [ -f killed.h5 ] && { echo "FAIL: a killed pull left a run file"; exit 1; }
@@ -31,11 +26,10 @@ ls killed.h5.checkpoint.h5.tmp >/dev/null 2>&1 && echo "note: a half-written che
 grep -q "resuming from" resume.log || { echo "FAIL: --resume did not resume"; cat resume.log; exit 1; }
 for d in /observables/intruder_force/value /observables/cumulative_drag/value \
   /particles/frames/position/value /particles/frames/velocity/value /particles/frames/position/step; do
-  diff <(h5dump -m %.17g -d "$d" whole.h5 | tail -n +3) <(h5dump -m %.17g -d "$d" killed.h5 | tail -n +3) >/dev/null \
-    || { echo "FAIL: $d differs after kill and resume"; exit 1; }
+  same_dataset "$d" whole.h5 killed.h5 || { echo "FAIL: $d differs after kill and resume"; exit 1; }
 done
-a=$(h5dump -m %.17g -a /observables/drag/value whole.h5 | grep -A1 DATA | tail -1)
-b=$(h5dump -m %.17g -a /observables/drag/value killed.h5 | grep -A1 DATA | tail -1)
+a=$(drag_of whole.h5)
+b=$(drag_of killed.h5)
 [ "$a" = "$b" ] || { echo "FAIL: drag $a vs $b"; exit 1; }
 ls killed.h5.frames.* >/dev/null 2>&1 && { echo "FAIL: frame segments left behind"; ls; exit 1; }
 cmp -s whole.h5.xdmf <(sed 's/killed\.h5/whole.h5/g' killed.h5.xdmf) || { echo "FAIL: the frames' sidecars differ"; exit 1; }

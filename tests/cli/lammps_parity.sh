@@ -4,15 +4,13 @@
 # the mean drag over a pull of several grain diameters within the combined error bars (2 sigma).
 #   lammps_parity.sh path/to/granudrag
 set -euo pipefail
-gd=$(realpath "$1")
+# shellcheck source=tests/cli/lib.sh
+. "$(dirname "$0")/lib.sh"
 if ! command -v lmp >/dev/null; then
   echo "SKIPPED: LAMMPS (lmp) is not installed and could not be: apt-get install lammps"
   exit 0
 fi
 PY=/usr/bin/python3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
 mkdir lmp
 "$gd" pour --output bed.h5 --lx 10 --ly 10 --grains 1200 --intruder_diameter 2 --depth 4 \
   --kn 2e4 --mu 0.5 --ke_threshold 1e-4 --max_settle_time 40 --quiet >/dev/null

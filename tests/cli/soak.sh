@@ -6,12 +6,10 @@
 # Extra arguments go to every pull (e.g. the active region's, whose state is checkpointed too).
 #   soak.sh path/to/granudrag [kills [pull options ...]]
 set -euo pipefail
-gd=$(realpath "$1")
+# shellcheck source=tests/cli/lib.sh
+. "$(dirname "$0")/lib.sh"
 want=${2:-20}
 shift $(($# < 2 ? $# : 2))
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work"
 "$gd" pour --output bed.h5 --lx 8 --ly 8 --grains 500 --intruder_diameter 2 --depth 3 \
   --kn 2e4 --ke_threshold 1e-3 --max_settle_time 10 --threads 1 --quiet >/dev/null
 # Checkpoints and frames often, so that kills fall between, during and after writes.
@@ -37,11 +35,11 @@ done
 resumed=$(grep -c "resuming from" resume.log || true)
 for d in /observables/intruder_force/value /observables/cumulative_drag/value \
   /particles/frames/position/value /particles/frames/velocity/value /particles/frames/position/step; do
-  diff <(h5dump -m %.17g -d "$d" whole.h5 | tail -n +3) <(h5dump -m %.17g -d "$d" soaked.h5 | tail -n +3) >/dev/null ||
+  same_dataset "$d" whole.h5 soaked.h5 ||
     { echo "FAIL: $d differs after $kills kills"; exit 1; }
 done
-a=$(h5dump -m %.17g -a /observables/drag/value whole.h5 | grep -A1 DATA | tail -1)
-b=$(h5dump -m %.17g -a /observables/drag/value soaked.h5 | grep -A1 DATA | tail -1)
+a=$(drag_of whole.h5)
+b=$(drag_of soaked.h5)
 [ "$a" = "$b" ] || { echo "FAIL: drag $a vs $b after $kills kills"; exit 1; }
 ls soaked.h5.frames.* >/dev/null 2>&1 && { echo "FAIL: frame segments left behind"; exit 1; }
 if h5dump -d /observables/sleeping_grains/value whole.h5 >/dev/null 2>&1; then
