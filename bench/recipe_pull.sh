@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by bench/compare_lammps.sh and bench/size_growth.sh: the pull both time, counted in
 # steps of the bed's dt, so that their figures are of the same workload.
 #
@@ -8,6 +9,7 @@
 #   interval    the sample interval, every x dt
 #   checkpoint  the checkpoint interval: one checkpoint, half-way
 # GD is the granudrag binary, BED the bed file.
+# shellcheck disable=SC2034  # every, distance, interval and checkpoint are the caller's
 recipe_pull() {
   local gd=$1 bed=$2 steps=$3 speed=$4 dt sample
   every=${5:-}

@@ -21,10 +21,12 @@ python_pkgs=(python3 python3-numpy python3-scipy python3-pandas python3-matplotl
 slurm_pkgs=(slurmctld slurmd slurm-client slurmdbd munge mariadb-server)
 # The paper's own code, for the parity test and the benchmark comparison.
 peer_pkgs=(lammps openmpi-bin)
+# The style checks of tools/lint.sh that are not in the project environment (C++, shell).
+lint_pkgs=(clang-format shellcheck)
 case "${1:-all}" in
   build) wanted=("${build_pkgs[@]}") ;;
   study) wanted=("${build_pkgs[@]}" "${python_pkgs[@]}") ;;
-  test|all) wanted=("${build_pkgs[@]}" "${python_pkgs[@]}" "${peer_pkgs[@]}" "${slurm_pkgs[@]}" clang-format python3-venv) ;;
+  test|all) wanted=("${build_pkgs[@]}" "${python_pkgs[@]}" "${peer_pkgs[@]}" "${slurm_pkgs[@]}" "${lint_pkgs[@]}") ;;
   venv) wanted=() ;;
   *) echo "usage: $0 [build|study|test|all|venv]" >&2; exit 2 ;;
 esac
@@ -74,14 +76,14 @@ if ! cmp -s "$lock" "$venv/requirements-project.txt" || [ ! -x "$venv/bin/snakem
     -r "$lock" >&2
   cp "$lock" "$venv/requirements-project.txt"
 fi
-installed=$(cd / && "$venv/bin/python" -c "$where" "$repo/pyproject.toml" 2>/dev/null || true)
+installed=$(cd / && { "$venv/bin/python" -c "$where" "$repo/pyproject.toml" 2>/dev/null || true; })
 if [ "$installed" != "$repo/analysis $repo/workflow/granudrag_study" ]; then
   echo "install-deps: installing the analysis package from $repo into $venv (pip, editable)" >&2
   "$venv/bin/pip" install --quiet --disable-pip-version-check --no-deps --no-build-isolation -e "$repo" >&2
 fi
 [ "${1:-all}" = venv ] && exit 0
 # `analysis` from this checkout, with pyproject.toml's entries, for Debian's interpreter too?
-installed=$(cd / && /usr/bin/python3 -c "$where" "$repo/pyproject.toml" 2>/dev/null || true)
+installed=$(cd / && { /usr/bin/python3 -c "$where" "$repo/pyproject.toml" 2>/dev/null || true; })
 if [ "$installed" != "$repo/analysis $repo/workflow/granudrag_study" ]; then
   echo "install-deps: installing the analysis package from $repo (pip, editable, user site)" >&2
   /usr/bin/python3 -m pip install --quiet --user --break-system-packages --no-deps --no-build-isolation \

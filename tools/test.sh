@@ -92,7 +92,7 @@ took "C++ and command-line tests"
 # code (contact loops, integrator, pour and pull steps) the shorter tests run on fewer steps.
 # ThreadSanitizer is not run: see CMakeLists.txt.
 asan_skip=Conservation.EnergyOfDensePackingOver1e5Steps:Pull.MeasuresDragAndContactsOfAMovingIntruder
-asan_skip+=:Pour.DoesNotStopBeforeTheGrainsHaveFallen:Friction/PourDepth.*
+asan_skip+=':Pour.DoesNotStopBeforeTheGrainsHaveFallen:Friction/PourDepth.*'
 # and the sequential-stopping pull, 114 s under instrumentation (10 s in the release suite), for
 # the pull loop the other pull tests run; the stopping rule runs under instrumentation in
 # Pull.AResumedPullStopsAtTheSameStepAsAnUninterruptedOne.
@@ -101,7 +101,7 @@ asan_skip+=:Pull.ATargetErrorStopsThePullOnceTheDragIsThatPrecise
 # checkpoint is written, read and resumed under instrumentation by the stopping rule's resume
 # test above, the active region's and the pour's), and the error's coverage of the two recorded
 # sets of series (seconds of arithmetic; the estimator runs instrumented on AR(1) series).
-asan_skip+=:Pull.ResumedFromCheckpointIsBitwiseIdentical:Observables.NinetyFivePercentIntervalsCover*
+asan_skip+=':Pull.ResumedFromCheckpointIsBitwiseIdentical:Observables.NinetyFivePercentIntervalsCover*'
 # A unity build (eight sources per compiler run): the instrumented build compiles every source a
 # second time, and most of its time went to parsing the same GoogleTest, Eigen and HDF5 headers
 # in each file: 213 s of CPU instead of 409 s (measured 2026-11-26). The release build above
@@ -117,7 +117,7 @@ took "sanitizer build"
 # 2026-11-26), the first every other one (81 s, the oracle its longest): GoogleTest's own
 # sharding (test i in shard i mod N) put the long tests together, 146 s against 51 s. Each
 # process pours the pull tests' shared bed once.
-asan_long=Pull.AResumedPullStopsAtTheSameStepAsAnUninterruptedOne:FuzzReaders.*
+asan_long='Pull.AResumedPullStopsAtTheSameStepAsAnUninterruptedOne:FuzzReaders.*'
 asan_long+=:Pour.ResumedFromACheckpointItEndsBitwiseAsAnUninterruptedPour
 asan_long+=:ActiveRegion.APullWithSleepingGrainsResumesFromACheckpointBitwise
 asan_long+=:Checksums.ABitFlippedInsideAnyDatasetsDataIsNamedOnReadAndTheReadersNeverPassItOn

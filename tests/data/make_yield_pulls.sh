@@ -34,6 +34,7 @@ one() {  # seed mu
 }
 export -f one
 export gd work
+# shellcheck disable=SC2016  # $0 and $1 are the inner shell's: the seed and mu xargs passes
 for s in $(seq 1 "$beds"); do for mu in 0 0.5; do echo "$s $mu"; done; done | xargs -P "$jobs" -L 1 bash -c 'one $0 $1'
 /usr/bin/python3 - "$work" "$beds" <<'PY'
 import os, sys

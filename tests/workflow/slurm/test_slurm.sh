@@ -99,7 +99,7 @@ for gen in 9 7; do
   echo "Snakemake $gen through SLURM: $n jobs in accounting, $done_ok COMPLETED under account granudrag, partition debug"
   # every bed and pull the run made, the table and the fits at least
   sims=$(find "$work/slurm$gen/results" \( -name bed.h5 -o -name run.h5 \) | wc -l)
-  [ "$sims" -ge 7 ] && [ "$done_ok" -ge $((sims + 2)) ] && [ "$done_ok" -eq "$n" ] \
+  { [ "$sims" -ge 7 ] && [ "$done_ok" -ge $((sims + 2)) ] && [ "$done_ok" -eq "$n" ]; } \
     || { echo "FAIL: $sims beds and pulls made; sacct:"; echo "$new"; exit 1; }
 done
 
