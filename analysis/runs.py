@@ -8,7 +8,9 @@ coordination Z, kappa, the force series) and the resolved parameters of the
 pull and of its bed, one typed attribute per key under /parameters/pull and
 /parameters/pour (`read_parameters`). `read_run` turns one file into a row of
 `analysis.table.COLUMNS`; `load_runs` reads many and says by name which files
-it could not use.
+it could not use. The row's drag error, dof and plateau are recomputed from the
+force series, and the cumulative average from t = 0 read beside the steady drag
+(analysis.run_series); the engine's are drag_err_engine and plateau_engine.
 
 Format versions: 2 stores the parameters by key. Version 1 (granudrag 0.1)
 stored them as one YAML text, /parameters attribute `yaml`; its run files are
@@ -46,6 +48,7 @@ import numpy as np
 import pandas as pd
 
 from . import physics
+from .run_series import SeriesError, drags, first_travel, kappa_error, read_series
 from .table import COLUMNS, froude, validate_table
 
 RUN_FORMAT = "granudrag-run"
@@ -57,7 +60,8 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # the scale of the run (box, grains poured, distance pulled; NaN when the file
 # does not record them).
 EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
-                 "drag_dof", "plateau", "seed", "lx", "ly", "grains", "distance", "stop_reason",
+                 "drag_dof", "plateau", "drag_err_engine", "plateau_engine", "drag_cumulative",
+                 "drag_cumulative_err", "seed", "lx", "ly", "grains", "distance", "stop_reason",
                  "active_radius", "wake_force", "wake_load", "sleep_speed", "sleep_time", "perturbation", "asleep",
                  "settle_damping", "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
@@ -158,7 +162,9 @@ def read_run(path, system=None, root=None):
             return _number(_group(obs, name, path), attr, path, f"/observables/{name}")
 
         drag, drag_err = observable("drag"), observable("drag", "error")
-        drag_dof, plateau = _drag_convergence(_group(obs, "drag", path), drag_err)
+        drag_err_engine, plateau_engine = drag_err, _drag_convergence(_group(obs, "drag", path), drag_err)[1]
+        series = drags(*read_series(f, path)[1:3])
+        drag_err, drag_dof, plateau = series["drag_err"], series["drag_dof"], series["plateau"]
         # Why the pull ended: "distance", or "target_error" (sequential stopping); files from
         # before sequential stopping travelled their distance.
         stop = _group(obs, "drag", path).attrs.get("stop_reason", "distance")
@@ -167,7 +173,7 @@ def read_run(path, system=None, root=None):
         n = observable("coordination")
         theta, theta_err = observable("theta"), observable("theta", "error")
         Z, kappa = observable("bulk_coordination"), observable("kappa")
-        kappa_err = _kappa_error(obs, kappa, n, transient / get["speed"] if get["speed"] > 0 else 0.0)
+        kappa_err = kappa_error(obs, kappa, n, transient / get["speed"] if get["speed"] > 0 else 0.0)
         scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
         region = ({k: _setting(f, path, "pull", k) for k in ("active_radius", "active_diameters")}
                   if version >= 2 else {})
@@ -186,6 +192,8 @@ def read_run(path, system=None, root=None):
         sanity = _verdict(f, path)
     except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
         raise RunFileError(f"{path}: damaged run file: {exc}") from None
+    except SeriesError as exc:
+        raise RunFileError(str(exc)) from None
     finally:
         f.close()
 
@@ -229,6 +237,8 @@ def read_run(path, system=None, root=None):
             "run": str(run_dir), "h_requested": h_requested, "z_requested": z_requested, "dt": get["dt"],
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
+            "drag_err_engine": drag_err_engine, "plateau_engine": plateau_engine,
+            "drag_cumulative": series["drag_cumulative"], "drag_cumulative_err": series["drag_cumulative_err"],
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,
             "active_radius": active_radius, "wake_force": wake_force, "wake_load": wake_load,
             "sleep_speed": sleep_speed,
@@ -265,39 +275,6 @@ def _seed(params, path):
         return float(params["seed"])
     except ValueError:
         raise RunFileError(f"{path}: path component 'seed~{params['seed']}' is not a number") from None
-
-
-def block_error(x, min_blocks=8):
-    """Standard error of the mean of a correlated series by block averaging: the largest
-    standard error over pairwise blocking levels that keep at least min_blocks blocks."""
-    x = np.asarray(x, float)
-    best = np.std(x, ddof=1) / np.sqrt(len(x)) if len(x) > 1 else math.nan
-    while len(x) >= 2 * min_blocks:
-        x = 0.5 * (x[: len(x) // 2 * 2 : 2] + x[1 : len(x) // 2 * 2 : 2])
-        best = max(best, np.std(x, ddof=1) / np.sqrt(len(x)))
-    return float(best)
-
-
-def _kappa_error(obs, kappa, n, t0):
-    """Error of kappa = (Z/n)(D+d)^2/(2 sqrt(3)) from the standard error of the intruder
-    coordination n: the engine's (/observables/coordination error, the drag's estimator),
-    or, in run files written before it was stored, block averaging of the stored series
-    (/observables/intruder_contacts, samples after the transient). The bulk Z has no
-    series in the file, so its sampling error is not included. NaN when unavailable."""
-    if not (math.isfinite(kappa) and n > 0):
-        return math.nan
-    n_err = obs["coordination"].attrs.get("error", math.nan) if "coordination" in obs else math.nan
-    if math.isfinite(float(n_err)):
-        return abs(kappa) * float(n_err) / n
-    try:
-        g = obs["intruder_contacts"]
-        t, c = g["time"][()], g["value"][()].astype(float)
-    except KeyError:
-        return math.nan
-    c = c[t > t0]
-    if len(c) < 2:
-        return math.nan
-    return abs(kappa) * block_error(c) / n
 
 
 def _value(value):
@@ -452,6 +429,19 @@ def read_force_trace(path):
         f.close()
     transient = float(t[skip - 1]) if 0 < skip <= len(t) else 0.0
     return t, -fx, transient
+
+
+def window_drag(path, travel_max):
+    """The steady and the cumulative drag with their errors over the first `travel_max` d of the
+    pull in run file `path`, as read_run gives them over the whole pull (run_series.first_travel)."""
+    f = _open(path)
+    try:
+        _check_header(f, path)
+        return first_travel(*read_series(f, path), travel_max)
+    except SeriesError as exc:
+        raise RunFileError(str(exc)) from None
+    finally:
+        f.close()
 
 
 def read_coordination_distribution(path):

@@ -28,8 +28,8 @@ COLUMNS = {
     "V": ("number", "pulling speed [sqrt(g d)]"),
     "Fr": ("number", "Froude number, paper Eq. 4"),
     "drag": ("number", "time-averaged drag <F_x> [rho d^3 g]"),
-    "drag_err": ("number", "standard error of the drag: the engine's, from the integrated autocorrelation "
-                 "time (Wolff's window, N/5 fallback; src/protocol/observables.cpp)"),
+    "drag_err": ("number", "standard error of the drag, from its force series: a flat-top lag window through "
+                 "the autocorrelation's first negative lobe (analysis/series_error.py; the engine's: drag_err_engine)"),
     "n_contacts": ("number", "mean intruder coordination number n"),
     "theta": ("number", "mean contact angle at contact formation, Eq. 6 [rad]"),
     "Z": ("number", "mean bulk coordination number near the intruder"),
@@ -369,7 +369,10 @@ def _combine_kind(runs, r2=None, prior=None):
     table.bed_scatter), else none; or the r2 given (counted as pooled). drag_dof: k - 1
     when the bed scatter dominates (s^2 > W), else the within-run dof combined (Satterthwaite,
     with the pooled or prior r2's dof for one bed);
-    n_beds: k; plateau: every bed's error converged; seeds: the beds' seeds, ';'-joined;
+    n_beds: k; plateau: every bed's error converged (plateau_engine: the engine's); seeds: the beds' seeds, ';'-joined;
+    drag_cumulative (the cumulative average from t = 0) and its error as the drag's, drag_err_engine
+    the engine's errors by the same rule; drag_bed_sd: the beds' standard deviation of the drag
+    (NaN for one bed), drag_bed_sd_ratio (_engine): over the beds' mean drag_err (drag_err_engine);
     theta_err_within, _between, _var_excess and kappa's likewise split their errors;
     bed_scatter_source: where the point's bed scatter came from (BED_SCATTER_SOURCES: replicates,
     pooled, prior, none), bed_scatter_r and bed_scatter_dof: sqrt(r2) and its dof for a point
@@ -417,8 +420,11 @@ def _combine_kind(runs, r2=None, prior=None):
     else:
         out["seeds"] = ""
     out["run"] = np.where(rep, out["_point"], out["run"].astype(str))
-    if "plateau" in runs:
-        out["plateau"] = np.bincount(codes, ~runs.plateau.astype(bool).to_numpy()) == 0
+    for c in ("plateau", "plateau_engine"):
+        if c in runs:
+            out[c] = np.bincount(codes, ~runs[c].astype(bool).to_numpy()) == 0
+    from .bed_spread import bed_spread
+    bed_spread(out, runs, codes, k, r2 if np.isfinite(r2) and single != "none" else np.nan)
     for c in ("h", "n_contacts", "Z", "kappa", "theta"):
         out[c] = np.bincount(codes, runs[c].to_numpy(float)) / k
     for c in ("theta", "kappa"):     # each bed's error and the beds' scatter, as drag_err

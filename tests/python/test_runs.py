@@ -18,6 +18,7 @@ from analysis.runs import (
     read_run,
     read_snapshots,
 )
+from analysis.series_error import mean_error
 from analysis.table import froude, validate_table
 from analysis.validation import SETTING_DEFAULTS
 
@@ -105,7 +106,14 @@ def test_reads_one_run_with_path_parameters(tmp_path):
     assert math.isnan(row["z_requested"])
     assert row["D"] == 2.0 and row["mu"] == 0.5 and row["kn"] == 2e4
     assert row["V"] == 0.75 and row["Fr"] == pytest.approx(1.0)
-    assert row["drag"] == pytest.approx(111.1) and row["drag_err"] == 2.5
+    # The drag as the engine stored it; its error recomputed from the force series after the
+    # transient (analysis.series_error), the engine's kept beside; the cumulative average of all
+    assert row["drag"] == pytest.approx(111.1) and row["drag_err_engine"] == 2.5
+    with h5py.File(p) as f:
+        drag_t = -f["observables/intruder_force/value"][:, 0]
+    assert row["drag_err"] == mean_error(drag_t[10:]).error and row["drag_dof"] == mean_error(drag_t[10:]).dof
+    assert row["drag_cumulative"] == pytest.approx(drag_t.mean(), rel=1e-12)
+    assert row["drag_cumulative_err"] == pytest.approx(row["drag_err"] * np.sqrt(40 / 50))
     assert row["n_contacts"] == 10.0 and row["theta"] == 1.55 and row["Z"] == 3.7
     assert row["kappa"] == 0.96
     assert row["run"] == f"pulls/{BED}/Fr~1"
@@ -251,16 +259,20 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
 
 
 def test_drag_error_convergence_and_seed_are_read(tmp_path):
+    # The engine's convergence flag is kept as plateau_engine; drag_dof and plateau are the
+    # force series' own (analysis.series_error: 40 samples of a slow sine do not converge).
     p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5", convergence=(3.2, 0))
     row = read_run(p, root=tmp_path)
-    assert row["drag_dof"] == 3.2 and row["plateau"] is False and row["seed"] == 1.0
+    assert row["plateau_engine"] is False and row["seed"] == 1.0
+    with h5py.File(p) as f:
+        own = mean_error(-f["observables/intruder_force/value"][10:, 0])
+    assert (row["drag_dof"], row["plateau"]) == (own.dof, own.plateau) and row["plateau"] is False
     p = write_run(tmp_path / "b" / "system~I" / "run.h5", convergence=(40.0, 1))
     row = read_run(p)
-    assert row["plateau"] is True and math.isnan(row["seed"])
+    assert row["plateau_engine"] is True and math.isnan(row["seed"])
     # A file from before the convergence test claims no plateau.
     p = write_run(tmp_path / "c" / "system~I" / "run.h5", convergence=None)
-    row = read_run(p)
-    assert row["plateau"] is False and math.isnan(row["drag_dof"])
+    assert read_run(p)["plateau_engine"] is False
 
 
 def test_load_runs_gives_a_valid_table(tmp_path):
@@ -470,3 +482,4 @@ def test_kappa_error_from_the_coordination_series(tmp_path):
     with h5py.File(p, "a") as f:
         f["observables/coordination"].attrs["error"] = 0.05
     assert read_run(p)["kappa_err"] == pytest.approx(0.96 * 0.05 / 10.0, rel=1e-12)
+

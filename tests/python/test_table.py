@@ -107,3 +107,50 @@ def test_write_csv_is_atomic(tmp_path):
     with pytest.raises(OSError):
         write_csv(pd.DataFrame({"a": [9.0]}), path)
     assert pd.read_csv(path).a.tolist() == [1.5, 2.0]                    # ... and the old file stands
+
+
+def point_runs(rng):
+    """Run rows of two points: Fr 1 pulled in three beds, Fr 2 in one (it takes the pooled bed
+    scatter), with the columns analysis.runs reads beside the drag."""
+    rows = []
+    for fr, seeds in ((1.0, (1, 2, 3)), (2.0, (1,))):
+        for s in seeds:
+            drag = 100 * fr + 6 * rng.standard_normal()
+            rows.append({"system": "I", "D": 2.0, "h": 6.4, "mu": 0.5, "kn": 2e4, "gamman": 199.0,
+                         "V": fr / float(froude(1.0, 2.0)), "Fr": fr, "drag": drag, "drag_err": 2.0 + s,
+                         "n_contacts": 9.0, "theta": 1.5, "Z": 3.5, "kappa": 1.0, "drag_dof": 8.0,
+                         "run": f"pulls/system~I/D~2/h~6.5/mu~0.5/seed~{s}/Fr~{fr:g}", "seed": float(s),
+                         "plateau": s != 2, "plateau_engine": False, "drag_err_engine": 3.0 * (2.0 + s),
+                         "drag_cumulative": 0.9 * drag + rng.standard_normal(), "drag_cumulative_err": 1.0 + s})
+    df = pd.DataFrame(rows)
+    df["Fr"] = froude(df.V, df.D)
+    return df
+
+
+def test_the_point_table_aggregates_the_cumulative_drag_as_the_drag_and_gives_the_beds_spread():
+    from analysis.table import between_bed_scatter, combine_beds
+    df = point_runs(np.random.default_rng(4))
+    pts = combine_beds(df)
+    three, one = pts.iloc[0], pts.iloc[1]
+    g = df.iloc[:3]
+    y, e, yc, ec = g.drag.to_numpy(), g.drag_err.to_numpy(), g.drag_cumulative.to_numpy(), g.drag_cumulative_err
+    # drag_err's rule, sqrt(max(s^2, W)/k), on the cumulative drag and on the engine's errors
+    assert three.drag_cumulative == pytest.approx(yc.mean())
+    assert three.drag_cumulative_err == pytest.approx(np.sqrt(max(np.var(yc, ddof=1), np.mean(ec ** 2)) / 3))
+    assert three.drag_err_engine == pytest.approx(
+        np.sqrt(max(np.var(y, ddof=1), np.mean(g.drag_err_engine.to_numpy() ** 2)) / 3))
+    assert three.drag_bed_sd == pytest.approx(np.std(y, ddof=1))
+    assert three.drag_bed_sd_ratio == pytest.approx(np.std(y, ddof=1) / e.mean())
+    assert three.drag_bed_sd_ratio_engine == pytest.approx(np.std(y, ddof=1) / g.drag_err_engine.mean())
+    assert not three.plateau and not three.plateau_engine          # a bed without: the point without
+    # One bed: no spread; the pooled relative bed scatter on top of its errors, as its drag's
+    r2 = between_bed_scatter(df)[0]
+    assert np.isnan(one.drag_bed_sd) and np.isnan(one.drag_bed_sd_ratio)
+    assert one.drag_err == pytest.approx(np.sqrt(3.0 ** 2 + r2 * one.drag ** 2))
+    assert one.drag_cumulative_err == pytest.approx(np.sqrt(2.0 ** 2 + r2 * one.drag_cumulative ** 2))
+    assert one.plateau and not one.plateau_engine
+    # A run table from before these columns (a ladder rung's recorded runs.csv) still combines.
+    old = combine_beds(df.drop(columns=["drag_cumulative", "drag_cumulative_err", "drag_err_engine",
+                                        "plateau_engine"]))
+    assert "drag_cumulative" not in old and "drag_bed_sd_ratio_engine" not in old
+    assert old.drag_bed_sd_ratio.iloc[0] == pytest.approx(three.drag_bed_sd_ratio)
