@@ -9,6 +9,7 @@ import pandas as pd
 from matplotlib.ticker import FormatStrFormatter
 
 from .fits import evaluate, fit_regimes
+from .goodness import chi2_far_out
 from .table import is_yield, pooled_drag_err, reference_params, select, write_csv
 
 plt.switch_backend("Agg")  # files only, no display
@@ -125,13 +126,14 @@ def _signed(value, fmt=".3f"):
 
 def _fit_note(fit):
     """The goodness of a fit for its legend entry: 'χ²/dof = 0.62' and, when the data reject the
-    model, 'model rejected: residuals trend' (goodness.py)."""
+    model, 'model rejected: residuals trend' or 'model rejected: χ² far out' (goodness.py)."""
     g = fit.meta.get("goodness") if fit is not None else None
     if not g:
         return ""
     text = f"χ²/dof = {g['chi2_dof']:.2f}" if g.get("chi2_dof") is not None else ""
     if g.get("rejected"):
-        text += ("; " if text else "") + "model rejected: residuals trend"
+        why = ": residuals trend" if g.get("trend") else ": χ² far out" if chi2_far_out(g) else ""
+        text += ("; " if text else "") + f"model rejected{why}"
     return text
 
 

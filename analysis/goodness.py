@@ -13,7 +13,8 @@ tables) records `goodness(...)` in its meta, and fits.json carries it beside the
                           of the number of runs, Wald & Wolfowitz 1940); null when even the
                           fewest runs the signs allow would not reach TREND_ALPHA
     trend                 trend_p < TREND_ALPHA (1 %): the residuals trend with x
-    rejected              the data reject the model: its residuals trend
+    rejected              the data reject the model: its residuals trend, or its χ² is far out
+                          (chi2_p < CHI2_ALPHA, 10⁻⁶)
 
 Why the runs test: it asks the one thing a curve of the wrong shape cannot hide (a line through
 a U leaves + at both ends and − in the middle: 3 runs where ~n/2 are expected), it needs no
@@ -24,11 +25,17 @@ the same x (κ at D = 2 and 3) are counted apart, so that their offset does not 
 alternating signs. It has little power on a short series: with fewer than 10 points no order of
 the signs reaches 1 %, and the fit says "too few points for a trend test" rather than passing.
 
-Why not χ² as well: a χ²/dof above 1 without a trend says the points scatter more than their
-errors, which a wrong model and too small errors both explain; the fits' errors already absorb
-it (the least-squares covariance is scaled by χ²/dof when above 1, the regime fits' errors are
-bootstrapped from the residuals). A wrong shape they do not absorb: it biases the parameters,
-however large their errors. χ²/dof is reported beside the test, for the reader to judge.
+Why χ² only when far out: a χ²/dof above 1 without a trend says the points scatter more than
+their errors, which a wrong model and too small errors both explain; the fits' errors absorb a
+moderate excess (the least-squares covariance is scaled by χ²/dof when above 1, the regime fits'
+errors are bootstrapped from the residuals). A wrong shape they do not absorb: it biases the
+parameters, however large their errors. So a χ² rejects the model only where errors understated
+by a plausible factor cannot explain it: P(χ²_dof ≥ chi2) < CHI2_ALPHA = 10⁻⁶, which needs
+χ²/dof above 3.9 at 14 dof (2.3 at 45, 6.4 at 6) and, at 14 dof, errors understated by more than
+1.37× for the data still to reject the model at 1 %. θ's Eq. 7 fit in the 40 d box (χ²/dof 5.2 at
+14 dof, p = 5×10⁻¹⁰, its runs test p = 0.02) is such a fit: the curve misses the points by
+2.3 errors (rms), which no error estimate here is wrong by. Below that level χ²/dof is
+reported beside the runs test, for the reader to judge.
 
 The parameters of a rejected model are not measurements of the model's, and the report says
 "model rejected (...)" instead of quoting them (analysis.report). The false-alarm rate on
@@ -42,6 +49,7 @@ import pandas as pd
 from scipy import stats
 
 TREND_ALPHA = 0.01   # runs test: one-sided level for "the residuals trend", which rejects the model
+CHI2_ALPHA = 1e-6    # P(χ² ≥ observed) below which the scatter about the model rejects it (docstring)
 
 
 def runs_distribution(n1, n2):
@@ -109,9 +117,27 @@ def goodness(x, y, model, n_params, sigma=None, groups=None):
 
 
 def is_rejected(g):
-    """Whether a goodness dict (as goodness returns, or read back from fits.json) says the
-    data reject the model: its residuals trend (module docstring: why not chi^2)."""
-    return bool(g and g.get("trend"))
+    """Whether a goodness dict (as goodness returns, or read back from fits.json or a fitted
+    table's row) says the data reject the model: its residuals trend, or its χ² is far out
+    (chi2_far_out; module docstring)."""
+    return bool(g and (g.get("trend") or chi2_far_out(g)))
+
+
+def chi2_p(g):
+    """P(χ²_dof ≥ chi2) of a goodness dict: its chi2_p, else from chi2_dof and dof (a fitted
+    table's row records those two); None when it has no χ²."""
+    if g.get("chi2_p") is not None:
+        return float(g["chi2_p"])
+    c, dof = g.get("chi2_dof"), g.get("dof")
+    if c is None or dof is None or not np.isfinite(c) or not dof or dof < 1:
+        return None
+    return float(stats.chi2.sf(c * dof, dof))
+
+
+def chi2_far_out(g):
+    """Whether the points scatter about the model far beyond their errors: chi2_p < CHI2_ALPHA."""
+    p = chi2_p(g) if g else None
+    return p is not None and p < CHI2_ALPHA
 
 
 def describe(g):
@@ -122,7 +148,8 @@ def describe(g):
     parts = []
     if g.get("chi2_dof") is not None:
         dof = f" ({g['dof']:g} dof)" if g.get("dof") is not None else ""
-        parts.append(f"χ²/dof = {g['chi2_dof']:.2f}{dof}")
+        far = f", far out: χ² p = {_p(chi2_p(g))}" if chi2_far_out(g) else ""
+        parts.append(f"χ²/dof = {g['chi2_dof']:.2f}{dof}{far}")
     else:
         parts.append("no degrees of freedom" if g.get("dof") == 0 else "no χ² (unweighted fit)")
     if g.get("trend_p") is None:
@@ -146,7 +173,9 @@ def _why(g):
         return "; ".join(g["from"])
     why = []
     if g.get("chi2_dof") is not None:
-        why.append(f"χ²/dof = {g['chi2_dof']:.2f}")
+        p = chi2_p(g)
+        far = f", χ² p = {_p(p)}" if chi2_far_out(g) else ""
+        why.append(f"χ²/dof = {g['chi2_dof']:.2f}{far}")
     if g.get("trend"):
         why.append("residuals trend" + (f", runs test p = {_p(g['trend_p'])}" if g.get("trend_p") is not None else ""))
     return ", ".join(why)

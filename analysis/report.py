@@ -4,11 +4,12 @@ Verdict for a number with a published value p (the paper gives no error
 bars, so only ours count):
   inconclusive       no error bar, an error above INCONCLUSIVE (30 %) of the value,
                      a fit that breaks its model (drag falling with Fr in regime
-                     II or III), whose model the data reject (its residuals trend:
-                     goodness.py; the report then says "model rejected (...)" in
+                     II or III), whose model the data reject (its residuals trend or
+                     its χ² is far out: goodness.py; the report then says "model rejected (...)" in
                      place of the number), that ended on a bound of its parameters,
                      or a fit with no degrees of freedom left: such a number could
-                     agree with anything
+                     agree with anything; also one whose interval would be Student's t
+                     at fewer than 2 dof (untestable at that study)
   within error bars  |fit - p| <= t standard errors, t the two-sided 95 % Student-t
                      quantile at the fit's degrees of freedom (points - parameters;
                      1.96 for a number that has no fit of its own, or whose error is
@@ -54,6 +55,7 @@ from .verdicts import (  # noqa: F401  (re-exported: the report's verdict rules)
     VERDICTS,
     errors_from_points,
     fit_dof,
+    observables_studied,
     sum_dof,
     sum_goodness,
     table_dof,
@@ -134,11 +136,12 @@ def comparisons(r, df=None):
         rows.append(entry(f"Fr_2 (Eq. 12 collapse, μ = {law.mu:g}{cut})", law.regimes["Fr2"], 5.0, "≈ 5",
                          law.regimes, basis))
     obs = sub(mu=0.5, system="I")
-    if r.theta is not None:
+    # θ and κ from a few speeds, or from yield pulls only, test nothing: not studied, no row.
+    if r.theta is not None and observables_studied(obs, "theta", r.theta):
         for k, name in (("U1", "Υ1"), ("U2", "Υ2"), ("U3", "Υ3")):
             rows.append(entry(f"θ(Fr) {name} (Eq. 7)", r.theta[k], paper.THETA[k], fit=r.theta, rows=obs,
                              observable=True))
-    if r.kappa is not None:
+    if r.kappa is not None and observables_studied(obs, "kappa", r.kappa):
         for k in ("k0", "k1"):
             rows.append(entry(f"κ(Fr) {'intercept' if k == 'k0' else 'slope'} (Fig. 8)",
                              r.kappa[k], paper.KAPPA[k], fit=r.kappa, rows=obs,
@@ -235,12 +238,14 @@ def _blocks(df, r, figs, n_boot, seed):
          ("p", _scale_text(df, kn)),
          ("p", f"Verdicts: inconclusive = no error bar, an error above {INCONCLUSIVE:.0%} of the "
                "value, a fit that breaks its model (drag falling with Fr in regime II or III) or "
-               "ended on a bound of its parameters, or one with no degrees of freedom left; "
+               "ended on a bound of its parameters, one with no degrees of freedom left, or one whose "
+               "interval would be Student's t at fewer than 2 degrees of freedom (untestable here); "
                f"within error bars = the published value inside the {COVERAGE:.0%} interval, "
                "the Student-t quantile at the fit's degrees of freedom (points − parameters) times "
                "its standard error (the normal 1.96 for a number without a fit of its own); "
                f"qualitatively = within {REL_TOL:.0%} of it; else not reproduced. "
-               "The paper publishes no error bars. Regime fits are made to the pulls at speed; "
+               "The paper publishes no error bars. θ(Fr) and κ(Fr) measured at fewer than 5 speeds at speed, "
+               "or from yield pulls only, are not studied: no number. Regime fits are made to the pulls at speed; "
                "the yield pull (V = 0.01) is shown beside them, not in them (paper Figs. 5, 10)."
                + (f" Eq. 12 and Fig. 19 use pulls at h ≥ {r.options.h_min:g} d only (h_min)."
                   if r.options.h_min else " Eq. 12 and Fig. 19 use pulls at every depth (h_min = 0)."))]
@@ -304,10 +309,11 @@ def _goodness_blocks(r):
             ("p", "Each fit's χ²/dof against the errors it was weighted by, and a runs test of its "
                   "residuals' signs in the order of x (within each series): too few runs means the "
                   "residuals trend, the curve has the wrong shape (a line through a U). The data "
-                  "reject a model whose residuals trend at the 1 % level; its numbers above then read "
-                  "\"model rejected\" and are inconclusive. A χ²/dof above 1 without a trend is scatter "
-                  "beyond the errors, which the fits' errors already include (scaled by it, or "
-                  "bootstrapped from the residuals)."),
+                  "reject a model whose residuals trend at the 1 % level, or whose χ² is far out "
+                  "(P(χ² ≥ observed) < 10⁻⁶, more than errors understated by a third explain); its numbers "
+                  "above then read \"model rejected\" and are inconclusive. A χ²/dof above 1 short of that, "
+                  "without a trend, is scatter beyond the errors, which the fits' errors already include "
+                  "(scaled by it, or bootstrapped from the residuals)."),
             ("table", ["fit", "model", "goodness"], rows)] if rows else []
 
 

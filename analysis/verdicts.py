@@ -5,7 +5,13 @@
                      II or III), whose model the data reject (its residuals trend:
                      goodness.py), that ended on a bound of its parameters,
                      or a fit with no degrees of freedom left: such a number could
-                     agree with anything
+                     agree with anything; also a number whose 95 % interval is
+                     Student's t at fewer than MIN_DOF (2) degrees of freedom (±12.7
+                     standard errors at 1): the comparison cannot fail, so it is
+                     untestable at that study, neither reproduced nor not
+  not studied        θ(Fr) and κ(Fr) (Eqs. 7, 8) measured at fewer than
+                     OBSERVABLE_MIN_SPEEDS (5) speeds at speed, or from yield pulls
+                     only: the report lists no number for them (observables_studied)
   within error bars  |fit - p| <= t standard errors, t the two-sided 95 % Student-t
                      quantile at the number's degrees of freedom (fit_dof, table_dof,
                      sum_dof; the normal 1.96 for a number that has no fit of its own,
@@ -19,9 +25,12 @@ import numpy as np
 from scipy import stats
 
 from .goodness import TREND_ALPHA, inherited
+from .table import is_yield
 
 COVERAGE, REL_TOL = 0.95, 0.25   # the within-error interval's coverage; "qualitatively"
 INCONCLUSIVE = 0.30        # relative error above which a number cannot confirm anything
+MIN_DOF = 2                # Student's t at fewer dof: the interval spans more than ±4.3 errors
+OBSERVABLE_MIN_SPEEDS = 5  # θ(Fr), κ(Fr): distinct speeds at speed a study needs to test them
 VERDICTS = ("reproduced within error bars", "reproduced qualitatively", "not reproduced", "inconclusive")
 
 
@@ -71,6 +80,9 @@ def verdict(p, published, violations=(), at_bounds=(), dof=None, rejected="", fr
         return "inconclusive", "no error bar"
     if dof is not None and dof < 1:
         return "inconclusive", f"the fit has {dof} degrees of freedom: its error means nothing"
+    if not from_points and dof is not None and math.isfinite(dof) and dof < MIN_DOF:
+        return "inconclusive", (f"untestable here: at {dof:.2g} degree{'' if f'{dof:.2g}' == '1' else 's'} of freedom "
+                                f"the 95 % interval spans ±{within_quantile(dof):.1f} standard errors (Student-t)")
     if p.err > INCONCLUSIVE * abs(p.value):
         return "inconclusive", f"error {p.err / abs(p.value):.0%} of the value, above {INCONCLUSIVE:.0%}"
     d = abs(p.value - published)
@@ -146,3 +158,32 @@ def table_dof(t, column):
     None for tables written before the column."""
     n = t.get(column) if hasattr(t, "get") else None
     return None if n is None or not math.isfinite(float(n)) else float(n) - 2
+
+
+def observable_speeds(rows, column):
+    """How many speeds at speed (yield pulls left out) a series of `rows` measured `column` at
+    (theta or kappa): the most distinct Fr (to 6 digits) of one D. Several D pulled at one speed
+    give as many Fr, but one speed each."""
+    if rows is None or column not in rows.columns:
+        return 0
+    moving = rows[~is_yield(rows) & rows[column].notna()]
+    return distinct_speeds(moving)
+
+
+def distinct_speeds(rows):
+    """The most distinct Fr (to 6 digits) of one D among rows (0 for none)."""
+    if not len(rows):
+        return 0
+    return int(rows.assign(_fr=rows.Fr.astype(float).round(6)).groupby("D")._fr.nunique().max())
+
+
+def observables_studied(rows, column, fit=None):
+    """Whether a study tests θ(Fr) or κ(Fr) (column theta or kappa): its rows (system I at
+    μ = 0.5, the reference contact law) hold at least OBSERVABLE_MIN_SPEEDS distinct speeds at
+    speed. The paper's claims are curves over Fr 0.1-10; three yield pulls at one speed (a
+    yield and depth sweep's) fit a "slope" of κ that is no measurement of Eq. 8's, and fewer
+    than five speeds leave Eq. 7's three parameters under two degrees of freedom. Without the
+    rows (a report made from the fits alone), the fit's points count."""
+    if rows is None:
+        return fit is None or fit.n_points >= OBSERVABLE_MIN_SPEEDS
+    return observable_speeds(rows, column) >= OBSERVABLE_MIN_SPEEDS

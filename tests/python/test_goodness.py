@@ -7,7 +7,17 @@ import numpy as np
 import pytest
 
 from analysis.fits import fit_kappa, fit_linear, fit_regimes
-from analysis.goodness import TREND_ALPHA, describe, goodness, is_rejected, runs_distribution, runs_test
+from analysis.goodness import (
+    CHI2_ALPHA,
+    TREND_ALPHA,
+    chi2_far_out,
+    describe,
+    goodness,
+    is_rejected,
+    rejection_text,
+    runs_distribution,
+    runs_test,
+)
 from analysis.regimes import regime_curve
 
 X = np.linspace(0.5, 15.0, 20)
@@ -86,7 +96,38 @@ def test_regime_fit_of_three_regime_data_is_not_rejected():
 
 
 def test_short_series_is_not_testable_and_not_rejected():
+    # A U of six points: no order of its signs reaches the runs test's 1 %. Its errors (2) leave
+    # a χ² (9.3 at 4 dof, p = 0.05) that is not far out, so nothing rejects it.
     x = np.arange(6.0)
-    g = goodness(x, (x - 2.5) ** 2, np.zeros(6) + 2.9, 2, np.ones(6))
+    g = goodness(x, (x - 2.5) ** 2, np.zeros(6) + 2.9, 2, np.full(6, 2.0))
     assert g["trend_p"] is None and not g["rejected"] and "too few points" in describe(g)
     assert not is_rejected({}) and not is_rejected(None)
+
+
+def test_a_chi2_far_out_rejects_the_model_without_a_trend():
+    # θ's Eq. 7 fit in the 40 d box (crossover-k2e6-box40-full): χ²/dof 5.2 at 14 dof, p = 5e-10,
+    # the runs test p = 0.02 (no trend at 1 %). The scatter about the curve is 2.3 errors (rms):
+    # rejected, and the report's words say why.
+    g = {"n_points": 17, "dof": 14, "chi2": 73.06, "chi2_dof": 5.219, "chi2_p": 5.35e-10, "runs": 5,
+         "runs_expected": 9.47, "trend_p": 0.0203, "trend": False}
+    assert chi2_far_out(g) and is_rejected(g)
+    assert "χ² p = 5.4e-10" in rejection_text(g) and "far out" in describe(g)
+    # A fitted table's row records chi2_dof and dof, not chi2_p: the same rule from those.
+    assert is_rejected({"chi2_dof": 5.219, "dof": 14, "trend": False})
+    # Scatter 1.3 times the errors (χ²/dof 1.7 at 14 dof, p = 0.05): not far out, not rejected.
+    assert not is_rejected({"chi2_dof": 1.7, "dof": 14, "chi2_p": 0.05, "trend": False})
+    # The same six points as above with errors of 0.5: χ² 149 at 4 dof.
+    x = np.arange(6.0)
+    six = goodness(x, (x - 2.5) ** 2, np.zeros(6) + 2.9, 2, np.full(6, 0.5))
+    assert six["trend_p"] is None and six["chi2_p"] < CHI2_ALPHA and six["rejected"]
+
+
+def test_chi2_far_out_is_rare_for_a_right_model_with_right_errors():
+    # 2000 straight lines with noise of their stated errors: none rejected by χ² (rate 1e-6).
+    far = [chi2_far_out(fit_linear(X, 0.9 - 0.02 * X + SIGMA * np.random.default_rng(s).standard_normal(len(X)),
+                                   np.full(len(X), SIGMA)).meta["goodness"]) for s in range(2000)]
+    assert not any(far)
+    # Errors understated by 1.2 (the level the docstring allows for): still none at 14+ dof.
+    far = [chi2_far_out(fit_linear(X, 0.9 - 0.02 * X + 1.2 * SIGMA * np.random.default_rng(s).standard_normal(len(X)),
+                                   np.full(len(X), SIGMA)).meta["goodness"]) for s in range(2000)]
+    assert np.mean(far) <= 0.001, np.mean(far)

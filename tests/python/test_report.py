@@ -234,3 +234,49 @@ def test_the_sum_rules_dof_is_welch_satterthwaites_of_its_parts():
     assert math.isclose(_sum_dof(t, part(2.0, 4), part(0.5, 5)), 0.0625 / (0.0081 / 2))
     # The alpha averaged over speeds (no fitted row) rests on its points: the normal quantile.
     assert _sum_dof(t, part(0.5, 4), None) is None
+
+
+def test_a_number_at_about_one_degree_of_freedom_is_untestable_not_reproduced():
+    # The sum rule of the default's boxes with the yield pulls at V = 0.1 (scaling-k2e4-box10):
+    # 2.26 ± 0.34 against 3, 2.2 standard errors away. Its φ_μ fit rests on its residuals at
+    # 1 dof and its α_μ on its points: Welch–Satterthwaite gives about 1 dof, Student's t about 11,
+    # and "within error bars" would hold for anything within ±4. Untestable at that rung.
+    import pandas as pd
+
+    from analysis.verdicts import MIN_DOF, sum_dof, within_quantile
+    key = dict(mu=0.5, kn=2e4, gamman=199.0)
+    t = pd.Series({**key, "phi_err": 0.33, "alpha_err": 0.06, "n_min": 3})
+    part = lambda chi2, n: pd.DataFrame([{**key, "n": n, "chi2_dof": chi2, "trend_p": math.nan, "rejected": 0.0}])
+    dof = sum_dof(t, part(2.0, 3), part(0.5, 4))
+    assert 1.0 < dof < 1.1 and within_quantile(dof) > 10
+    v, why = verdict(Param(2.26, 0.34), 3.0, dof=dof)
+    assert v == "inconclusive" and "untestable" in why and "at 1.1 degrees of freedom" in why
+    assert verdict(Param(2.26, 0.34), 3.0, dof=1.0)[1].endswith("spans ±12.7 standard errors (Student-t)")
+    # From 2 dof on (t = 4.30) the comparison can fail, and is made.
+    assert MIN_DOF == 2 and verdict(Param(2.26, 0.34), 3.0, dof=2.0)[0] == "reproduced within error bars"
+    assert verdict(Param(2.26, 0.10), 3.0, dof=2.0)[0] == "reproduced qualitatively"
+    # An error that is its points' own (the normal quantile) does not rest on the fit's dof.
+    assert verdict(Param(2.78, 0.20), 3.0, dof=1.0, from_points=True)[0] == "reproduced within error bars"
+
+
+def test_theta_and_kappa_from_yield_pulls_or_few_speeds_are_not_studied(table):
+    # A yield and depth sweep (scaling-k2e4-box20) has system I at μ = 0.5 only in its yield
+    # pulls: θ and κ fitted to those three points (a κ "slope" of 17 ± 4 against Fr 0.12-0.14)
+    # test nothing, and the report lists no number for them.
+    from analysis.table import is_yield
+    from analysis.verdicts import OBSERVABLE_MIN_SPEEDS, observable_speeds
+    sysI = (table.system == "I") & np.isclose(table.mu, 0.5)
+    names = lambda t: {x.quantity for x in comparisons(run_fits(t, n_boot=0), t)}      # noqa: E731
+    theta_kappa = lambda q: q.startswith(("θ(Fr)", "κ(Fr)"))                         # noqa: E731
+    assert observable_speeds(table[sysI], "kappa") >= OBSERVABLE_MIN_SPEEDS
+    assert sum(map(theta_kappa, names(table))) == 5                                   # Υ1-3, k0, k1
+    yields_only = table[~sysI | is_yield(table)]
+    assert observable_speeds(yields_only[(yields_only.system == "I") & np.isclose(yields_only.mu, 0.5)],
+                             "kappa") == 0
+    assert not any(map(theta_kappa, names(yields_only)))
+    # Four speeds at speed (D = 2, 4, 6 each): still fewer than five, not studied; five are.
+    moving = sysI & ~is_yield(table)
+    speeds = sorted(table[moving].Fr.round(6).unique())
+    for n, studied in ((4, False), (5, True)):
+        keep = ~moving | table.Fr.round(6).isin(speeds[:n])
+        assert any(map(theta_kappa, names(table[keep]))) == studied, n
