@@ -11,24 +11,29 @@ fits.json, report.md, kappa_shells.csv (Z and κ in nested shells around the int
 per run and shell width) and run.json (cost, machine, commit), run.json last: a rung directory
 without run.json counts as not run.
 
-`table` reads <root>/ladder.yaml (the rungs in order, each with a label; a description per
-claim) and writes ladder.csv, ladder.md, claim_<letter>.png, and its diagnostics:
+`table` reads <root>/ladder.yaml (the rungs in order, each with a label and, for a rung grown in
+place from another, `extends`; a description per claim; the claim table's `summary`, per claim the
+rungs closest to the paper's conditions first: analysis.ladder_summary) and writes ladder.csv,
+ladder.md, claims.md (one row per claim at its top rung) with evidence_<letter>.png (that claim's
+evidence there), claim_<letter>.png (each quantity along the rungs), and its diagnostics:
 kappa_shells.csv/.png (the slope of κ(Fr) against the shell width Z is counted in),
 fr2_range.csv/.png (Fr_2 refitted on the points with Fr <= fr_max), knee_fr5.csv (the drag's
 slope above Fr 5 against below, a test of regime III that needs no fitted crossover), box_axis.csv/.png,
 stiffness_axis.csv/.png and length_axis.csv/.png (the drag of the same points in rungs of wider
-boxes, of stiffer contacts, of longer pulls). If <root>/README.md has the markers LADDER_BEGIN
-and LADDER_END, the text between them becomes ladder.md's.
+boxes, of stiffer contacts, of longer pulls; a rung and its extension are one point). If
+<root>/README.md has the markers LADDER_BEGIN and LADDER_END, the text between them becomes
+ladder.md's; between CLAIMS_BEGIN and CLAIMS_END, claims.md's.
 
 The verdicts are the report's: each rung's fits.json and table.csv are read as the report
 rule reads them and passed to analysis.report.comparisons; nothing is re-judged here.
 
 The rest of the ladder lives beside this module (all re-exported here): analysis.ladder_collect
 (collect), analysis.ladder_claims (the claims of a rung), analysis.ladder_diagnostics (κ shells,
-Fr_2 range and startup refits), analysis.ladder_axes (the box and stiffness axes) and
-analysis.ladder_report (ladder.md and the figures).
+Fr_2 range and startup refits), analysis.ladder_axes (the box, stiffness and length axes),
+analysis.ladder_report (ladder.md and the figures) and analysis.ladder_summary (the claim table).
 analysis.ladder_refit makes each recorded rung's table.csv, fits.json and report.md again from
-its runs.csv after a change of the analysis (`python -m analysis.ladder_refit <root>`).
+its runs.csv after a change of the analysis (`python -m analysis.ladder_refit <root>`; `--rejudge`
+after a change of the rule that decides `rejected` alone).
 """
 import json
 from pathlib import Path
@@ -44,6 +49,7 @@ from .ladder_axes import (
     axis_steps,
     axis_summary,
     box_axis,
+    independent,
     length_axis,
     stiffness_axis,
 )
@@ -93,6 +99,15 @@ from .ladder_diagnostics import (
     startup_refit,
 )
 from .ladder_report import _axis_figure, _claim_figures, _fr2_figure, _kappa_figure, ladder_markdown
+from .ladder_summary import (
+    CLAIMS_BEGIN,
+    CLAIMS_END,
+    evidence_figures,
+    read_summary,
+    replace_claims,
+    summary_markdown,
+    summary_rows,
+)
 from .table import load_csv, write_csv, write_text_atomic
 
 __all__ = [
@@ -103,9 +118,10 @@ __all__ = [
     "kappa_shell_slopes", "DECOMPOSITION_COLUMNS", "DECOMPOSITION_FR", "DECOMPOSITION_WIDTHS",
     "kappa_decomposition", "STARTUP_FIT_COLUMNS", "PAPER_PULL", "kept_drag", "startup_refit", "FR2_COLUMNS",
     "fr2_vs_range", "KNEE_COLUMNS", "knee_at_five",
-    "AXES", "BOX", "STIFFNESS", "LENGTH", "AXIS_COLUMNS", "SUMMARY_COLUMNS", "axis_steps",
+    "AXES", "BOX", "STIFFNESS", "LENGTH", "AXIS_COLUMNS", "SUMMARY_COLUMNS", "axis_steps", "independent",
     "axis_summary", "box_axis", "stiffness_axis", "length_axis", "ladder_markdown",
-    "read_ladder", "rung_run", "ladder_rows", "write_ladder",
+    "read_ladder", "rung_run", "ladder_rows", "write_ladder", "ladder_summary", "CLAIMS_BEGIN", "CLAIMS_END",
+    "summary_rows", "summary_markdown", "evidence_figures",
 ]
 
 LADDER_BEGIN, LADDER_END = "<!-- ladder:begin -->", "<!-- ladder:end -->"
@@ -113,20 +129,29 @@ LADDER_BEGIN, LADDER_END = "<!-- ladder:begin -->", "<!-- ladder:end -->"
 
 # --- the ladder -------------------------------------------------------------
 
-def read_ladder(root):
-    """(rungs [{name, label}], claims {letter: description}) of root/ladder.yaml."""
+_EXAMPLE = "rungs: [{name: crossover-k2e5-box12, label: 'K_n 2e5, 12 d box'}, ...]"
+
+
+def _ladder_doc(root):
+    """(path, parsed root/ladder.yaml)."""
     import yaml
     root = Path(root)
     if not root.is_dir():
         raise LadderError(f"{root}: no such directory (the ladder's root, e.g. results/reproduction)")
     path = root / "ladder.yaml"
-    example = "rungs: [{name: crossover-k2e5-box12, label: 'K_n 2e5, 12 d box'}, ...]"
     if not path.is_file():
-        raise LadderError(f"{path}: no such file; write the rungs in order: {example}")
+        raise LadderError(f"{path}: no such file; write the rungs in order: {_EXAMPLE}")
     try:
-        doc = yaml.safe_load(path.read_text()) or {}
+        return path, yaml.safe_load(path.read_text()) or {}
     except yaml.YAMLError as exc:
         raise LadderError(f"{path}: not a readable YAML file ({exc})") from None
+
+
+def read_ladder(root):
+    """(rungs [{name, label, extends}], claims {letter: description}) of root/ladder.yaml; a
+    rung's `extends` names the rung whose results it grew in place (None: its own study)."""
+    path, doc = _ladder_doc(root)
+    example = _EXAMPLE
     entries = doc.get("rungs") if isinstance(doc, dict) else None
     if not isinstance(entries, list) or not entries:
         raise LadderError(f"{path}: needs a non-empty list `rungs`, e.g. {example}")
@@ -135,10 +160,14 @@ def read_ladder(root):
         e = {"name": e} if isinstance(e, str) else e
         if not isinstance(e, dict) or not e.get("name"):
             raise LadderError(f"{path}: rungs[{i}] has no name ({example})")
-        rungs.append({"name": str(e["name"]), "label": str(e.get("label", e["name"]))})
+        rungs.append({"name": str(e["name"]), "label": str(e.get("label", e["name"])),
+                      "extends": str(e["extends"]) if e.get("extends") else None})
     names = [r["name"] for r in rungs]
     if len(set(names)) != len(names):
         raise LadderError(f"{path}: a rung is listed twice: {', '.join(names)}")
+    for r in rungs:
+        if r["extends"] is not None and (r["extends"] not in names or r["extends"] == r["name"]):
+            raise LadderError(f"{path}: {r['name']} extends {r['extends']}, which is not another listed rung")
     claims = dict(CLAIMS)
     claims.update({str(k): str(v) for k, v in (doc.get("claims") or {}).items()})
     return rungs, claims
@@ -193,6 +222,7 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     the bootstrap of the Fr_2-range refits. Returns the paths written."""
     root = Path(root)
     rungs, claims = read_ladder(root)
+    summary = ladder_summary(root, rungs)
     table = ladder_rows(root, rungs)
     infos = {r["name"]: rung_run(root, r["name"]) for r in rungs}
     written = [root / "ladder.csv"]
@@ -224,18 +254,29 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     written.append(root / "startup_fr2.csv")
     summaries = []
     for axis in AXES:
-        steps = axis_steps(tables, axis)
+        steps = axis_steps(tables, axis, extends={r["name"]: r["extends"] for r in rungs})
         write_csv(steps, root / f"{axis.name}.csv")
         written.append(root / f"{axis.name}.csv")
         written += _axis_figure(root, axis, steps)
         summaries.append((axis, axis_summary(steps, axis)))
     md = ladder_markdown(table, rungs, claims, infos, slopes, fr2, figures=[p.name for p in written],
-                         decomposition=decomposition, startup=startup, axes=summaries, knee=knee)
+                         decomposition=decomposition, startup=startup, axes=summaries, knee=knee, summary=summary)
     write_text_atomic(root / "ladder.md", md)
     written.append(root / "ladder.md")
+    rows = summary_rows(table, summary, claims, len(rungs), knee)
+    written += evidence_figures(root, rows, summary)
+    claims_md = summary_markdown(rows) if rows else ""
+    if claims_md:
+        write_text_atomic(root / "claims.md", claims_md)
+        written.append(root / "claims.md")
+    else:
+        (root / "claims.md").unlink(missing_ok=True)
     readme = root / "README.md"
-    if readme.is_file() and _replace_section(readme, md):
-        written.append(readme)
+    if readme.is_file():
+        changed = _replace_section(readme, md)
+        changed = (claims_md and replace_claims(readme, claims_md)) or changed
+        if changed:
+            written.append(readme)
     return written
 
 
@@ -265,3 +306,9 @@ def _replace_section(readme, md):
     if new != text:
         write_text_atomic(readme, new)
     return True
+
+
+def ladder_summary(root, rungs):
+    """The claim table's spec of root/ladder.yaml (`summary`: analysis.ladder_summary)."""
+    path, doc = _ladder_doc(root)
+    return read_summary(doc, [r["name"] for r in rungs], path)

@@ -64,12 +64,23 @@ def _series(table, rung):
                          "drag": s.drag.astype(float), "drag_err": pooled_drag_err(s).astype(float)})
 
 
-def axis_steps(tables, axis):
+def independent(tables, extends=None):
+    """The rungs of tables that are independent points: a rung another rung of tables extends
+    (extends: {rung: the rung it grew in place from}, ladder.yaml) is left out. An extension's
+    results directory is a copy of the rung it extends, grown with more pulls or beds, so its
+    points hold the other's pulls: counting both would count those pulls twice."""
+    grown = {base for rung, base in (extends or {}).items() if base and rung in tables}
+    return {rung: t for rung, t in tables.items() if rung not in grown}
+
+
+def axis_steps(tables, axis, extends=None):
     """tables: {rung: point table}. Every point measured at two or more values of axis.along
     (the same settings axis.held, D and Fr, depths within SAME_DEPTH), one row per value, in order along
     the axis; each row against the previous value's: ratio = drag / previous drag with its error
     (relative errors in quadrature), z = the difference over its error. The first value's row
-    has NaN there."""
+    has NaN there. extends: {rung: the rung it extends}: only independent rungs count
+    (independent), so a rung and its in-place extension are one point at their value."""
+    tables = independent(tables, extends)
     parts = [p for rung, t in tables.items() if len(p := _series(t, rung))]
     if not parts:
         return pd.DataFrame(columns=COLUMNS)
@@ -109,16 +120,16 @@ def axis_summary(steps, axis):
     return pd.DataFrame(rows, columns=SUMMARY_COLUMNS)
 
 
-def box_axis(tables):
+def box_axis(tables, extends=None):
     """The box axis: each box's drag against the next narrower box's (axis_steps along lx)."""
-    return axis_steps(tables, BOX)
+    return axis_steps(tables, BOX, extends)
 
 
-def stiffness_axis(tables):
+def stiffness_axis(tables, extends=None):
     """The stiffness axis: each K_n's drag against the next softer rung's, in the same box."""
-    return axis_steps(tables, STIFFNESS)
+    return axis_steps(tables, STIFFNESS, extends)
 
 
-def length_axis(tables):
+def length_axis(tables, extends=None):
     """The pull-length axis: each pull's drag against the next shorter pull's, same box and K_n."""
-    return axis_steps(tables, LENGTH)
+    return axis_steps(tables, LENGTH, extends)

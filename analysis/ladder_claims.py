@@ -13,6 +13,12 @@ from .table import load_csv, reference_params
 NOT_RUN = "not run"
 
 
+def cell_verdict(row):
+    """A ladder cell's verdict: the report's, with "(model rejected)" when the data reject the fit."""
+    rejected = row.get("rejected")
+    return f"{row.verdict} (model rejected)" if isinstance(rejected, str) and rejected else row.verdict
+
+
 class LadderError(ValueError):
     """A rung or ladder file that is missing or unusable; the message names it and the fix."""
 

@@ -11,6 +11,7 @@ from .fits import fit_broken_line, fit_linear
 from .fitset import point_bed_scatter
 from .regimes import fit_regimes, profile_fr2
 from .table import is_yield, pooled_drag_err, reference_params, select
+from .verdicts import OBSERVABLE_MIN_SPEEDS, distinct_speeds
 
 FR_MAX_VALUES = (8.0, 10.0, 12.0, 15.0)
 
@@ -74,10 +75,14 @@ def kappa_shell_slopes(shells):
     scaled up by the reduced χ² when it exceeds 1 (the points scatter about the line more than
     the beds do: κ is not linear in Fr, or the beds' spread is underestimated), as fits.fit_linear
     does. Without replicate beds: unweighted, the residual-variance-scaled covariance. A fit
-    needs 3 points."""
+    needs 3 points, and a rung whose series have fewer than OBSERVABLE_MIN_SPEEDS speeds (a
+    yield and depth sweep's three yield pulls, one speed per D) is not studied: no rows, as the
+    report has no κ number for it (analysis.verdicts.observables_studied)."""
     shells = shells if "rung" in shells.columns else shells.assign(rung="")
     rows = []
     for rung, s in shells.groupby("rung", sort=False):
+        if distinct_speeds(_fig8_shells(s)) < OBSERVABLE_MIN_SPEEDS:
+            continue        # κ at a few speeds (a yield sweep's one speed per D): not studied
         pts = kappa_points(s)
         groups = [("all", pts)] + [(f"{D:g}", g) for D, g in pts.groupby("D")]
         for D, g in groups:

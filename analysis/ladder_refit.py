@@ -10,10 +10,14 @@ kappa_shells.csv and startup.csv come from the run files and stay as collected.
 
 A rung without run.json (not run) or without runs.csv (collected before runs.csv was kept) is
 left alone and named on standard error. --report-only rewrites report.md from the rung's
-table.csv and fits.json (after a change of the report's rules, which need no refit).
+table.csv and fits.json (after a change of the report's rules, which need no refit). --rejudge
+decides each fit's `rejected` again by the current rule (analysis.goodness.is_rejected) from the
+goodness fits.json records beside it, changing nothing else in fits.json, then rewrites
+report.md: after a change of that rule alone, which moves no fitted number.
 """
 import argparse
 import json
+import math
 import sys
 import tempfile
 from pathlib import Path
@@ -21,7 +25,7 @@ from pathlib import Path
 from .ladder_claims import LadderError
 from .table import write_text_atomic
 
-__all__ = ["refit_table", "refit_fits", "rewrite_report", "refit_rung", "main"]
+__all__ = ["refit_table", "refit_fits", "rejudge_fits", "rewrite_report", "refit_rung", "main"]
 
 
 def _bed_scatter_prior(rung_dir, root=Path(".")):
@@ -83,6 +87,54 @@ def refit_fits(rung_dir):
     return r
 
 
+def rejudge_fits(rung_dir):
+    """fits.json of a rung with each fit's goodness `rejected` decided again by the current rule
+    (goodness.is_rejected on the record's χ², dof and runs test; a fitted table's row from its
+    chi2_dof, n and trend_p, as verdicts.table_goodness reads it), the exponents' summary lists
+    and the top-level `rejected` list with them. Nothing else moves: the fits are not redone.
+    Returns the names of the fits whose verdict changed."""
+    from .goodness import describe, is_rejected
+    from .verdicts import table_goodness
+
+    path = Path(rung_dir) / "fits.json"
+    try:
+        doc = json.loads(path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError, OSError) as exc:
+        raise LadderError(f"{path}: not a readable fits.json ({exc})") from None
+    changed, rejected = [], []
+    named = [(name, fit) for name, fit in doc.get("fits", {}).items()]
+    named += [(f"law_mu{law['mu']:g}", law["regimes"]) for law in doc.get("laws") or [] if law.get("regimes")]
+    for name, fit in named:
+        g = (fit.get("meta") or {}).get("goodness")
+        if not g:
+            continue
+        new = is_rejected(g)
+        if new != bool(g.get("rejected")):
+            changed.append(name)
+        g["rejected"] = new
+        if new:
+            rejected.append({"fit": name, "what": describe(g)})
+    for key, rows in (doc.get("tables") or {}).items():
+        for i, row in enumerate(rows):
+            if "rejected" not in row:
+                continue
+            g = table_goodness({k: math.nan if v is None else v for k, v in row.items()})
+            new = float(is_rejected(g))
+            if new != row["rejected"]:
+                changed.append(f"{key}[{i}]")
+            row["rejected"] = new
+    for key, table in (("phi", "phi"), ("alpha", "alpha")):
+        rows = (doc.get("tables") or {}).get(table, [])
+        for entry in doc.get(key) or []:
+            hit = [r for r in rows if all(r.get(k) == entry.get(k) for k in ("mu", "kn", "gamman"))]
+            if hit and "rejected" in entry:
+                entry["rejected"] = bool(hit[0]["rejected"])
+    if "rejected" in doc:
+        doc["rejected"] = rejected
+    write_text_atomic(path, json.dumps(doc, indent=1, allow_nan=False))     # as fit_file.save_fits writes it
+    return changed
+
+
 def rewrite_report(rung_dir):
     """report.md of a rung again from its table.csv and fits.json: the figures those allow are
     drawn in a scratch directory (the rung keeps none; Figs. 1, 2, 4, 7 and 9 need files a rung
@@ -103,9 +155,13 @@ def rewrite_report(rung_dir):
     return d / "report.md"
 
 
-def refit_rung(rung_dir, report_only=False):
-    """table.csv, fits.json and report.md of one rung (report.md only with report_only)."""
-    if not report_only:
+def refit_rung(rung_dir, report_only=False, rejudge=False):
+    """table.csv, fits.json and report.md of one rung (report.md only with report_only; fits.json's
+    `rejected` decided again and report.md with rejudge)."""
+    if rejudge:
+        changed = rejudge_fits(rung_dir)
+        print(f"{rung_dir}: rejected decided again, changed: {', '.join(changed) or 'none'}", file=sys.stderr)
+    elif not report_only:
         refit_table(rung_dir)
         refit_fits(rung_dir)
     return rewrite_report(rung_dir)
@@ -118,6 +174,8 @@ def main(argv=None):
     ap.add_argument("root", help="the ladder's root with ladder.yaml (results/reproduction)")
     ap.add_argument("--rung", action="append", help="only this rung (repeatable; default: every rung run)")
     ap.add_argument("--report-only", action="store_true", help="rewrite report.md only, from table.csv and fits.json")
+    ap.add_argument("--rejudge", action="store_true",
+                    help="decide each fit's `rejected` again by the current rule (no refit), then report.md")
     args = ap.parse_args(argv)
     root = Path(args.root)
     try:
@@ -129,10 +187,10 @@ def main(argv=None):
             d = root / name
             if rung_run(root, name) is None:
                 print(f"{d}: not run (no run.json); left alone", file=sys.stderr)
-            elif not args.report_only and not (d / "runs.csv").is_file():
+            elif not (args.report_only or args.rejudge) and not (d / "runs.csv").is_file():
                 print(f"{d}: no runs.csv to refit from; left alone", file=sys.stderr)
             else:
-                print(refit_rung(d, args.report_only), flush=True)
+                print(refit_rung(d, args.report_only, args.rejudge), flush=True)
     except (LadderError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

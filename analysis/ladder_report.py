@@ -7,8 +7,9 @@ import numpy as np
 
 from . import paper
 from .ladder_axes import HEADS, SAME_DEPTH, SPLIT_FR, setting
-from .ladder_claims import CLAIMS, NOT_RUN, OTHER
+from .ladder_claims import CLAIMS, NOT_RUN, OTHER, cell_verdict
 from .ladder_diagnostics import kappa_points
+from .ladder_summary import top_rows
 
 # --- ladder.md ---------------------------------------------------------------
 
@@ -27,20 +28,22 @@ def _md_table(head, body):
 
 
 def _rung_line(i, rung, info):
+    label = rung["label"] + (f"; extends `{rung['extends']}` in place (one point on the axes)"
+                             if rung.get("extends") else "")
     if info is None:
-        return [i + 1, rung["name"], rung["label"], "—", NOT_RUN, "—", "—", "—", "—"]
+        return [i + 1, rung["name"], label, "—", NOT_RUN, "—", "—", "—", "—"]
     m = info.get("machine") or {}
     mem = f", {m['memory_gib']:g} GiB" if m.get("memory_gib") else ""
     ch = info.get("core_hours")
     date = str(info.get("started") or info.get("date") or "")[:10]
-    return [i + 1, rung["name"], rung["label"], f"`{info.get('config', '?')}`",
+    return [i + 1, rung["name"], label, f"`{info.get('config', '?')}`",
             f"{_hms(info.get('wall_seconds', 0))} on {info.get('cores', '?')} cores",
             f"{ch:.2f}" if isinstance(ch, (int, float)) else "—",
             f"{m.get('cpu', '?')} ({m.get('cores', '?')} cores{mem})", date, info.get("commit", "?")]
 
 
 def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=(), decomposition=None,
-                    startup=None, axes=(), knee=None):
+                    startup=None, axes=(), knee=None, summary=None):
     """ladder.md: the rungs, each claim's quantities against the rungs, the verdict at the top
     rung, and the diagnostics. Deterministic: only what the rungs' files say."""
     names = [r["name"] for r in rungs]
@@ -49,10 +52,12 @@ def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=
            "the paper's value inside the 95 % interval (the Student-t quantile at the fit's degrees of "
            "freedom times its standard error; 1.96 without a fit of its own), qualitatively = within 25 % "
            "of it, inconclusive = no error bar, an error above 30 % of the value, a fit that breaks its "
-           "model or ended on a bound, one with no degrees of freedom left, or one the data reject (its "
-           "residuals trend, analysis/goodness.py: \"model rejected\", which a sum rule built on it "
+           "model or ended on a bound, one with no degrees of freedom left or an interval of Student's t at "
+           "fewer than 2 degrees of freedom (untestable there), or one the data reject (its residuals trend, "
+           "or its χ² is far out, analysis/goodness.py: \"model rejected\", which a sum rule built on it "
            "inherits; hollow markers in the figures). A rung not run "
-           "shows no numbers; — : the rung does not study the quantity. Written by "
+           "shows no numbers; — : not studied (the rung does not measure the quantity, or, for θ and κ, measures "
+           "it at fewer than 5 speeds at speed or from yield pulls only: analysis/verdicts.py). Written by "
            "`granudrag-analysis ladder table`; do not edit by hand.\n",
            "### Rungs\n",
            _md_table(["#", "rung", "label", "config", "wall time", "core-hours", "machine", "date", "commit"],
@@ -75,19 +80,17 @@ def ladder_markdown(table, rungs, claims, infos, slopes=None, fr2=None, figures=
         out.append(_md_table(["quantity", "paper"] + names, body))
     if len(ran):
         out.append("### Verdict at the top rung\n")
-        body = []
-        for (letter, q), rows in ran.groupby(["claim", "quantity"], sort=False):
-            top = rows.loc[rows.order.idxmax()]
-            body.append([letter, q, top.rung, top.fitted, top.published, _verdict(top)])
+        out.append("The top rung of a quantity is the rung closest to the paper's conditions for its claim that "
+                   "measures it (ladder.yaml's `summary: {claim: {closest: [...]}}`, closest first; rungs not listed "
+                   "there after those, the later listed first), not the last one listed.\n")
+        body = [[top.claim, top.quantity, top.rung, top.fitted, top.published, _verdict(top)]
+                for top in top_rows(ran, summary or {}, len(rungs))]
         out.append(_md_table(["claim", "quantity", "top rung", "fitted", "paper", "verdict"], body))
     out += _diagnostics_markdown(slopes, fr2, names, infos, figures, decomposition, startup, axes, knee)
     return "\n".join(out)
 
 
-def _verdict(row):
-    """A ladder cell's verdict: the report's, with "(model rejected)" when the data reject the fit."""
-    rejected = row.get("rejected")
-    return f"{row.verdict} (model rejected)" if isinstance(rejected, str) and rejected else row.verdict
+_verdict = cell_verdict
 
 
 # What each axis's section says before its table: what is held, what is compared, how to read it.

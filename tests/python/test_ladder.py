@@ -15,6 +15,8 @@ from test_runs import write_run
 from analysis.fits import evaluate, fit_broken_line
 from analysis.fitset import load_results, run_fits, save_results
 from analysis.ladder import (
+    CLAIMS_BEGIN,
+    CLAIMS_END,
     LADDER_BEGIN,
     LADDER_END,
     NOT_RUN,
@@ -255,6 +257,60 @@ def test_ladder_md_and_readme_section(ladder_root):
     assert "### The drag's slope above Fr 5 against below" in md
 
 
+SUMMARY = """summary:
+  a:
+    closest: [rung-b, rung-a]
+    show: {"Fr_2 (μ = 0.5, D = 3)": Fr₂}
+    reading: a crossover near 5
+    differs: K_n
+    next: rung-c, 1 core-hour
+  c:
+    closest: [rung-a]
+    show: {"κ(Fr) slope (Fig. 8)": κ slope, "κ(Fr) intercept (Fig. 8)": κ intercept}
+    reading: the paper's line
+    differs: the box
+    next: none
+"""
+
+
+def test_the_claim_table_quotes_the_rung_closest_to_the_papers_conditions(tmp_path):
+    # Rung A reproduces κ(Fr), rung B (listed last) does not. ladder.yaml calls rung A the closest
+    # to the paper's conditions for (c), rung B for (a): each claim's row, its figure and the
+    # "Verdict at the top rung" follow that, not the order of the list.
+    (tmp_path / "ladder.yaml").write_text(
+        "rungs:\n  - {name: rung-a, label: 'K_n 2e5'}\n  - {name: rung-b, label: 'K_n 2e6'}\n"
+        "  - {name: rung-c, label: 'K_n 2e7'}\nclaims:\n  c: 'kappa line'\n" + SUMMARY)
+    make_rung(tmp_path, "rung-a", (0.887, 0.185), seed=1)
+    make_rung(tmp_path, "rung-b", (0.948, -0.020), seed=2)
+    readme = f"# The ladder\n\n{CLAIMS_BEGIN}\nold claims\n{CLAIMS_END}\n\n{LADDER_BEGIN}\nold\n{LADDER_END}\n"
+    (tmp_path / "README.md").write_text(readme)
+    (tmp_path / "evidence_g.png").write_bytes(b"stale")
+    written = write_ladder(tmp_path, n_boot=10, seed=0)
+    claims = (tmp_path / "claims.md").read_text()
+    rows = {line.split(" | ")[0]: line for line in claims.splitlines() if line.startswith("| **(")}
+    assert list(rows) == ["| **(a)** three regimes, Fr_1 ≈ 1 and Fr_2 ≈ 5, independent of D and h",
+                          "| **(c)** kappa line"]
+    a, c = rows.values()
+    assert "| `rung-b` | Fr₂: " in a and "(paper ≈ 5) — " in a
+    assert "| a crossover near 5 | K_n | rung-c, 1 core-hour |" in a
+    assert "the slope past Fr 5 over the slope below (D = 3, Fr 1–10): " in a
+    assert "| `rung-a` | κ slope: " in c and "(paper 0.185) — reproduced within error bars<br>κ intercept: " in c
+    assert '<a href="evidence_c.png"><img src="evidence_c.png" width="260" alt="claim (c) at rung-a"></a> |' in c
+    for letter in "ac":
+        png = tmp_path / f"evidence_{letter}.png"
+        assert png.stat().st_size > 1000 and png in written
+    assert not (tmp_path / "evidence_g.png").exists()         # no row for (g): a stale figure goes
+    text = (tmp_path / "README.md").read_text()
+    assert "old claims" not in text and claims.strip() in text and f"{LADDER_BEGIN}\nold\n" not in text
+    top = [line for line in (tmp_path / "ladder.md").read_text().splitlines()
+           if line.startswith(f"| c | {KAPPA_SLOPE} |")]
+    assert len(top) == 1 and "| rung-a |" in top[0] and top[0].endswith("| reproduced within error bars |")
+    # A rung the summary names must be listed.
+    (tmp_path / "ladder.yaml").write_text("rungs: [{name: rung-a}]\nsummary: {c: {closest: [rung-z]}}\n")
+    with pytest.raises(LadderError, match="summary.c.closest names rungs not listed: rung-z"):
+        write_ladder(tmp_path, n_boot=5)
+
+
 def test_readme_without_markers_is_left_alone(tmp_path):
     (tmp_path / "ladder.yaml").write_text("rungs: [{name: later, label: not yet}]\n")
     (tmp_path / "README.md").write_text("# no markers\n")
@@ -285,6 +341,20 @@ def test_kappa_shell_slopes_recover_a_known_slope():
         assert row.errors_from.startswith("between-bed")
     per_d = s[(s.D == "2") & (s.width == 1.0)].iloc[0]
     assert per_d.n_points == 10 and abs(per_d.k1 - 0.2) < 3 * per_d.k1_err
+
+
+def test_kappa_shells_at_one_speed_per_d_are_not_studied():
+    # A yield and depth sweep pulls system I at μ = 0.5 only at its yield speed, one Fr per D:
+    # a line through those three κ (scaling-k2e4-box20's shells gave slopes of 17-29) measures
+    # nothing of Eq. 8, and the shell table leaves the rung out, as the report does.
+    t = shell_table(seed=3)
+    one_speed = t[np.isclose(t.Fr, 1.0)].assign(Fr=lambda d: d.Fr * (1 + 0.1 * d.D))   # 2 Fr, one per D
+    both = pd.concat([t.assign(rung="swept"), one_speed.assign(rung="yield-sweep")])
+    s = kappa_shell_slopes(both)
+    assert set(s.rung) == {"swept"}
+    # Four speeds per D are still too few; five are enough.
+    few = t[t.Fr.isin([1, 2, 3, 4])]
+    assert kappa_shell_slopes(few).empty and len(kappa_shell_slopes(t[t.Fr.isin([1, 2, 3, 4, 5])]))
 
 
 def test_shells_that_wrap_around_the_periodic_box_are_left_out():
@@ -466,6 +536,35 @@ def test_a_recorded_rung_is_refitted_from_its_runs(tmp_path):
     assert doc["options"]["n_boot"] == 3 and doc["options"]["seed"] == 4
     assert "## Fitted numbers beside the paper's" in (d / "report.md").read_text()
     assert not (root / "rung-b").exists()
+
+
+def test_rejudge_decides_rejected_again_and_moves_nothing_else(tmp_path):
+    # After a change of the rule that decides `rejected` alone (2026-12-02: a χ² far out counts),
+    # `ladder_refit --rejudge` re-decides it from the goodness records fits.json keeps, without
+    # refitting: θ's Eq. 7 fit of the 40 d rung had χ²/dof 5.2 at 14 dof (p = 5e-10), no trend,
+    # and `rejected: false`.
+    from analysis.ladder_refit import main, rejudge_fits
+    root = tmp_path / "reproduction"
+    d = make_rung(root, "rung-a", (0.887, 0.185), seed=1)
+    (root / "ladder.yaml").write_text("rungs: [rung-a]\n")
+    doc = json.loads((d / "fits.json").read_text())
+    g = doc["fits"]["theta"]["meta"]["goodness"]
+    g.update(dof=14, chi2=73.06, chi2_dof=5.219, chi2_p=5.35e-10, trend=False, trend_p=0.02, rejected=False)
+    before = {k: v for k, v in doc.items()}
+    (d / "fits.json").write_text(json.dumps(doc, indent=1))
+    assert rejudge_fits(d) == ["theta"]
+    after = json.loads((d / "fits.json").read_text())
+    assert after["fits"]["theta"]["meta"]["goodness"]["rejected"] is True
+    assert [x["fit"] for x in after["rejected"]] == ["theta"] and "far out" in after["rejected"][0]["what"]
+    for k in before:                    # every fitted number as it was
+        if k not in ("fits", "rejected"):
+            assert after[k] == before[k], k
+    assert after["fits"]["theta"]["params"] == before["fits"]["theta"]["params"]
+    assert rejudge_fits(d) == []        # decided once, nothing moves the second time
+    # The command: rejected again, and the report says so where the number was.
+    assert main([str(root), "--rejudge"]) == 0
+    report = (d / "report.md").read_text()
+    assert "model rejected (χ²/dof = 5.22, χ² p = 5.4e-10)" in report
 
 
 def test_ladder_script_refuses_a_rung_whose_results_hold_beds_or_pulls(tmp_path):

@@ -8,7 +8,17 @@ import pandas as pd
 import pytest
 from test_ladder import FR, make_rung, point_table
 
-from analysis.ladder import BOX, LENGTH, STIFFNESS, axis_summary, box_axis, length_axis, stiffness_axis, write_ladder
+from analysis.ladder import (
+    BOX,
+    LENGTH,
+    STIFFNESS,
+    LadderError,
+    axis_summary,
+    box_axis,
+    length_axis,
+    stiffness_axis,
+    write_ladder,
+)
 from analysis.point_errors import pooled_drag_err
 from analysis.table import save_csv
 
@@ -68,6 +78,36 @@ def test_points_of_another_stiffness_or_depth_are_not_compared():
     assert box_axis({"b12": boxed(12)}).empty and box_axis({}).empty
     near = box_axis({"b12": boxed(12), "b20": boxed(20, 1.1, h_shift=0.5)})
     assert len(near) == 2 * 2 * len(FR) and near.ratio.dropna().to_numpy() == pytest.approx(1.1)
+
+
+def test_a_rung_and_its_in_place_extension_are_one_point_on_the_axis(tmp_path):
+    # crossover-k2e6-box40-full grew in place from crossover-k2e6-box40 (a copy of its results
+    # directory, with a bed and speeds added): its points hold the other's pulls. Against the
+    # 30 d box the 40 d box is one rung, the extension, not both side by side.
+    tables = {"b30": boxed(30), "b40": boxed(40, 1.1), "b40-full": boxed(40, 1.05)}
+    both = box_axis(tables)
+    assert set(both[both.lx == 40].rung) == {"b40", "b40-full"}             # counted twice before
+    box = box_axis(tables, extends={"b40-full": "b40"})
+    assert set(box[box.lx == 40].rung) == {"b40-full"} and len(box[box.lx == 40]) == 2 * len(FR)
+    assert box[box.lx == 40].ratio.to_numpy() == pytest.approx(1.05)
+    s = axis_summary(box, BOX)
+    assert s.n_points.sum() == 2 * len(FR)                                  # 2 D, each point once
+    # An extension whose base is not among the tables (or no extension at all) drops nothing.
+    assert set(box_axis({"b30": boxed(30), "b40-full": boxed(40)}, extends={"b40-full": "b40"}).rung) == \
+        {"b30", "b40-full"}
+    # ladder.yaml says which rung extends which, and `ladder table` counts each point once.
+    (tmp_path / "ladder.yaml").write_text(
+        "rungs:\n  - {name: b30, label: '30 d'}\n  - {name: b40, label: '40 d'}\n"
+        "  - {name: b40-full, label: '40 d, more', extends: b40}\n")
+    for name, t in tables.items():
+        save_csv(t, make_rung(tmp_path, name, (0.887, 0.185), seed=1) / "table.csv")
+    write_ladder(tmp_path, n_boot=5, seed=0)
+    written = pd.read_csv(tmp_path / "box_axis.csv")
+    assert set(written.rung) == {"b30", "b40-full"}
+    assert "extends `b40` in place" in (tmp_path / "ladder.md").read_text()
+    (tmp_path / "ladder.yaml").write_text("rungs:\n  - {name: b30}\n  - {name: b40-full, extends: b39}\n")
+    with pytest.raises(LadderError, match="b40-full extends b39, which is not another listed rung"):
+        write_ladder(tmp_path, n_boot=5, seed=0)
 
 
 def test_summary_splits_at_fr_4_and_counts_the_points_beyond_two_errors():
