@@ -7,7 +7,7 @@
                      or a fit with no degrees of freedom left: such a number could
                      agree with anything; also a number whose 95 % interval is
                      Student's t at fewer than MIN_DOF (2) degrees of freedom (±12.7
-                     standard errors at 1): the comparison cannot fail, so it is
+                     standard errors at 1): the comparison can hardly fail, so it is
                      untestable at that study, neither reproduced nor not
   not studied        θ(Fr) and κ(Fr) (Eqs. 7, 8) measured at fewer than
                      OBSERVABLE_MIN_SPEEDS (5) speeds at speed, or from yield pulls

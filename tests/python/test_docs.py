@@ -9,7 +9,9 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-DOCS = [ROOT / "README.md", ROOT / "config" / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+LADDER = ROOT / "results" / "reproduction"
+DOCS = [ROOT / "README.md", ROOT / "config" / "README.md", *sorted((ROOT / "docs").glob("*.md")),
+        LADDER / "README.md", LADDER / "history.md"]
 PATH_PREFIXES = tuple("src/ analysis/ workflow/ config/ tests/ tools/ bench/ docs/ cmake/ requirements/ .test/".split())
 NOT_A_PATH = re.compile(r"[\s<*{…]|\.\.\.")  # a pattern or placeholder, not one file
 
@@ -32,7 +34,9 @@ def test_readme_names_the_two_commands():
 @pytest.mark.parametrize("doc", DOCS, ids=_name)
 def test_relative_links_resolve(doc):
     missing = []
-    for target in re.findall(r"\]\(([^)\s]+)\)", doc.read_text()):
+    text = doc.read_text()
+    html = re.findall(r"<(?:img|a)\s[^>]*?(?:src|href)=\"([^\"]+)\"", text)     # a figure beside a table row
+    for target in re.findall(r"\]\(([^)\s]+)\)", text) + html:
         path = target.split("#", 1)[0]
         if not path or re.match(r"[a-z][a-z0-9+.-]*:", path):  # an anchor in the page, or a URL
             continue
@@ -61,3 +65,25 @@ def test_nothing_cites_a_specification_the_repository_does_not_have():
                                                                                 ".md", ".yaml", ".sh"}
              and re.search(r"\bSPEC\b ?(§|section|\d)", p.read_text(errors="replace"))]
     assert not cited, f"these cite SPEC, which the repository does not have: {cited}"
+
+
+def test_the_ladder_readme_opens_with_one_row_per_claim_and_its_figure():
+    # results/reproduction/README.md: a physicist reads the claims (a)-(g) first, each at the rung
+    # closest to the paper's conditions with its evidence beside it (`ladder table` writes the
+    # table between the markers); the dated history has its own file, linked.
+    from analysis.claims import CLAIMS
+    from analysis.ladder_summary import CLAIMS_BEGIN, CLAIMS_END
+    text = (LADDER / "README.md").read_text()
+    before = text[:text.index(CLAIMS_BEGIN)]
+    assert before.count("\n## ") <= 1, "the claim table comes first, under at most its own heading"
+    rows = [line for line in text[len(before):text.index(CLAIMS_END)].splitlines() if line.startswith("| **(")]
+    assert [r[5] for r in rows] == sorted(CLAIMS), rows
+    for letter, row in zip(sorted(CLAIMS), rows):
+        assert f'<img src="evidence_{letter}.png"' in row and (LADDER / f"evidence_{letter}.png").is_file()
+    # The written part (the generated tables aside) stays short: the dated record is in
+    # history.md (it was about 9,000 words here before).
+    from analysis.ladder import LADDER_BEGIN, LADDER_END
+    written = text
+    for a, b in ((CLAIMS_BEGIN, CLAIMS_END), (LADDER_BEGIN, LADDER_END)):
+        written = written[:written.index(a)] + written[written.index(b):]
+    assert "](history.md)" in text and len(written.split()) < 5000, "the dated history belongs in history.md"
