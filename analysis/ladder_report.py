@@ -9,7 +9,7 @@ from . import paper
 from .ladder_axes import HEADS, SAME_DEPTH, SPLIT_FR, setting
 from .ladder_claims import CLAIMS, NOT_RUN, OTHER, cell_verdict
 from .ladder_diagnostics import kappa_points
-from .ladder_summary import top_rows
+from .ladder_summary import _pyplot, _savefig, top_rows
 
 # --- ladder.md ---------------------------------------------------------------
 
@@ -247,24 +247,6 @@ def _pm(value, err):
 
 
 # --- figures ---------------------------------------------------------------------
-
-def _pyplot():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
-def _savefig(fig, path):
-    """PNG without a timestamp or version in its metadata (a rerun gives the same bytes),
-    written under a temporary name and renamed."""
-    plt = _pyplot()
-    tmp = path.with_name(path.name + ".tmp")
-    fig.savefig(tmp, format="png", dpi=110, metadata={"Software": None})
-    plt.close(fig)
-    tmp.replace(path)
-    return path
-
 
 def _claim_figures(root, table, rungs, claims):
     """claim_<letter>.png for each claim with numbers: a panel per quantity, value ± error per

@@ -208,7 +208,6 @@ def _observable_figure(kind, table, fits, tmp, rung):
     """θ or κ against Fr at the rung (system I, μ = 0.5, the reference contact law, pulls at
     speed), per D, with the rung's fit (dashed when the data reject it) and the paper's curve."""
     from .fits import evaluate, series_labels
-    from .ladder_report import _pyplot, _savefig
     from .table import is_yield, reference_params, select
     fit = getattr(fits, kind)
     kn, gn = reference_params(table)
@@ -252,7 +251,6 @@ def _observable_figure(kind, table, fits, tmp, rung):
 def _sum_rule_figure(fits, tmp, rung):
     """α_μ + φ_μ against μ (reference K_n) with α_μ from the yield force and from the drag, each
     ± its standard error (thick) and ± the 95 % interval its verdict takes (thin), the paper's 3."""
-    from .ladder_report import _pyplot, _savefig
     from .verdicts import sum_dof, within_quantile
     parts = [(fits.sums, fits.alpha, "α_μ from the yield force", "C0", -0.012),
              (fits.sums_drag, None, "α_μ from the drag, averaged over speeds (Fig. 18)", "C1", 0.012)]
@@ -280,7 +278,6 @@ def _sum_rule_figure(fits, tmp, rung):
 def _table1_figure(table, fits, tmp, rung):
     """The μ = 0 drag of regime I (Fr up to 1.5) per D of Table I, with the rung's a'' + b'' Fr^c''
     up to its Fr₁ and the paper's (dashed), on a log scale: their levels differ."""
-    from .ladder_report import _pyplot, _savefig
     from .table import is_yield, pooled_drag_err, reference_params, select
     kn, gn = reference_params(table)
     rows = select(table, mu=0.0, system="I", kn=kn, gamman=gn)
@@ -322,3 +319,21 @@ def replace_claims(readme, md):
     if new != text:
         write_text_atomic(readme, new)
     return True
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _savefig(fig, path):
+    """PNG without a timestamp or version in its metadata (a rerun gives the same bytes),
+    written under a temporary name and renamed."""
+    plt = _pyplot()
+    tmp = path.with_name(path.name + ".tmp")
+    fig.savefig(tmp, format="png", dpi=110, metadata={"Software": None})
+    plt.close(fig)
+    tmp.replace(path)
+    return path
