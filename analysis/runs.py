@@ -59,7 +59,7 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # check (requested depth, time step, how much of the pull was discarded) and
 # the scale of the run (box, grains poured, distance pulled; NaN when the file
 # does not record them).
-EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "steps", "transient_distance", "theta_err", "kappa_err",
+EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "collision_steps", "steps", "transient_distance", "theta_err", "kappa_err",
                  "drag_dof", "plateau", "drag_err_engine", "plateau_engine", "drag_cumulative",
                  "drag_cumulative_err", "seed", "lx", "ly", "grains", "distance", "stop_reason",
                  "active_radius", "wake_force", "wake_load", "sleep_speed", "sleep_time", "perturbation", "asleep",
@@ -235,6 +235,7 @@ def read_run(path, system=None, root=None):
             "gamman": get["gamman"], "V": get["speed"], "Fr": get["froude"], "drag": drag,
             "drag_err": drag_err, "n_contacts": n, "theta": theta, "Z": Z, "kappa": kappa,
             "run": str(run_dir), "h_requested": h_requested, "z_requested": z_requested, "dt": get["dt"],
+            "collision_steps": round(physics.collision_time(get["kn"]) / get["dt"], 1),
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             "drag_err_engine": drag_err_engine, "plateau_engine": plateau_engine,

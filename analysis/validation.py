@@ -93,6 +93,12 @@ STUDIES = {
     "settle_damping": Study("settle_damping", "settle_damping", "min",
                             ("D", *PLACEMENT, "mu", "kn", "gamman", "Fr"), "settle_damping (sqrt(g/d))", False,
                             "whether beds poured with the settling damping pull as the paper's pour does"),
+    # The same beds pulled at coarser steps (granudrag pull --collision_steps; systems with
+    # beds_from): the reference is the finest, 64 steps per collision time.
+    "time_step": Study("time_step", "collision_steps", "max",
+                       ("D", *PLACEMENT, "mu", "kn", "gamman", "Fr"), "steps per collision time", True,
+                       "the fewest steps per collision time that agree with the finest at every point",
+                       also_judged=(("theta", "theta_err"),), also_reported=("n_contacts", "Z")),
 }
 
 
@@ -345,15 +351,27 @@ def conclusion(cmp, study):
     return "; ".join(parts) + f". {answer}" + resolved_shifts(cmp, study)
 
 
+def _farthest(c, reverse=False):
+    """The variant farthest from the reference up to which every variant agrees at every point
+    (contiguous from the reference: ascending, or descending with reverse), None if the nearest fails."""
+    best = None
+    for v in sorted(c.variant.unique(), reverse=reverse):
+        if not c[c.variant == v].agrees.all():
+            break
+        best = v
+    return best
+
+
 def _answer(cmp, study):
+    if study.name == "time_step":
+        def say(c, who):
+            best = _farthest(c, reverse=True)
+            return f"{who}: " + ("no coarser step agrees, keep 64" if best is None
+                                 else f"{best:g} steps per collision time ({64 / best:.3g}x fewer steps)")
+        parts = [say(cmp, "Every point")] + [say(g, f"K_n = {kn:g}") for kn, g in cmp.groupby("kn")]
+        return "Fewest steps per collision time that agree with 64: " + "; ".join(parts) + "."
     if study.name == "yield_speed":
-        def fastest(c):
-            ok, best = [v for v, g in c.groupby("variant") if g.agrees.all()], None
-            for v in sorted(c.variant.unique()):   # agreeing speeds must be contiguous from the slowest
-                if v not in ok:
-                    break
-                best = v
-            return best
+        fastest = _farthest
 
         def say(best, ref, who):
             if best is None:
@@ -368,24 +386,14 @@ def _answer(cmp, study):
     if study.name == "box_size":
         out = []
         for D, g in cmp.groupby("D"):
-            ok = sorted(v for v, h in g.groupby("variant") if h.agrees.all())
-            ref = g.reference.iloc[0]
-            smallest = ref
-            for v in sorted(g.variant.unique(), reverse=True):
-                if v not in ok:
-                    break
-                smallest = v
-            out.append(f"D = {D:g}: lx = {smallest:g}")
+            smallest = _farthest(g, reverse=True)   # contiguous from the largest box
+            out.append(f"D = {D:g}: lx = {g.reference.iloc[0] if smallest is None else smallest:g}")
         return "Smallest box that agrees: " + ", ".join(out) + "."
     if study.name == "active_region":
         out = []
         cols, shown = settings_set(cmp, study), shown_settings(cmp, study)
         for key, g in _grouped(cmp, ["D", *cols]):
-            smallest = None
-            for v in sorted(g.variant.unique(), reverse=True):   # agreeing radii: contiguous from the widest
-                if not g[g.variant == v].agrees.all():
-                    break
-                smallest = v
+            smallest = _farthest(g, reverse=True)   # agreeing radii: contiguous from the widest
             # Radii below a miss are named on their own: a chance miss of a wide radius (a shift
             # that does not shrink with R) must not hide that narrower ones agreed.
             alone = [v for v in sorted(g.variant.unique())

@@ -133,6 +133,16 @@ double pull_speed(const Parameters& p, double intruder_diameter) {
   return p.is_set("speed") ? p.number("speed") : PullSpec{}.speed;
 }
 
+double pull_time_step(const Parameters& p, const Bed& bed) {
+  if (!p.is_set("collision_steps")) return bed.dt;
+  const Particles& grains = bed.state.particles;
+  double rmin = grains.min_radius(Species::Mobile);
+  if (!std::isfinite(rmin)) rmin = 0.5;
+  const double dt = shortest_collision_time(bed.contact, rmin) / p.number("collision_steps");
+  check_time_step(dt, bed.contact, rmin);
+  return dt;
+}
+
 double pull_active_radius(const Parameters& p, double intruder_diameter) {
   const double radius = p.number("active_radius");
   if (!p.is_set("active_diameters")) return radius;

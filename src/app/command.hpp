@@ -8,6 +8,7 @@
 
 #include "contact/contact_params.hpp"
 #include "core/parameters.hpp"
+#include "protocol/pour.hpp"
 
 namespace granudrag {
 
@@ -61,5 +62,10 @@ double pull_speed(const Parameters& p, double intruder_diameter);
 
 // The active region's radius, d: --active_radius, or --active_diameters times D.
 double pull_active_radius(const Parameters& p, double intruder_diameter);
+
+// The time step of a pull through `bed`: the bed's dt, or with --collision_steps N the Hertz
+// collision time of two of its smallest grains at the reference speed over N (checked as a
+// pour's dt is).
+double pull_time_step(const Parameters& p, const Bed& bed);
 
 }  // namespace granudrag

@@ -61,10 +61,11 @@ int pull_command(const std::vector<std::string>& args) {
       "  granudrag pull --schema    (the keys as a JSON Schema)\n\n"
       "A speed the bed cannot resolve is refused before any work, with the largest that works: the\n"
       "undamped Hertz overlap of one impact of the intruder on the largest grain at rest must be\n"
-      "<= max_overlap; the impact on the smallest grain must last >= 16 steps of the bed's dt; and\n"
-      "V dt <= skin/10. A running pull stops (exit 1, the last checkpoint kept) at NaN or inf, a grain\n"
-      "out of the box, an overlap > max_overlap, or a gain of the grains' energy over the work done\n"
-      "on them of more than 1 rho g d^4 per grain; the run file records its verdict in /sanity.",
+      "<= max_overlap; the impact on the smallest grain must last >= 16 steps of dt (the bed's, or\n"
+      "the one collision_steps sets); and V dt <= skin/10. A running pull stops (exit 1, the last\n"
+      "checkpoint kept) at NaN or inf, a grain out of the box, an overlap > max_overlap, or a gain of\n"
+      "the grains' energy over the work done on them of more than 1 rho g d^4 per grain; the run file\n"
+      "records its verdict in /sanity.",
       args);
   if (!found) return 0;
   const Parameters& par = *found;
@@ -78,8 +79,9 @@ int pull_command(const std::vector<std::string>& args) {
                              {"the checkpoint", out + ".checkpoint.h5", "granudrag-checkpoint", false, true},
                              {"the frames' sidecar", out + ".xdmf", "text", false}});
   ParameterRecord bed_parameters;
-  const Bed bed = load_bed(bed_path, &bed_parameters);
+  Bed bed = load_bed(bed_path, &bed_parameters);
   if (bed.intruder < 0) throw Error("bed '" + bed_path + "' has no intruder to pull");
+  bed.dt = pull_time_step(par, bed);
   PullSpec spec;
   pull_keys().read(par, spec);
   const double D = 2 * bed.state.particles.radius[bed.intruder];

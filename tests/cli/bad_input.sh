@@ -38,6 +38,14 @@ cp good.h5 future.h5
 expect "format version 99" "$gd" pull --bed future.h5 --output r.h5
 "$gd" pull --bed good.h5 --output run.h5 --distance 0.5 --quiet >/dev/null 2>&1
 expect "not a granudrag-bed file" "$gd" pull --bed run.h5 --output r2.h5
+# A coarser pull step: refused below 16 steps per collision, and at 32 it is half the bed's
+# default step (t_c/64), recorded in the run file.
+expect "'collision_steps'" "$gd" pull --bed good.h5 --output r.h5 --collision_steps 8
+"$gd" pull --bed good.h5 --output run32.h5 --distance 0.5 --collision_steps 32 --quiet >/dev/null 2>&1 ||
+  fail "a pull with --collision_steps 32 failed"
+ratio=$(/usr/bin/python3 -c "import h5py; print(h5py.File('run32.h5')['/run'].attrs['dt'] / h5py.File('good.h5')['/contact'].attrs['dt'])")
+/usr/bin/python3 -c "import sys; sys.exit(abs($ratio - 2) > 1e-12)" && echo "ok: collision_steps 32 steps at twice the bed's dt" ||
+  fail "--collision_steps 32: the run's dt is $ratio times the bed's, expected 2"
 expect "either 'speed' or 'froude'" "$gd" pull --bed good.h5 --output r.h5 --speed 1 --froude 1
 expect "either 'active_radius' (in d) or 'active_diameters'" "$gd" pull --bed good.h5 --output r.h5 --active_radius 5 --active_diameters 3
 expect "'transient'" "$gd" pull --bed good.h5 --output r.h5 --distance 2 --transient 3

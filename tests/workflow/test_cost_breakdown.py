@@ -109,3 +109,15 @@ def test_a_target_error_costs_the_expected_stopping_distance():
     assert cost.expected_stop_distance(1.0, 0.001, 3.0, 0.0, 100) == 100
     assert cost.expected_stop_distance(1.0, 0.5, 3.0, 40.0, 100) == 40
     assert study.pull_cost(p, config) < study.pull_cost(pull, config) / 2
+
+
+def test_collision_steps_price_a_pull_at_its_own_step():
+    """32 steps per collision time: dt doubles from the bed's default t_c/64, the pull costs half."""
+    config = copy.deepcopy(CONFIG)
+    config["sweeps"] = config["sweeps"][:1]
+    plain = study.plan(config)
+    pull = plain.pulls[next(k for k in plain.pulls if k.endswith("/Fr~1"))]
+    config["sweeps"][0]["pull"] = {"collision_steps": 32}
+    coarse = study.plan(config).pulls[pull.key]
+    assert study.bed_dt(pull.bed, config) == physics.default_dt(pull.bed.value("kn"))
+    assert study.pull_cost(coarse, config) == pytest.approx(study.pull_cost(pull, config) / 2, rel=1e-12)

@@ -39,6 +39,25 @@ def test_yield_speed_validation_runs_end_to_end(tmp_path):
     assert r.returncode == 0
 
 
+def test_time_step_validation_pulls_the_same_beds_at_coarser_steps(tmp_path):
+    config = tiny("time_step_quick")
+    config["defaults"].update(kn=2e4, seeds=[1, 2])
+    config["systems"]["T64"].update(lx=8, ly=8, grains=700, pour={"ke_threshold": 1e-5, "max_settle_time": 20},
+                                    pull={"distance": 0.4, "transient": 0.1, "max_overlap": 0.2, "snapshots": 1})
+    config["sweeps"] = [dict(name=n, system=s, D=2, depth=3, Fr=1) for n, s in
+                        (("reference", "T64"), ("t32", "T32"), ("t20", "T20"))]
+    r = snakemake(tmp_path, write_config(tmp_path / "c.yaml", config), "--cores", "2", "validation")
+    assert r.returncode == 0, r.stderr[-2000:]
+    out = tmp_path / config["results"]
+    runs = pd.read_csv(out / "runs.csv")
+    # Two beds, poured once each, pulled at 64, 32 and 20 steps per collision time.
+    assert sorted(runs.collision_steps.round()) == [20, 20, 32, 32, 64, 64]
+    assert runs.groupby("seed").dt.agg(lambda dt: dt.max() / dt.min()).tolist() == pytest.approx([3.2, 3.2])
+    md = (out / "validate_time_step.md").read_text()
+    assert "collision_steps = 32 against 64" in md and "collision_steps = 20 against 64" in md, md
+    assert "Fewest steps per collision time that agree with 64" in md, md
+
+
 def test_pull_length_validation_runs_end_to_end(tmp_path):
     config = tiny("pull_length")
     config["systems"]["I"].update(lx=8, ly=8, grains=700, pour={"ke_threshold": 1e-5, "max_settle_time": 20})

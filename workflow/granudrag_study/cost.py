@@ -2,14 +2,15 @@
 
 A pull costs grains x travel / (V dt) particle-steps, a pour at most grains x max_settle_time
 / dt and is expected to cost grains x its expected settling time / dt; dt is the config's, or
-granudrag's default (analysis.physics.default_dt). The wall time of a job is its
+granudrag's default (analysis.physics.default_dt), and a pull's the collision time over its
+`collision_steps` when it sets them. The wall time of a job is its
 particle-steps over the config's `throughput` (particle-steps per second of one job on
 `threads` threads).
 """
 
 import math
 
-from analysis.physics import default_dt, froude
+from analysis.physics import collision_time, default_dt, froude
 
 from .config import pour_settings, settle_limit
 from .region_cost import asleep_fraction, sleeping_cost
@@ -37,6 +38,12 @@ def expected_stop_distance(Fr, target, transient, min_distance, most):
 def bed_dt(bed, config):
     dt = pour_settings(config, bed.system).get("dt")
     return float(dt) if dt else default_dt(bed.value("kn"))
+
+
+def pull_dt(pull, config):
+    """The pull's step: its bed's, or the collision time over the pull's collision_steps."""
+    steps = pull.settings_in(config).get("collision_steps")
+    return collision_time(pull.bed.value("kn")) / float(steps) if steps else bed_dt(pull.bed, config)
 
 
 def bed_cost(bed, config):
@@ -109,7 +116,7 @@ def pull_distance(pull, config):
 def pull_cost(pull, config):
     """Particle-steps of a pull: grains x travel / (V dt)."""
     grains = int(config["systems"][pull.bed.system]["grains"])
-    return grains * pull_distance(pull, config) / (pull.V * bed_dt(pull.bed, config))
+    return grains * pull_distance(pull, config) / (pull.V * pull_dt(pull, config))
 
 
 def expected_pull_cost(pull, config):

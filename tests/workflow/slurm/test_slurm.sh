@@ -113,12 +113,19 @@ def table(d):
     key = [c for c in ("system", "D", "h", "mu", "kn", "V") if c in t]
     return t.sort_values(key).reset_index(drop=True)
 local = table(sys.argv[3])
-cols = [c for c in ("D", "h", "mu", "V", "Fr", "drag", "drag_err", "n_contacts", "theta", "Z", "kappa") if c in local]
+# The engine's numbers must be bitwise equal. drag_err is a statistic of the force series
+# computed by numpy, whose summation order differs between Debian's numpy and the project
+# environment's (SIMD, pairwise blocks): it is compared to 1e-12 relative, far below any
+# difference a change of data could make.
+cols = [c for c in ("D", "h", "mu", "V", "Fr", "drag", "n_contacts", "theta", "Z", "kappa") if c in local]
+stat = [c for c in ("drag_err",) if c in local]
 for d, name in zip(sys.argv[1:3], ("Snakemake 9 + slurm", "Snakemake 7.21 + slurm-v7")):
     t = table(d)
     assert len(t) == len(local) > 0, f"{name}: {len(t)} vs {len(local)} rows"
     pd.testing.assert_frame_equal(t[cols], local[cols], check_exact=True)
-    print(f"table through {name}: {len(t)} pulls, identical to the local run in {', '.join(cols)}")
+    pd.testing.assert_frame_equal(t[stat], local[stat], check_exact=False, rtol=1e-12, atol=0)
+    print(f"table through {name}: {len(t)} pulls, identical to the local run in {', '.join(cols)}; "
+          f"{', '.join(stat)} equal to 1e-12")
 PY
 
 # A pull longer than the time limit: killed (TIMEOUT), resumed by the next attempt. Its length
