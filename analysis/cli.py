@@ -29,6 +29,7 @@ from pathlib import Path
 
 from .alpha_drag import ALPHA_SPEEDS
 from .fit_file import FitFileError
+from .result import N_BOOT
 
 
 def _speeds(text):
@@ -153,8 +154,8 @@ def parser():
     f = sub.add_parser("fit", help="every fit of the report -> fits.json")
     f.add_argument("table", help="pull table (CSV with the columns of results/table.csv)")
     f.add_argument("--output", required=True, help="fit file to write (JSON, analysis/README.md)")
-    f.add_argument("--n-boot", type=_non_negative(int, "--n-boot"), default=200,
-                   help="bootstrap refits of the regime fits (default 200)")
+    f.add_argument("--n-boot", type=_non_negative(int, "--n-boot"), default=N_BOOT,
+                   help=f"bootstrap refits of the regime fits (default {N_BOOT})")
     f.add_argument("--seed", type=_non_negative(int, "--seed"), default=0, help="bootstrap seed")
     f.add_argument("--h-min", type=_non_negative(float, "--h-min"), default=0.0,
                    help="Eq. 12 and Fig. 19 use pulls at depth h >= this only [d] (paper: 45; 0 = all)")

@@ -292,3 +292,13 @@ def test_the_reference_range_notation_is_the_engines():
     assert tool._range({}) == "any"
     assert [tool._plain(v) for v in (1e-07, 2e8, 0.02, 20, -1, True, 9e18)] == \
         ["1e-7", "2e8", "0.02", "20", "-1", "true", "9e18"]
+
+
+def test_the_bootstrap_count_is_declared_once(schema):
+    """report.n_boot's schema default, the workflow's fallback and `analysis fit --n-boot` are N_BOOT."""
+    from analysis.cli import parser
+    from analysis.result import N_BOOT
+
+    assert schema["properties"]["report"]["properties"]["n_boot"]["default"] == N_BOOT
+    fit = parser().parse_args(["fit", "t.csv", "--output", "f.json"])
+    assert fit.n_boot == N_BOOT

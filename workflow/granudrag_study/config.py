@@ -83,9 +83,10 @@ def fit_options(config):
     n_boot, seed, h_min (Eq. 12 and Fig. 19 depth cut) and alpha_speeds."""
     from analysis.alpha_drag import ALPHA_SPEEDS
     from analysis.fitset import Options
+    from analysis.result import N_BOOT
 
     rep = config.get("report") or {}
-    return Options(n_boot=int(rep.get("n_boot", 200)), seed=int(rep.get("seed", 0)),
+    return Options(n_boot=int(rep.get("n_boot", N_BOOT)), seed=int(rep.get("seed", 0)),
                    h_min=float(rep.get("h_min", 0.0) or 0.0),
                    alpha_speeds=tuple(float(v) for v in rep.get("alpha_speeds", ALPHA_SPEEDS)))
 
