@@ -17,6 +17,7 @@ The names below are the library's interface: `import granudrag_study as study; s
 
 from .commands import checkpoint_interval, movie_pull_args, pour_args, pour_checkpoint_interval, pull_args
 from .config import (
+    PATH_KEYS,
     SCHEMA,
     SETTLE_TIME_DEFAULT,
     ConfigError,
@@ -60,6 +61,7 @@ from .plan import (
 __all__ = [
     "BED_PATTERN",
     "PAPER_FLOW_FIELD",
+    "PATH_KEYS",
     "SCHEMA",
     "SETTLE_TIME_DEFAULT",
     "SPEED_PATTERN",

@@ -31,8 +31,20 @@ def validate_config(config, schema_path=SCHEMA):
         where = ""
         for part in best.absolute_path:
             where += f"[{part}]" if isinstance(part, int) else (f".{part}" if where else str(part))
-        lines.append(f"config key '{where or '(top level)'}': {best.message}")
+        lines.append(f"config key '{where or '(top level)'}': {_message(best, where)}")
     raise ConfigError("invalid config:\n  " + "\n  ".join(lines))
+
+
+# The config's paths: any path the filesystem allows (the rules quote them for the shell) but
+# one with braces, which Snakemake would read as wildcards (the schema's pattern).
+PATH_KEYS = ("granudrag", "results", "logs")
+
+
+def _message(err, where):
+    if err.validator == "pattern" and where in PATH_KEYS:
+        return (f"{err.instance!r} holds a brace ({{ or }}), which Snakemake reads as a wildcard "
+                "in a file's name: choose a path without braces")
+    return err.message
 
 
 # What a system that pulls through another's beds (`beds_from`) takes from it: the bed's box,

@@ -42,8 +42,8 @@ rule restitution:
         kn=REFERENCE_LAW[0],
         gamman=REFERENCE_LAW[1],
     shell:
-        "{input.granudrag} restitution --output {output} --speeds {params.speeds}"
-        " --kn {params.kn} --gamman {params.gamman} --threads 1 > {log} 2>&1"
+        "{input.granudrag:q} restitution --output {output:q} --speeds {params.speeds:q}"
+        " --kn {params.kn:q} --gamman {params.gamman:q} --threads 1 > {log:q} 2>&1"
 
 
 rule restitution_theory:

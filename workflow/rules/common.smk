@@ -2,6 +2,7 @@
 # library behind them is granudrag_study (plain Python, tested on its own).
 
 import os
+import shlex
 from pathlib import Path
 
 from snakemake.exceptions import WorkflowError
@@ -100,12 +101,14 @@ def poured_bed_file(wildcards):
     return bed_file(study.poured_bed(_bed(wildcards), config).key)
 
 
+# Arguments as one shell-quoted string (shlex.join): the rules pass it whole to resumable.sh,
+# which keeps it beside the checkpoint ({params.args:q}), and split to granudrag ({params.args}).
 def pour_args(wildcards):
-    return " ".join(study.pour_args(_bed(wildcards), config))
+    return shlex.join(study.pour_args(_bed(wildcards), config))
 
 
 def pull_args(wildcards):
-    return " ".join(study.pull_args(_bed(wildcards), wildcards.speed, PLAN))
+    return shlex.join(study.pull_args(_bed(wildcards), wildcards.speed, PLAN))
 
 
 def _grains(wildcards):

@@ -19,11 +19,11 @@ rule movie_pull:
         "../envs/granudrag.yaml"
     threads: THREADS
     params:
-        args=" ".join(study.movie_pull_args(MOVIE_PULL, config)),
+        args=shlex.join(study.movie_pull_args(MOVIE_PULL, config)),
     shell:
         """
-        rm -f {output.run}.lock
-        {input.granudrag} pull --bed {input.bed} --output {output.run} --threads {threads} --resume {params.args} >{log} 2>&1
+        rm -f {output.run:q}.lock
+        {input.granudrag:q} pull --bed {input.bed:q} --output {output.run:q} --threads {threads} --resume {params.args} >{log:q} 2>&1
         """
 
 

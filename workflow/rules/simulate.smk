@@ -19,8 +19,8 @@ rule build_granudrag:
         source=REPO,
         build=lambda wildcards, output: Path(output[0]).parent,
     shell:
-        "(cmake -S {params.source} -B {params.build} -DCMAKE_BUILD_TYPE=Release"
-        " && cmake --build {params.build} -j {threads} --target granudrag) > {log} 2>&1"
+        "(cmake -S {params.source:q} -B {params.build:q} -DCMAKE_BUILD_TYPE=Release"
+        " && cmake --build {params.build:q} -j {threads} --target granudrag) > {log:q} 2>&1"
 
 
 # A pour checkpoints only when its settling may outlast `checkpoint_minutes` of
@@ -50,8 +50,8 @@ rule bed:
         args=pour_args,
         resumable=RESUMABLE,
     shell:
-        '{params.resumable} {output} {log} {resources.attempt} "{params.args}" ""'
-        " -- {input.granudrag} pour --output {output} --threads {threads} --resume {params.args}"
+        "{params.resumable:q} {output:q} {log:q} {resources.attempt} {params.args:q} ''"
+        " -- {input.granudrag:q} pour --output {output:q} --threads {threads} --resume {params.args}"
 
 
 # A pull checkpoints every tenth of its travel, or every `checkpoint_minutes` of
@@ -85,8 +85,8 @@ rule pull:
         args=pull_args,
         resumable=RESUMABLE,
     shell:
-        '{params.resumable} {output} {log} {resources.attempt} "{params.args}" {input.bed}'
-        " -- {input.granudrag} pull --bed {input.bed} --output {output} --threads {threads} --resume {params.args}"
+        "{params.resumable:q} {output:q} {log:q} {resources.attempt} {params.args:q} {input.bed:q}"
+        " -- {input.granudrag:q} pull --bed {input.bed:q} --output {output:q} --threads {threads} --resume {params.args}"
 
 
 rule beds:
