@@ -44,8 +44,11 @@ expect "'collision_steps'" "$gd" pull --bed good.h5 --output r.h5 --collision_st
 "$gd" pull --bed good.h5 --output run32.h5 --distance 0.5 --collision_steps 32 --quiet >/dev/null 2>&1 ||
   fail "a pull with --collision_steps 32 failed"
 ratio=$(/usr/bin/python3 -c "import h5py; print(h5py.File('run32.h5')['/run'].attrs['dt'] / h5py.File('good.h5')['/contact'].attrs['dt'])")
-/usr/bin/python3 -c "import sys; sys.exit(abs($ratio - 2) > 1e-12)" && echo "ok: collision_steps 32 steps at twice the bed's dt" ||
+if /usr/bin/python3 -c "import sys; sys.exit(abs($ratio - 2) > 1e-12)"; then
+  echo "ok: collision_steps 32 steps at twice the bed's dt"
+else
   fail "--collision_steps 32: the run's dt is $ratio times the bed's, expected 2"
+fi
 expect "either 'speed' or 'froude'" "$gd" pull --bed good.h5 --output r.h5 --speed 1 --froude 1
 expect "either 'active_radius' (in d) or 'active_diameters'" "$gd" pull --bed good.h5 --output r.h5 --active_radius 5 --active_diameters 3
 expect "'transient'" "$gd" pull --bed good.h5 --output r.h5 --distance 2 --transient 3
