@@ -62,7 +62,7 @@ from .figures_yield import (
     fig18_alpha,
     fig19_scaled_drag_h,
 )
-from .fits import THETA_MIN_POINTS, fit_alpha, fit_kappa, fit_theta, series_labels
+from .fits import THETA_DEFINITIONS, THETA_MIN_POINTS, fit_alpha, fit_kappa, fit_theta, series_labels
 from .physics import gamman_ratio
 from .result import format_pm
 from .table import reference_params, select, yield_rows
@@ -124,24 +124,40 @@ def fig10_drag_vs_Fr_mu0(df, outdir, fits=None):
     return fig05_drag_vs_Fr(df, outdir, mu=0.0, fits=fits)
 
 
-def fig06_theta(df, outdir, mu=0.5, fit=None):
-    """Fig. 6: contact angle vs Fr per D with theta = U1 Fr^U2 + pi/U3."""
-    rows = select(_reference(df), mu=mu, system="I").dropna(subset=["theta"])
-    rows = _need(rows, f"contact angles at mu = {mu:g}", at_least=1 if fit else THETA_MIN_POINTS)
-    err = rows["theta_err"] if "theta_err" in rows else None
-    fit = fit or fit_theta(rows.Fr, rows.theta, err, series_labels(rows))
-    fig, ax = _subplots(figsize=(5, 3.8))
+def fig06_theta(df, outdir, mu=0.5, fit=None, fit_present=None):
+    """Fig. 6: contact angle vs Fr per D with theta = U1 Fr^U2 + pi/U3; beside it, when the table
+    has it, θ over the contacts present (time-weighted, column theta_present) with its own Eq. 7 fit
+    (fit_present; fitted here only when neither fit is given, as a figure drawn without fits.json)."""
+    ref = select(_reference(df), mu=mu, system="I")
+    rows = _need(ref.dropna(subset=["theta"]), f"contact angles at mu = {mu:g}",
+                 at_least=1 if fit else THETA_MIN_POINTS)
+    present = ref.dropna(subset=["theta_present"]) if "theta_present" in ref else ref.iloc[:0]
+    panels = [("theta", rows, fit)]
+    if len(present) and (fit_present or (fit is None and len(present) >= THETA_MIN_POINTS)):
+        panels.append(("theta_present", present, fit_present))
+    fig, axes = _subplots(1, len(panels), figsize=(5 * len(panels), 3.8), squeeze=False, sharey=True)
+    for ax, (col, g, f) in zip(axes[0], panels):
+        _theta_panel(ax, col, g, f, len(panels) > 1)
+    return _save(fig, outdir, "fig06_theta_vs_Fr")
+
+
+def _theta_panel(ax, col, rows, fit, titled):
+    """One θ definition against Fr with its Eq. 7 fit (fitted here when not given)."""
+    err = rows[f"{col}_err"] if f"{col}_err" in rows else None
+    fit = fit or fit_theta(rows.Fr, rows[col], err, series_labels(rows))
+    tag = "" if col == "theta" else f"{col}: "
     for i, (label, g) in enumerate(_series(rows)):     # with the errors the fit was weighted by
-        _errorbars(ax, g.Fr, g.theta, err[g.index] if err is not None else np.nan, i, label)
+        _errorbars(ax, g.Fr, g[col], err[g.index] if err is not None else np.nan, i, label, series=tag + label)
     p = fit.values()
     note = _fit_note(fit)
     label = rf"${p['U1']:.2f}\,{{\rm Fr}}^{{{p['U2']:.2f}}} + \pi/{p['U3']:.2f}$"
     _curve(ax, fit, rows.Fr.min(), rows.Fr.max(), label=label + (f"\n({note})" if note else ""),
-           series=f"theta = {p['U1']:.2f} Fr^{p['U2']:.2f} + pi/{p['U3']:.2f}")
+           series=f"{tag}theta = {p['U1']:.2f} Fr^{p['U2']:.2f} + pi/{p['U3']:.2f}")
     ax.set_xlabel(FR_LABEL)
     ax.set_ylabel(r"mean contact angle $\theta$ (rad)")
+    if titled:
+        ax.set_title(f"θ {THETA_DEFINITIONS[col]}", fontsize=8)
     ax.legend(fontsize=7)
-    return _save(fig, outdir, "fig06_theta_vs_Fr")
 
 
 def _series(rows):

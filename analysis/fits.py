@@ -160,6 +160,10 @@ def theta_start(Fr, theta, sigma=None):
 
 
 THETA_MIN_POINTS = 3   # Eq. 7 has three parameters
+# θ's two definitions, each fitted by Eq. 7 (fits.json keys `theta`, `theta_present`): table column ->
+# what it averages (its fit's meta `definition`).
+THETA_DEFINITIONS = {"theta": "per contact formation",
+                     "theta_present": "time-weighted, over the contacts present at each sample"}
 
 
 def fit_theta(Fr, theta, sigma=None, groups=None, shared=None, beds=None):

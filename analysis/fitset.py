@@ -18,6 +18,7 @@ from .alpha_drag import ALPHA_DRAG_COLUMNS, ALPHA_SPEED_COLUMNS, ALPHA_SPEEDS, f
 from .fit_file import load_fits, save_fits
 from .fits import (
     GOODNESS_COLUMNS,
+    THETA_DEFINITIONS,
     fit_alpha,
     fit_kappa,
     fit_phi,
@@ -67,7 +68,8 @@ class Options:
 @dataclass
 class Results:
     regimes: dict = field(default_factory=dict)     # (label, mu, key) -> Fit
-    theta: object = None
+    theta: object = None          # Eq. 7 of θ per contact formation (table column theta)
+    theta_present: object = None  # Eq. 7 of θ over the contacts present, time-weighted (theta_present)
     kappa: object = None
     phi: object = None
     alpha: object = None          # alpha_mu from the yield force (Fig. 17)
@@ -187,11 +189,15 @@ def fit_observables(r, obs, pool=None):
     """θ(Fr) (Eq. 7) and κ(Fr) (Fig. 8) of the rows obs (system I at mu = 0.5, the reference
     contact law) into the Results r, weighted by their errors (table.observable_errors: with
     replicate beds the between-bed part pooled over `pool`, which each bed shares, enters the
-    covariance)."""
-    th = obs.dropna(subset=["theta"])
-    th_err, th_shared = observable_errors(th, "theta", pool) if "theta_err" in th.columns else (None, None)
-    r.theta = _try(r, "theta(Fr)", fit_theta, th.Fr, th.theta, th_err, series_labels(th), th_shared,
+    covariance). θ twice, by THETA_DEFINITIONS: r.theta per contact formation, r.theta_present over
+    the contacts present at each sample (None where the table has no such column or only NaN,
+    as from run files before the engine recorded it)."""
+    for col in THETA_DEFINITIONS:
+        th = obs.dropna(subset=[col]) if col in obs.columns else obs.iloc[:0]
+        err, shared = observable_errors(th, col, pool) if f"{col}_err" in th.columns else (None, None)
+        fit = _try(r, f"{col}(Fr)", fit_theta, th.Fr, th[col], err, series_labels(th), shared,
                    bed_labels(th)) if len(th) else None
+        setattr(r, col, None if fit is None else _with_meta(fit, definition=THETA_DEFINITIONS[col]))
     ka = obs.dropna(subset=["kappa"])
     r.kappa = _try(r, "kappa(Fr)", fit_kappa, ka, pool) if len(ka) else None
 
@@ -260,7 +266,7 @@ def named_fits(r):
         f"regimes_mu{mu:g}_{by}{key:g}": _with_meta(f, group=by, mu=float(mu), group_value=float(key))
         for (by, mu, key), f in r.regimes.items()
     }
-    fits.update({k: v for k, v in (("theta", r.theta), ("kappa", r.kappa)) if v is not None})
+    fits.update({k: getattr(r, k) for k in (*THETA_DEFINITIONS, "kappa") if getattr(r, k) is not None})
     fits.update({f"saturation_D{D:g}": _with_meta(f, D=float(D)) for D, f in r.saturation.items()})
     fits.update({f"law_mu{law.mu:g}": law.regimes for law in r.laws})
     return fits
@@ -325,7 +331,7 @@ def load_results(path):
             r.regimes[(f.meta["group"], f.meta["mu"], f.meta["group_value"])] = f
         elif name.startswith("saturation_"):
             r.saturation[f.meta["D"]] = f
-        elif name in ("theta", "kappa"):
+        elif name in (*THETA_DEFINITIONS, "kappa"):
             setattr(r, name, f)
     for k, cols in TABLE_COLUMNS.items():
         setattr(r, TABLE_ATTR[k], _frame(ff.tables.get(k, []), cols))

@@ -17,8 +17,9 @@ figure follow that rung's files, so a newer rung moves the row by a change of `c
 
 The figure, evidence_<letter>.png (analysis.ladder_summary.evidence_figures): (a) the drag of the
 quoted series against Fr with the line, the quadratic and the paper's shape and their residuals
-(analysis.regime_figure, the figure `python -m analysis regime-tests` draws); (b) θ against Fr with
-the rung's Eq. 7 fit and the paper's; (c) κ against Fr with the rung's line and Eq. 8; (d) and (e)
+(analysis.regime_figure, the figure `python -m analysis regime-tests` draws, a column per averaging:
+the steady drag and the paper's cumulative average); (b) θ against Fr with the rung's Eq. 7 fit and
+the paper's, and the time-weighted θ (theta_present) with its own fit where the rung has it; (c) κ against Fr with the rung's line and Eq. 8; (d) and (e)
 the report's Figs. 13 and 17 drawn from the rung's table and fits; (f) α_μ + φ_μ against μ, both
 ways of α_μ, each with its standard error and the 95 % interval its verdict takes (Student's t at
 the sum's degrees of freedom), beside the paper's 3; (g) the μ = 0 drag of regime I per D with the
@@ -241,11 +242,27 @@ def _observable_figure(kind, table, fits, tmp, rung):
     ax.plot(fr, evaluate(fit, fr), color="C3", lw=1.2, ls=":" if bad else "-",
             label=name + (" (model rejected)" if g.get("rejected") else "")
             + ("; on a bound" if fit.meta.get("at_bounds") else ""))
+    if kind == "theta":
+        _theta_present(ax, rows, getattr(fits, "theta_present", None), fr)
     ax.set_xlabel("Fr")
     what = "θ(Fr), Eq. 7" if kind == "theta" else "κ(Fr), Eq. 8"
     ax.set_title(f"({'b' if kind == 'theta' else 'c'}) {what}: {rung}", fontsize=9)
     ax.legend(fontsize=7)
     return _savefig(fig, tmp / f"{kind}.png")
+
+
+def _theta_present(ax, rows, fit, fr):
+    """θ over the contacts present (time-weighted, column theta_present) beside θ per formation:
+    grey squares and its own Eq. 7 fit, when the rung has both."""
+    from .fits import evaluate
+    if fit is None or "theta_present" not in rows.columns or rows.theta_present.isna().all():
+        return
+    err = rows["theta_present_err"] if "theta_present_err" in rows.columns else None
+    ax.errorbar(rows.Fr, rows.theta_present, yerr=err, fmt="s", ms=3.5, mfc="none", capsize=2, color="0.45",
+                label="θ time-weighted (contacts present)")
+    v, rejected = fit.values(), bool((fit.meta.get("goodness") or {}).get("rejected"))
+    ax.plot(fr, evaluate(fit, fr), color="0.3", lw=1.0, ls=":" if rejected or fit.meta.get("at_bounds") else "-.",
+            label=f"its fit: {v['U1']:.3g} Fr^{v['U2']:.2g} + π/{v['U3']:.2g}" + (" (model rejected)" if rejected else ""))
 
 
 def _sum_rule_figure(fits, tmp, rung):

@@ -137,10 +137,13 @@ def comparisons(r, df=None):
                          law.regimes, basis))
     obs = sub(mu=0.5, system="I")
     # θ and κ from a few speeds, or from yield pulls only, test nothing: not studied, no row.
-    if r.theta is not None and observables_studied(obs, "theta", r.theta):
-        for k, name in (("U1", "Υ1"), ("U2", "Υ2"), ("U3", "Υ3")):
-            rows.append(entry(f"θ(Fr) {name} (Eq. 7)", r.theta[k], paper.THETA[k], fit=r.theta, rows=obs,
-                             observable=True))
+    # θ per contact formation, then over the contacts present (time-weighted), each against Eq. 7.
+    for col, what, how in (("theta", "θ(Fr)", ""), ("theta_present", "θ_present(Fr)", ", time-weighted")):
+        fit = getattr(r, col, None)
+        if fit is not None and observables_studied(obs, col, fit):
+            for k, name in (("U1", "Υ1"), ("U2", "Υ2"), ("U3", "Υ3")):
+                rows.append(entry(f"{what} {name} (Eq. 7{how})", fit[k], paper.THETA[k], fit=fit, rows=obs,
+                                 observable=True))
     if r.kappa is not None and observables_studied(obs, "kappa", r.kappa):
         for k in ("k0", "k1"):
             rows.append(entry(f"κ(Fr) {'intercept' if k == 'k0' else 'slope'} (Fig. 8)",

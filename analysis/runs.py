@@ -3,7 +3,8 @@
 A run file holds one pull: attributes on /run (D, depth, speed, froude, mu,
 kn, gamman, dt, steps), the observables under /observables (drag with its
 standard error, that error's Student-t degrees of freedom `error_dof` and its
-convergence flag `plateau`, intruder coordination n, contact angle theta, bulk
+convergence flag `plateau`, intruder coordination n, contact angle theta (per contact
+formation; theta_present over the contacts present, NaN in files before it), bulk
 coordination Z, kappa, the force series) and the resolved parameters of the
 pull and of its bed, one typed attribute per key under /parameters/pull and
 /parameters/pour (`read_parameters`). `read_run` turns one file into a row of
@@ -59,7 +60,8 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 # check (requested depth, time step, how much of the pull was discarded) and
 # the scale of the run (box, grains poured, distance pulled; NaN when the file
 # does not record them).
-EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "collision_steps", "steps", "transient_distance", "theta_err", "kappa_err",
+EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "collision_steps", "steps", "transient_distance", "theta_err",
+                 "theta_present", "theta_present_err", "kappa_err",
                  "drag_dof", "plateau", "drag_err_engine", "plateau_engine", "drag_cumulative",
                  "drag_cumulative_err", "seed", "lx", "ly", "grains", "distance", "stop_reason",
                  "active_radius", "wake_force", "wake_load", "sleep_speed", "sleep_time", "perturbation", "asleep",
@@ -172,6 +174,7 @@ def read_run(path, system=None, root=None):
         transient = observable("drag", "transient_distance")
         n = observable("coordination")
         theta, theta_err = observable("theta"), observable("theta", "error")
+        theta_present = _theta_present(obs)
         Z, kappa = observable("bulk_coordination"), observable("kappa")
         kappa_err = kappa_error(obs, kappa, n, transient / get["speed"] if get["speed"] > 0 else 0.0)
         scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
@@ -237,6 +240,7 @@ def read_run(path, system=None, root=None):
             "run": str(run_dir), "h_requested": h_requested, "z_requested": z_requested, "dt": get["dt"],
             "collision_steps": round(physics.collision_time(get["kn"]) / get["dt"], 1),
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
+            "theta_present": theta_present[0], "theta_present_err": theta_present[1],
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
             "drag_err_engine": drag_err_engine, "plateau_engine": plateau_engine,
             "drag_cumulative": series["drag_cumulative"], "drag_cumulative_err": series["drag_cumulative_err"],
@@ -256,6 +260,15 @@ def _verdict(f, path):
         return "unknown"
     value = _attr(group, "verdict", path, "/sanity")
     return value if value else "unknown"
+
+
+def _theta_present(obs):
+    """(value, error) of θ over the contacts present at each sample (time-weighted); (NaN, NaN) for
+    a file written before the engine recorded it, or a value or error it could not estimate."""
+    group = obs.get("theta_present")
+    if group is None:
+        return math.nan, math.nan
+    return tuple(float(group.attrs.get(k, math.nan)) for k in ("value", "error"))
 
 
 def _drag_convergence(group, drag_err):

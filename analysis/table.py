@@ -373,11 +373,11 @@ def _combine_kind(runs, r2=None, prior=None):
     drag_cumulative (the cumulative average from t = 0) and its error as the drag's, drag_err_engine
     the engine's errors by the same rule; drag_bed_sd: the beds' standard deviation of the drag
     (NaN for one bed), drag_bed_sd_ratio (_engine): over the beds' mean drag_err (drag_err_engine);
-    theta_err_within, _between, _var_excess and kappa's likewise split their errors;
+    theta_err_within, _between, _var_excess, theta_present's and kappa's likewise split their errors;
     bed_scatter_source: where the point's bed scatter came from (BED_SCATTER_SOURCES: replicates,
     pooled, prior, none), bed_scatter_r and bed_scatter_dof: sqrt(r2) and its dof for a point
     poured once (NaN otherwise), bed_scatter_study: the prior's source (empty otherwise).
-    Other observables are means over the beds (theta_err and kappa_err combined as drag_err,
+    Other observables are means over the beds (theta_err, theta_present_err, kappa_err as drag_err,
     without the pooled term). Rows without a seed (runs outside the workflow's layout) pass unchanged.
     """
     if r2 is None:
@@ -425,10 +425,10 @@ def _combine_kind(runs, r2=None, prior=None):
             out[c] = np.bincount(codes, ~runs[c].astype(bool).to_numpy()) == 0
     from .bed_spread import bed_spread
     bed_spread(out, runs, codes, k, r2 if np.isfinite(r2) and single != "none" else np.nan)
-    for c in ("h", "n_contacts", "Z", "kappa", "theta"):
+    for c in [c for c in ("h", "n_contacts", "Z", "kappa", "theta", "theta_present") if c in runs]:
         out[c] = np.bincount(codes, runs[c].to_numpy(float)) / k
-    for c in ("theta", "kappa"):     # each bed's error and the beds' scatter, as drag_err
-        if f"{c}_err" in runs:
+    for c in ("theta", "theta_present", "kappa"):     # each bed's error and the beds' scatter, as drag_err
+        if {c, f"{c}_err"} <= set(runs.columns):
             _, s2c, Wc = _moments(codes, k, runs[c].to_numpy(float), runs[f"{c}_err"].to_numpy(float))
             out[f"{c}_err"] = np.sqrt(np.maximum(np.nan_to_num(s2c), Wc) / k)
             out[f"{c}_err_within"] = np.sqrt(Wc / k)
