@@ -45,9 +45,9 @@ def _name(keys):
     return f"regime_tests_{keys['system']}_D{keys['D']:g}{h}_mu{keys['mu']:g}_kn{kn}"
 
 
-def draw_series(keys, g, outdir, fr_range=RANGES[-1]):
-    """One series' figure; returns the paths written."""
-    avgs = averagings(g)
+def draw_series(keys, g, outdir, fr_range=RANGES[-1], averaging="both"):
+    """One series' figure, a column per averaging (regime_tests.averagings' `which`); returns the paths written."""
+    avgs = averagings(g, averaging)
     fig, axes = _subplots(2, len(avgs), figsize=(5.2 * len(avgs), 6), squeeze=False, sharex=True,
                           gridspec_kw={"height_ratios": [3, 1.3]})
     for j, (name, col, err) in enumerate(avgs):
@@ -89,6 +89,6 @@ def draw_series(keys, g, outdir, fr_range=RANGES[-1]):
     return _save(fig, outdir, _name(keys))
 
 
-def draw(table, outdir):
+def draw(table, outdir, averaging="both"):
     """Every series' figure; returns the paths written."""
-    return [p for keys, g in series(table) for p in draw_series(keys, g, outdir)]
+    return [p for keys, g in series(table) for p in draw_series(keys, g, outdir, averaging=averaging)]

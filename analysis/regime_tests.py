@@ -20,6 +20,11 @@ the issue that asked for these tests weighed them; scaled up by √(χ²/dof) of
 above 1 (scatter beyond the errors; the quadratic's, so that a curvature does not pass for noise),
 `noise_scale` in the table. Yield pulls are left out (their drag is F_Y, not a drag at speed).
 
+Averagings (AVERAGINGS; `averaging` "both", "steady" or "cumulative", the command's --averaging): the
+steady drag (column drag) and the paper's cumulative average from t = 0 (drag_cumulative), each with its
+own error column; every test is run under each, and every output says which.
+
+regime_tests.md: the verdicts in words, a section per averaging (summary_markdown).
 regime_tests.csv, one row per series × averaging × range × test (COLUMNS): chi2, dof of the test's
 model; delta_chi2 against the line; coef (b for the line and regime I, c, b' for the paper's shape)
 with coef_value, coef_err; crossover (Fr₂, Fr₁) and its Δχ² ≤ 1 interval crossover_lo, _hi;
@@ -42,11 +47,17 @@ from .regime_fits import (
     profile_plateau_line,
 )
 from .regime_power import N_SIM, Calibration, verdict
-from .table import is_yield, write_csv
+from .table import is_yield, write_csv, write_text_atomic
 
 # (name, drag column, error column): the steady drag the table has always had, and the paper's
 # cumulative average (the whole pull, its start included) when the table has it.
 AVERAGINGS = (("steady", "drag", "drag_err"), ("cumulative", "drag_cumulative", "drag_cumulative_err"))
+AVERAGING_NAMES = tuple(a[0] for a in AVERAGINGS)
+# What each averaging is, for the summary (regime_tests.md).
+AVERAGING_TEXT = {
+    "steady": "The steady drag: -F_x averaged after the start's transient is discarded (column drag)",
+    "cumulative": "The cumulative average from t = 0 over the whole pull, the start included (column "
+                  "drag_cumulative): the averaging of the paper's Fig. 4, which its drags imply"}
 RANGES = ((1.0, 10.0), (1.0, 15.0))
 REGIME1_RANGE = (0.0, 3.0)
 GROUP = ["system", "D", "h", "mu", "kn"]   # h: a system II series' depth (NaN for system I)
@@ -171,17 +182,30 @@ def series(table):
         yield dict(zip(GROUP, keys)), g.sort_values("Fr")
 
 
-def averagings(table):
-    """The averagings the table has: (name, drag column, error column)."""
-    return [a for a in AVERAGINGS if {a[1], a[2]} <= set(table.columns)]
+def averagings(table, which="both"):
+    """The averagings the table has, (name, drag column, error column); which: "both" (every one it
+    has), "steady" or "cumulative" (that one: ValueError, naming its columns, when the table lacks it)."""
+    have = [a for a in AVERAGINGS if {a[1], a[2]} <= set(table.columns)]
+    if which == "both":
+        return have
+    if which not in AVERAGING_NAMES:
+        raise ValueError(f"averaging {which!r}: one of {', '.join(AVERAGING_NAMES)} or both")
+    found = [a for a in have if a[0] == which]
+    if not found:
+        a = next(a for a in AVERAGINGS if a[0] == which)
+        raise ValueError(f"the {which} averaging needs columns {a[1]} and {a[2]}, which the table lacks "
+                         f"(a table made before them: rebuild it from its runs, analysis.ladder_refit)")
+    return found
 
 
-def regime_tests(table, *, ranges=RANGES, regime1_range=REGIME1_RANGE, n_sim=N_SIM, seed=0):
-    """Every test of every series and averaging of the table (DataFrame, COLUMNS)."""
+def regime_tests(table, *, ranges=RANGES, regime1_range=REGIME1_RANGE, n_sim=N_SIM, seed=0, averaging="both"):
+    """Every test of every series and averaging of the table (DataFrame, COLUMNS); averaging as
+    averagings' `which`."""
     rows = []
+    chosen = averagings(table, averaging)
     for keys, g in series(table):
         beds = int(g.n_beds.min()) if "n_beds" in g.columns and g.n_beds.notna().all() else None
-        for name, col, err in averagings(table):
+        for name, col, err in chosen:
             cols = (g.Fr, g[col], g[err])
             out = [r for lo, hi in ranges for r in regime3_rows(*cols, lo, hi, n_sim=n_sim, seed=seed, beds=beds)]
             out.append(regime1_row(*cols, *regime1_range, n_sim=n_sim, seed=seed, beds=beds))
@@ -190,10 +214,40 @@ def regime_tests(table, *, ranges=RANGES, regime1_range=REGIME1_RANGE, n_sim=N_S
 
 
 def write_tests(table, outdir, **kw):
-    """regime_tests.csv in outdir, written atomically; returns (the tests, its path). The figures:
-    analysis.regime_figure.draw."""
+    """regime_tests.csv and its summary regime_tests.md (summary_markdown) in outdir, written
+    atomically; returns (the tests, the csv's path). The figures: analysis.regime_figure.draw."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     tests = regime_tests(table, **kw)
     write_csv(tests, outdir / "regime_tests.csv")
+    write_text_atomic(outdir / "regime_tests.md", summary_markdown(tests))
     return tests, outdir / "regime_tests.csv"
+
+
+def _series_title(r):
+    where = f"h = {r.h:g}" if np.isfinite(float(r.h)) else f"D = {r.D:g}"
+    return f"system {r.system}, {where}, μ = {r.mu:g}, K_n = {r.kn:g}"
+
+
+def summary_markdown(tests):
+    """The tests' verdicts in words, a section per averaging (what it is, AVERAGING_TEXT), a table per
+    series: range, test, Δχ² against the line, the coefficient, p, power, verdict."""
+    lines = ["# Claim (a): regime tests", "",
+             "Each test under each averaging of the drag; Δχ² against one line (negative: the model fits "
+             "better), p and power calibrated on synthetic copies of the series (analysis/regime_tests.py).", ""]
+    for name in [a for a in AVERAGING_NAMES if a in set(tests.averaging)]:
+        lines += [f"## {name} averaging", "", AVERAGING_TEXT[name] + ".", ""]
+        part = tests[tests.averaging == name]
+        for _, g in part.groupby(GROUP, dropna=False, sort=False):
+            lines += [f"### {_series_title(g.iloc[0])} ({name})", "",
+                      "| Fr | test | Δχ² | coefficient | p | power | verdict |", "|---|---|---|---|---|---|---|"]
+            for r in g.itertuples():
+                coef = (f"{r.coef} = {_pm(r.coef_value, r.coef_err)}" if isinstance(r.coef, str)
+                        and np.isfinite(r.coef_err) else f"{r.coef} = {r.coef_value:.4g}" if isinstance(r.coef, str)
+                        else "")
+                cells = [f"{r.fr_low:g}-{r.fr_high:g}", r.test, "" if pd.isna(r.delta_chi2) else f"{r.delta_chi2:.2f}",
+                         coef, "" if pd.isna(r.p) else f"{r.p:.2g}", "" if pd.isna(r.power) else f"{r.power:.2f}",
+                         r.verdict if isinstance(r.verdict, str) else (r.note if isinstance(r.note, str) else "")]
+                lines.append("| " + " | ".join(str(c).replace("|", "/") for c in cells) + " |")
+            lines.append("")
+    return "\n".join(lines)

@@ -253,3 +253,40 @@ def test_the_rung_gives_the_issues_numbers():
     assert (out.loc[(15, "quadratic"), "coef_value"], out.loc[(15, "quadratic"), "coef_err"]) == \
         (pytest.approx(2.31, abs=0.01), pytest.approx(1.40, abs=0.01))
     assert out.loc[(15, "paper_fr2_5"), "delta_chi2"] == pytest.approx(-4.48, abs=0.01)
+
+
+def test_each_averaging_is_tested_on_its_own_drag_and_labelled(tmp_path, capsys):
+    """A table whose steady drag is a line and whose cumulative average is the paper's shape (a
+    quadratic from Fr 5): each averaging's tests see its own curve, and every output says which."""
+    fr = np.array([0.5, 1, 1.5, 2, 3, 4, 5, 6, 7, 8, 10, 12, 15])
+    df = _table().iloc[1:].reset_index(drop=True)          # Fr as listed, no yield pull
+    assert np.allclose(df.Fr, fr)
+    df["drag"], df["drag_err"] = line(fr, a=900.0), 10.0
+    df["drag_cumulative"], df["drag_cumulative_err"] = paper_shaped(fr, a=900.0, b2=8.0), 10.0
+    table = tmp_path / "table.csv"
+    df.to_csv(table, index=False)
+    assert main(["regime-tests", str(table), "--out", str(tmp_path / "both"), "--n-sim", "200"]) == 0
+    out = pd.read_csv(tmp_path / "both" / "regime_tests.csv").set_index(["averaging", "fr_high", "test"])
+    for test in ("quadratic", "paper_fr2_5"):
+        assert out.loc[("cumulative", 15, test), "verdict"].startswith("a quadratic"), test
+        assert " shown (" in out.loc[("cumulative", 15, test), "verdict"]
+        assert out.loc[("steady", 15, test), "verdict"].startswith("a line preferred"), test
+    assert out.loc[("cumulative", 15, "quadratic"), "coef_value"] > 3 * out.loc[("cumulative", 15, "quadratic"), "coef_err"]
+    assert abs(out.loc[("steady", 15, "quadratic"), "coef_value"]) < 1e-6
+    md = (tmp_path / "both" / "regime_tests.md").read_text()
+    steady, cumulative = md.split("## steady averaging")[1].split("## cumulative averaging")
+    assert "drag_cumulative" in cumulative and "Fig. 4" in cumulative
+    assert "a quadratic rise shown" in cumulative and "a quadratic rise shown" not in steady
+    assert "a line preferred" in steady
+    # One averaging alone: only its rows and its column of the figure
+    assert main(["regime-tests", str(table), "--out", str(tmp_path / "cum"), "--n-sim", "200",
+                 "--averaging", "cumulative"]) == 0
+    assert set(pd.read_csv(tmp_path / "cum" / "regime_tests.csv").averaging) == {"cumulative"}
+    drawn = pd.read_csv(tmp_path / "cum" / "regime_tests_I_D3_mu0.5_kn2e6.csv")
+    assert drawn.series.str.startswith("cumulative: ").all()
+    assert "## steady averaging" not in (tmp_path / "cum" / "regime_tests.md").read_text()
+    # Asked of a table made before the cumulative average: refused, naming its columns
+    df.drop(columns=["drag_cumulative", "drag_cumulative_err"]).to_csv(table, index=False)
+    capsys.readouterr()
+    assert main(["regime-tests", str(table), "--out", str(tmp_path / "old"), "--averaging", "cumulative"]) == 2
+    assert "drag_cumulative" in capsys.readouterr().err
