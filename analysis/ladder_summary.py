@@ -17,9 +17,10 @@ figure follow that rung's files, so a newer rung moves the row by a change of `c
 
 The figure, evidence_<letter>.png (analysis.ladder_summary.evidence_figures): (a) the drag of the
 quoted series against Fr with the line, the quadratic and the paper's shape and their residuals
-(analysis.regime_figure, the figure `python -m analysis regime-tests` draws, a column per averaging:
-the steady drag and the paper's cumulative average); (b) θ against Fr with the rung's Eq. 7 fit and
-the paper's, and the time-weighted θ (theta_present) with its own fit where the rung has it; (c) κ against Fr with the rung's line and Eq. 8; (d) and (e)
+(analysis.regime_figure, the figure `python -m analysis regime-tests` draws, a column per
+averaging: the steady drag and the paper's cumulative average); (b) θ against Fr with the rung's
+Eq. 7 fit and the paper's, and the time-weighted θ (theta_present) with its own fit where the rung
+has it; (c) κ against Fr with the rung's line and Eq. 8; (d) and (e)
 the report's Figs. 13 and 17 drawn from the rung's table and fits; (f) α_μ + φ_μ against μ, both
 ways of α_μ, each with its standard error and the 95 % interval its verdict takes (Student's t at
 the sum's degrees of freedom), beside the paper's 3; (g) the μ = 0 drag of regime I per D with the
@@ -262,7 +263,8 @@ def _theta_present(ax, rows, fit, fr):
                 label="θ time-weighted (contacts present)")
     v, rejected = fit.values(), bool((fit.meta.get("goodness") or {}).get("rejected"))
     ax.plot(fr, evaluate(fit, fr), color="0.3", lw=1.0, ls=":" if rejected or fit.meta.get("at_bounds") else "-.",
-            label=f"its fit: {v['U1']:.3g} Fr^{v['U2']:.2g} + π/{v['U3']:.2g}" + (" (model rejected)" if rejected else ""))
+            label=f"its fit: {v['U1']:.3g} Fr^{v['U2']:.2g} + π/{v['U3']:.2g}"
+            + (" (model rejected)" if rejected else ""))
 
 
 def _sum_rule_figure(fits, tmp, rung):
