@@ -14,6 +14,7 @@ namespace granudrag {
 const std::vector<Command>& commands() {
   static const std::vector<Command> list = {
       {"pour", pour_command},
+      {"place", place_command},
       {"pull", pull_command},
       {"export-lammps", export_lammps_command},
       {"import-lammps", import_lammps_command},

@@ -22,6 +22,7 @@ const std::vector<Command>& commands();
 
 int pour_command(const std::vector<std::string>& args);
 int pull_command(const std::vector<std::string>& args);
+int place_command(const std::vector<std::string>& args);
 int export_lammps_command(const std::vector<std::string>& args);
 int import_lammps_command(const std::vector<std::string>& args);
 int restitution_command(const std::vector<std::string>& args);

@@ -21,6 +21,8 @@ Usage:
 Commands:
   pour       Pour grains around a fixed intruder and let them settle: writes a bed file
              (HDF5 + XDMF sidecar for ParaView).
+  place      Put an intruder into a settled bed poured without one, remove the grains it
+             cuts and settle the bed again: one column serves every depth and D.
   pull       Pull the intruder of a bed at constant speed: writes a run file with the force
              series, the drag and its error, n, theta, Z, P(Z), kappa, velocity snapshots.
              Checkpoints as it goes; --resume continues after a crash or kill.

@@ -90,6 +90,22 @@ void save_bed(const std::string& path, const Bed& bed, const Parameters& paramet
   f.commit();
 }
 
+void save_placed_bed(const std::string& path, const Bed& bed, const ParameterRecord& source,
+                     const Parameters& parameters, const std::string& source_path,
+                     const PlacementRecord& record) {
+  h5::File f = h5::File::create(path);
+  write_file_header(f, kBedFormat);
+  write_parameters(f, source);
+  write_parameters(f, ParameterRecord::of(parameters));
+  write_bed_groups(f, bed);
+  f.set_attr("/placement", "source", source_path);
+  f.write("/placement/removed", std::vector<std::int64_t>(record.removed.begin(), record.removed.end()));
+  f.set_attr("/placement", "source_surface_height", record.source_surface_height);
+  f.set_attr("/placement", "source_kinetic_energy_per_grain", record.source_kinetic_energy);
+  f.set_attr("/placement", "intruder_z", record.intruder_z);
+  f.commit();
+}
+
 Bed load_bed(const std::string& path, ParameterRecord* parameters) {
   const h5::File f = h5::File::open(path);
   const std::int64_t version = check_file_header(f, kBedFormat, 1, "re-create it with this granudrag");

@@ -8,12 +8,17 @@
 //                           bulk_packing_fraction, stop_reason, kinetic_energy_per_grain,
 //                           settle_time, sanity; /bed/profile/{z,packing_fraction}
 //   /parameters/<command>   the resolved parameters of the command that made it, pour or
-//                           import-lammps (io/parameter_record.hpp)
+//                           import-lammps (io/parameter_record.hpp); a placed bed holds its
+//                           source's and /parameters/place
+//   /placement              a placed bed only (granudrag place): source (path), removed (the
+//                           source's indices of the grains removed), source_surface_height,
+//                           source_kinetic_energy_per_grain, intruder_z
 #include <string>
 
 #include "io/frame_dump.hpp"
 #include "io/h5_file.hpp"
 #include "io/parameter_record.hpp"
+#include "protocol/placement.hpp"
 #include "protocol/pour.hpp"
 
 namespace granudrag {
@@ -22,6 +27,11 @@ namespace granudrag {
 // `frames`: the pour's frames (--dump_interval), or null.
 void save_bed(const std::string& path, const Bed& bed, const Parameters& parameters,
               FrameDump* frames = nullptr);
+// A bed made by placing an intruder into `source_path`'s bed: its parameters (`source`, as
+// load_bed returned them) carried over beside the placement's own.
+void save_placed_bed(const std::string& path, const Bed& bed, const ParameterRecord& source,
+                     const Parameters& parameters, const std::string& source_path,
+                     const PlacementRecord& record);
 // Throws Error naming the file when it is missing, truncated, not a bed file, or of a version
 // this granudrag cannot read. Reads format versions 1 and 2; the bed's recorded parameters are
 // returned through `parameters` when given (for version 1: a record holding only the old text).

@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/parameter_table.hpp"
+#include "protocol/placement.hpp"
 #include "protocol/pour.hpp"
 #include "protocol/pull.hpp"
 
@@ -146,8 +147,16 @@ TEST(KeyTables, TheDefaultsAreTheStructsAndEveryKeyIsBoundOrSaysWhy) {
     if (!row.read) unread.push_back("pour." + row.spec.key);
   for (const auto& row : pull_keys().rows())
     if (!row.read) unread.push_back("pull." + row.spec.key);
+  for (const auto& row : placement_keys().rows())
+    if (!row.read) unread.push_back("place." + row.spec.key);
   EXPECT_EQ(unread, (std::vector<std::string>{"pour.intruder_x", "pour.intruder_y", "pull.speed",
-                                              "pull.froude", "pull.active_diameters"}));
+                                              "pull.froude", "pull.active_diameters", "pull.collision_steps",
+                                              "place.intruder_x", "place.intruder_y"}));
+  const PlacementSpec place = read(placement_keys(), {});
+  for (const auto& row : placement_keys().rows())
+    if (row.read) {
+      EXPECT_EQ(row.text(place), row.text(PlacementSpec{})) << row.spec.key;
+    }
 }
 
 TEST(KeyTables, ASpeedReadByTheCommandIsStillChecked) {
