@@ -51,10 +51,17 @@ int place_command(const std::vector<std::string>& args) {
   const Bed source = load_bed(source_path, &source_parameters);
   PlacementSpec spec;
   placement_keys().read(*par, spec);
-  // Settled again to the threshold its column was poured to, unless told otherwise.
-  if (const RecordedParameter* ke = source_parameters.find("ke_threshold");
-      ke && !par->is_set("ke_threshold"))
-    spec.ke_threshold = ke->number;
+  // Settled again to the threshold its column was poured to, unless told otherwise; the threshold
+  // used is recorded with the placement's parameters.
+  Parameters recorded = *par;
+  if (par->is_set("ke_threshold")) {
+    spec.ke_threshold = par->number("ke_threshold");
+  } else {
+    if (const RecordedParameter* ke = source_parameters.find("ke_threshold")) spec.ke_threshold = ke->number;
+    char text[32];
+    std::snprintf(text, sizeof text, "%.17g", spec.ke_threshold);
+    recorded.apply_cli({"--ke_threshold", text});
+  }
   if (par->is_set("intruder_x")) spec.intruder_x = par->number("intruder_x");
   if (par->is_set("intruder_y")) spec.intruder_y = par->number("intruder_y");
   PlacementRecord record;
@@ -70,7 +77,7 @@ int place_command(const std::vector<std::string>& args) {
   settling.run(!par->flag("quiet"));
   const double wall = omp_get_wtime() - t0;
   const Bed& bed = settling.result();
-  save_placed_bed(out, bed, source_parameters, *par, source_path, record);
+  save_placed_bed(out, bed, source_parameters, recorded, source_path, record);
   write_bed_xdmf(out, bed.state.particles.size());
   std::printf("bed: %s, from %s\n  intruder D = %g placed at depth %.3f d (z = %.3f d), %zu grains removed\n",
               out.c_str(), source_path.c_str(), spec.intruder_diameter, spec.depth, record.intruder_z,

@@ -78,8 +78,8 @@ int pull_command(const std::vector<std::string>& args) {
       claim_outputs(inputs, {{"output", out, "granudrag-run"},
                              {"the checkpoint", out + ".checkpoint.h5", "granudrag-checkpoint", false, true},
                              {"the frames' sidecar", out + ".xdmf", "text", false}});
-  ParameterRecord bed_parameters;
-  Bed bed = load_bed(bed_path, &bed_parameters);
+  ParameterRecord bed_parameters, placement;  // placement: a placed bed's /parameters/place
+  Bed bed = load_bed(bed_path, &bed_parameters, &placement);
   if (bed.intruder < 0) throw Error("bed '" + bed_path + "' has no intruder to pull");
   bed.dt = pull_time_step(par, bed);
   PullSpec spec;
@@ -127,7 +127,7 @@ int pull_command(const std::vector<std::string>& args) {
   pull->run(!par.flag("quiet"), save, dump);
   const double wall = omp_get_wtime() - t0;
   const std::string sanity = pull->sanity_report(wall);
-  save_run(out, *pull, par, bed_parameters, sanity, frames.get());
+  save_run(out, *pull, par, bed_parameters, sanity, frames.get(), &placement);
   if (frames) {
     frames->remove_segments();
     write_frames_xdmf(out + ".xdmf", std::filesystem::path(out).filename().string(),

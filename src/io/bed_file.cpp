@@ -106,7 +106,7 @@ void save_placed_bed(const std::string& path, const Bed& bed, const ParameterRec
   f.commit();
 }
 
-Bed load_bed(const std::string& path, ParameterRecord* parameters) {
+Bed load_bed(const std::string& path, ParameterRecord* parameters, ParameterRecord* placement) {
   const h5::File f = h5::File::open(path);
   const std::int64_t version = check_file_header(f, kBedFormat, 1, "re-create it with this granudrag");
   if (version < kFirstChecksummedVersion)
@@ -128,6 +128,9 @@ Bed load_bed(const std::string& path, ParameterRecord* parameters) {
         *parameters = read_parameters(f, poured ? "pour" : "import-lammps");
       }
     }
+    if (placement != nullptr)
+      *placement =
+          version > 1 && has_parameters(f, "place") ? read_parameters(f, "place") : ParameterRecord{};
     return bed;
   } catch (const Error& e) {
     throw Error("bed file '" + path + "' is damaged: " + e.what());

@@ -34,8 +34,10 @@ void save_placed_bed(const std::string& path, const Bed& bed, const ParameterRec
                      const PlacementRecord& record);
 // Throws Error naming the file when it is missing, truncated, not a bed file, or of a version
 // this granudrag cannot read. Reads format versions 1 and 2; the bed's recorded parameters are
-// returned through `parameters` when given (for version 1: a record holding only the old text).
-Bed load_bed(const std::string& path, ParameterRecord* parameters = nullptr);
+// returned through `parameters` when given (for version 1: a record holding only the old text),
+// and a placed bed's /parameters/place through `placement` (its command left empty for others).
+Bed load_bed(const std::string& path, ParameterRecord* parameters = nullptr,
+             ParameterRecord* placement = nullptr);
 
 // An XDMF sidecar (path with .xdmf) so ParaView opens the bed's particles.
 void write_bed_xdmf(const std::string& bed_path, std::size_t particles);

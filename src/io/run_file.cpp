@@ -9,13 +9,15 @@
 namespace granudrag {
 
 void save_run(const std::string& path, const Pull& pull, const Parameters& pull_parameters,
-              const ParameterRecord& bed_parameters, const std::string& sanity, FrameDump* frames) {
+              const ParameterRecord& bed_parameters, const std::string& sanity, FrameDump* frames,
+              const ParameterRecord* placement) {
   const PullRecord& r = pull.record();
   const PullResult res = pull.result();
   const Bed& bed = pull.bed();
   h5::File f = h5::File::create(path);
   write_file_header(f, "granudrag-run");
   write_parameters(f, bed_parameters);
+  if (placement != nullptr && !placement->command.empty()) write_parameters(f, *placement);
   write_parameters(f, ParameterRecord::of(pull_parameters));
   const Particles& p0 = bed.state.particles;
   const double D = 2 * p0.radius[bed.intruder];

@@ -26,12 +26,12 @@ const KeyTable<PlacementSpec>& placement_keys() {
           .above(0)
           .help("depth h of the intruder centre below the source bed's free surface (required)")
           .field(&PlacementSpec::depth),
+      // Read by the command: its default is the source bed's (place_command.cpp).
       Key::number("ke_threshold")
           .unit("rho g d^4")
           .above(0)
-          .help(
-              "settled again when the mean kinetic energy per grain is below (default: the source's pour's)")
-          .field(&PlacementSpec::ke_threshold),
+          .help("settled again when the mean kinetic energy per grain is below (default: the source's pour's "
+                "ke_threshold; 1e-7 if it records none)"),
       Key::number("min_settle_time")
           .unit("sqrt(d/g)")
           .at_least(0)

@@ -151,7 +151,7 @@ TEST(KeyTables, TheDefaultsAreTheStructsAndEveryKeyIsBoundOrSaysWhy) {
     if (!row.read) unread.push_back("place." + row.spec.key);
   EXPECT_EQ(unread, (std::vector<std::string>{"pour.intruder_x", "pour.intruder_y", "pull.speed",
                                               "pull.froude", "pull.active_diameters", "pull.collision_steps",
-                                              "place.intruder_x", "place.intruder_y"}));
+                                              "place.intruder_x", "place.intruder_y", "place.ke_threshold"}));
   const PlacementSpec place = read(placement_keys(), {});
   for (const auto& row : placement_keys().rows())
     if (row.read) {

@@ -206,6 +206,33 @@ TEST(RunFile, CarriesTheBedsParametersAndThePulls) {
   EXPECT_EQ(f.get_attr_double("/parameters/pull", "speed"), 0.5);
 }
 
+// A placed bed's run says so: the pull copies the bed's /parameters/place beside its pour's.
+TEST(RunFile, CarriesAPlacedBedsPlacement) {
+  TempDir dir;
+  const Bed& bed = tiny_bed();
+  const Parameters place(
+      "place", {spec("depth", Type::Number, "d", "3"), spec("settle_damping", Type::Number, "", "1")});
+  save_placed_bed(dir.file("placed.h5"), bed, ParameterRecord::of(pour_parameters()), place, "column.h5",
+                  PlacementRecord{});
+  ParameterRecord pour, placement;
+  load_bed(dir.file("placed.h5"), &pour, &placement);
+  EXPECT_EQ(pour.command, "pour");
+  ASSERT_EQ(placement.command, "place");
+  const auto pull_ptr = short_pull(bed);
+  save_run(dir.file("run.h5"), *pull_ptr, pull_parameters(), pour, "sanity\n", nullptr, &placement);
+  {
+    const h5::File f = h5::File::open(dir.file("run.h5"));
+    EXPECT_EQ(f.get_attr_double("/parameters/place", "depth"), 3.0);
+    EXPECT_EQ(f.get_attr_double("/parameters/pour", "lx"), 5.0);
+  }
+  // A poured bed has none, and its run no /parameters/place.
+  save_bed(dir.file("poured.h5"), bed, pour_parameters());
+  load_bed(dir.file("poured.h5"), &pour, &placement);
+  EXPECT_TRUE(placement.command.empty());
+  save_run(dir.file("run_poured.h5"), *pull_ptr, pull_parameters(), pour, "sanity\n", nullptr, &placement);
+  EXPECT_FALSE(h5::File::open(dir.file("run_poured.h5")).exists("/parameters/place"));
+}
+
 TEST(CheckpointFile, ResumesOnlyWithTheSameOptionsAndBed) {
   TempDir dir;
   const Bed& bed = tiny_bed();
