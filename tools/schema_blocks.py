@@ -1,7 +1,8 @@
-"""Writes the `pour:` and `pull:` blocks of workflow/schemas/config.schema.yaml, and the tables of
-those keys in config/README.md, from the engine's own key tables (`granudrag pour --schema`,
-`granudrag pull --schema`): each key's type, range, unit, help and default are declared once, in
-C++, and the workflow's schema and the config reference follow them.
+"""Writes the `pour:`, `pull:` and `place:` blocks of workflow/schemas/config.schema.yaml, and the
+tables of those keys in config/README.md, from the engine's own key tables (`granudrag pour
+--schema`, `granudrag pull --schema`, `granudrag place --schema`): each key's type, range, unit,
+help and default are declared once, in C++, and the workflow's schema and the config reference
+follow them.
 
     .venv/bin/python tools/schema_blocks.py            # rewrite the blocks and tables in place
     .venv/bin/python tools/schema_blocks.py --check    # exit 1, naming the difference, if stale
@@ -36,7 +37,10 @@ NOT_CONFIG = {
     # The speeds are a sweep's Fr or V; a study's pulls stop on failure and start from the bed
     # as poured.
     "pull": {"speed", "froude", "keep_going", "fresh_start"},
+    # A placed bed's intruder and depth are its sweep's D and depth.
+    "place": {"intruder_diameter", "depth"},
 }
+COMMANDS = ("pour", "pull", "place")
 # What the workflow adds to a key's own help.
 WORKFLOW_NOTES = {
     ("pour", "checkpoint_interval"): "the workflow sets it for pours that may outlast checkpoint_minutes",
@@ -148,7 +152,7 @@ def markers(command, comment="#"):
 def _replace_between(text, path, comment, lines_of):
     """`text` with the lines between each command's markers replaced by lines_of(command, indent)."""
     lines = text.splitlines()
-    for command in ("pour", "pull"):
+    for command in COMMANDS:
         begin, end = markers(command, comment)
         starts = [i for i, line in enumerate(lines) if line.strip() == begin]
         ends = [i for i, line in enumerate(lines) if line.strip() == end]
@@ -197,7 +201,7 @@ def main(argv=None):
             tmp = path.with_suffix(path.suffix + ".tmp")
             tmp.write_text(new)
             tmp.replace(path)
-            print(f"schema_blocks: rewrote the pour and pull keys in {path}")
+            print(f"schema_blocks: rewrote the pour, pull and place keys in {path}")
     return 0
 
 

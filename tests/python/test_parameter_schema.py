@@ -1,6 +1,6 @@
 """The workflow's config schema states every granudrag key it exposes as the binary does.
 
-`granudrag pour --schema` and `granudrag pull --schema` print each key's type, range and
+`granudrag pour --schema`, `granudrag pull --schema` and `granudrag place --schema` print each key's type, range and
 default from the one table the command line, validation and --help are built from. This test
 compares them with workflow/schemas/config.schema.yaml for every config key that becomes a
 command-line option (see pour_args / pull_args of the workflow's study module) and fails on any
@@ -59,7 +59,7 @@ def cli_schema(command):
 
 @pytest.fixture(scope="module")
 def cli():
-    return {"pour": cli_schema("pour"), "pull": cli_schema("pull")}
+    return {command: cli_schema(command) for command in ("pour", "pull", "place")}
 
 
 @pytest.fixture(scope="module")
@@ -99,7 +99,7 @@ def config_keys(schema):
     for key, option in SYSTEM_KEYS.items():
         # Required in a system: granudrag's default never applies.
         rows.append((f"systems.*.{key}", system["properties"][key], "pour", option, False))
-    for command in ("pour", "pull"):
+    for command in ("pour", "pull", "place"):
         for key, node in defs[command]["properties"].items():
             rows.append((f"{command}.{key}", node, command, key, True))
     for key, node in defs["axes"]["properties"].items():
@@ -200,7 +200,7 @@ def test_every_exposed_key_is_compared(schema):
     """Nothing in the pour/pull blocks, the systems or the axes escapes the comparison."""
     labels = {row[0] for row in config_keys(schema)}
     defs = schema["$defs"]
-    for command in ("pour", "pull"):
+    for command in ("pour", "pull", "place"):
         for key in defs[command]["properties"]:
             assert f"{command}.{key}" in labels
     for key in defs["axes"]["properties"]:

@@ -6,7 +6,7 @@ Snakemake, so it is tested on its own (tests/workflow/test_study.py).
     plan      every bed and pull of the config's sweeps; the pulls of Figs. 4 and 9
     cost      estimated particle-steps and wall time of each job, scheduler resources
     region_cost  what the active region saves a pull: sleeping fractions measured, a model
-    commands  `granudrag pour` / `granudrag pull` arguments of a job
+    commands  `granudrag pour` / `place` / `pull` arguments of a job
     estimate  the job count and cost of a config (command line)
     script    the common start of the workflow's scripts (logging to the rule's log)
     failures  a failed job's record and the placeholders of table.allow_failed
@@ -15,13 +15,24 @@ Snakemake, so it is tested on its own (tests/workflow/test_study.py).
 The names below are the library's interface: `import granudrag_study as study; study.plan(config)`.
 """
 
-from .commands import checkpoint_interval, movie_pull_args, pour_args, pour_checkpoint_interval, pull_args
+from .commands import (
+    checkpoint_interval,
+    column_args,
+    movie_pull_args,
+    place_args,
+    pour_args,
+    pour_checkpoint_interval,
+    pull_args,
+)
 from .config import (
     PATH_KEYS,
     SCHEMA,
     SETTLE_TIME_DEFAULT,
     ConfigError,
     fit_options,
+    place_limit,
+    placed,
+    placement_settings,
     pour_settings,
     resolve_beds_from,
     resolve_binary,
@@ -32,7 +43,10 @@ from .cost import (
     bed_cost,
     bed_dt,
     bed_retries,
+    column_cost,
     expected_bed_cost,
+    expected_column_cost,
+    expected_place_time,
     expected_pull_cost,
     expected_settle_time,
     job_attempts,
@@ -44,7 +58,21 @@ from .cost import (
     summary,
 )
 from .manifest import plan_file, write_plan
-from .paths import BED_PATTERN, SPEED_PATTERN, Bed, Pull, bed_file, fmt, number, parse_speed, run_file
+from .paths import (
+    BED_PATTERN,
+    COLUMN_PATTERN,
+    SPEED_PATTERN,
+    Bed,
+    Pull,
+    bed_file,
+    bed_pattern,
+    column_bed,
+    column_file,
+    fmt,
+    number,
+    parse_speed,
+    run_file,
+)
 from .plan import (
     PAPER_FLOW_FIELD,
     SWEEP_AXES,
@@ -60,6 +88,7 @@ from .plan import (
 
 __all__ = [
     "BED_PATTERN",
+    "COLUMN_PATTERN",
     "PAPER_FLOW_FIELD",
     "PATH_KEYS",
     "SCHEMA",
@@ -74,6 +103,17 @@ __all__ = [
     "bed_dt",
     "bed_retries",
     "bed_file",
+    "bed_pattern",
+    "column_args",
+    "column_bed",
+    "column_cost",
+    "column_file",
+    "expected_column_cost",
+    "expected_place_time",
+    "place_args",
+    "place_limit",
+    "placed",
+    "placement_settings",
     "checkpoint_interval",
     "fit_options",
     "flow_pulls",

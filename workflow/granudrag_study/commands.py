@@ -1,8 +1,9 @@
-"""Command lines of the study's jobs: `granudrag pour` for a bed, `granudrag pull` for a pull."""
+"""Command lines of the study's jobs: `granudrag pour` for a bed (or a placed system's column),
+`granudrag place` for a placed bed, `granudrag pull` for a pull."""
 
 import math
 
-from .config import pour_settings, settle_limit
+from .config import placement_settings, pour_settings, settle_limit
 from .cost import bed_cost, job_seconds, pull_cost, pull_distance
 from .paths import Pull, fmt, parse_speed
 
@@ -32,6 +33,27 @@ def pour_args(bed, config):
         if interval:
             settings["checkpoint_interval"] = interval
     return args + _flags(settings)
+
+
+def column_args(bed, config):
+    """granudrag pour arguments (without --output and --threads) of the column a placed bed's
+    intruder goes into: the bed's system, contact law and seed, no intruder (so no depth)."""
+    sysc = config["systems"][bed.system]
+    args = ["--lx", fmt(sysc["lx"]), "--ly", fmt(sysc["ly"]), "--grains", str(int(sysc["grains"]))]
+    args += ["--intruder_diameter", "0", "--mu", bed.mu, "--kn", bed.kn, "--gamman", bed.gn, "--seed", bed.seed]
+    settings = pour_settings(config, bed.system)
+    if not settings.get("checkpoint_interval"):
+        interval = pour_checkpoint_interval(bed, config)
+        if interval:
+            settings["checkpoint_interval"] = interval
+    return args + _flags(settings)
+
+
+def place_args(bed, config):
+    """granudrag place arguments (without --bed, --output and --threads) of a placed bed: its D
+    and depth, and its system's `placement` settings."""
+    args = ["--intruder_diameter", bed.D, "--depth", bed.pos]
+    return args + _flags(placement_settings(config, bed.system))
 
 
 def pour_checkpoint_interval(bed, config):

@@ -48,8 +48,8 @@ def _message(err, where):
 
 
 # What a system that pulls through another's beds (`beds_from`) takes from it: the bed's box,
-# grains and pour. Its own `pull` settings are laid over the other system's.
-BED_KEYS = ("lx", "ly", "grains", "pour")
+# grains, pour and placement. Its own `pull` settings are laid over the other system's.
+BED_KEYS = ("lx", "ly", "grains", "pour", "placement")
 
 
 def resolve_beds_from(config):
@@ -116,3 +116,23 @@ def pour_settings(config, system):
 def settle_limit(config, system):
     """The longest a system's pours settle: its max_settle_time."""
     return float(pour_settings(config, system).get("max_settle_time", SETTLE_TIME_DEFAULT))
+
+
+# granudrag place's max_settle_time when a system's `placement` sets none (its --help).
+PLACE_SETTLE_TIME_DEFAULT = 20.0
+
+
+def placed(config, system):
+    """Whether a system's beds are made by placement (`placement:`, possibly {}): an intruder
+    placed into a column poured once per seed without one (granudrag place)."""
+    return "placement" in config["systems"][system]
+
+
+def placement_settings(config, system):
+    """A system's `placement` block, its granudrag place settings ({} when it has none)."""
+    return dict(config["systems"][system].get("placement") or {})
+
+
+def place_limit(config, system):
+    """The longest a system's placements settle: its placement's max_settle_time."""
+    return float(placement_settings(config, system).get("max_settle_time", PLACE_SETTLE_TIME_DEFAULT))

@@ -1,7 +1,10 @@
 """Estimated cost of the study's jobs (particle-steps, wall time) and their scheduler resources.
 
 A pull costs grains x travel / (V dt) particle-steps, a pour at most grains x max_settle_time
-/ dt and is expected to cost grains x its expected settling time / dt; dt is the config's, or
+/ dt and is expected to cost grains x its expected settling time / dt; a placed system's bed
+is a placement (granudrag place) into a column poured once per seed: the column costs a pour,
+the placement at most grains x its max_settle_time / dt, expected grains x its expected
+settling time (PLACE_STOP) / dt; dt is the config's, or
 granudrag's default (analysis.physics.default_dt), and a pull's the collision time over its
 `collision_steps` when it sets them. The wall time of a job is its
 particle-steps over the config's `throughput` (particle-steps per second of one job on
@@ -12,7 +15,7 @@ import math
 
 from analysis.physics import collision_time, default_dt, froude
 
-from .config import pour_settings, settle_limit
+from .config import place_limit, placed, placement_settings, pour_settings, settle_limit
 from .region_cost import asleep_fraction, sleeping_cost
 
 # Sequential stopping (a pull's `target_error`): the drag's relative standard error after L d of
@@ -46,10 +49,20 @@ def pull_dt(pull, config):
     return collision_time(pull.bed.value("kn")) / float(steps) if steps else bed_dt(pull.bed, config)
 
 
-def bed_cost(bed, config):
-    """Upper bound of a pour's particle-steps: every grain for the whole settling time."""
+def column_cost(bed, config):
+    """Upper bound of a pour's particle-steps (a bed's, or a placed bed's column's): every grain
+    for the whole settling time."""
     grains = int(config["systems"][bed.system]["grains"])
     return grains * settle_limit(config, bed.system) / bed_dt(bed, config)
+
+
+def bed_cost(bed, config):
+    """Upper bound of a bed's particle-steps: its pour's (column_cost), or a placed bed's
+    placement's, every grain for the placement's max_settle_time."""
+    if not placed(config, bed.system):
+        return column_cost(bed, config)
+    grains = int(config["systems"][bed.system]["grains"])
+    return grains * place_limit(config, bed.system) / bed_dt(bed, config)
 
 
 # When a pour stops: when the grains' kinetic energy falls below ke_threshold, else at
@@ -89,11 +102,54 @@ def expected_settle_time(bed, config):
     return min(limit, _between(at_depths, density))
 
 
-def expected_bed_cost(bed, config):
-    """Particle-steps a pour is expected to cost: bed_cost for its expected settling time, the
-    cost of a study's estimate; the scheduler's limits take bed_cost."""
+def expected_column_cost(bed, config):
+    """Particle-steps a pour (a bed's, or a placed bed's column's) is expected to cost:
+    column_cost for its expected settling time."""
     sysc = config["systems"][bed.system]
     return int(sysc["grains"]) * expected_settle_time(bed, config) / bed_dt(bed, config)
+
+
+# When a placement stops (granudrag place: the intruder held, the bed settling again to its
+# ke_threshold, by default the column's, after at least min_settle_time). Measured on one thread,
+# K_n = 2e4, mu = 0.5: in an 8 d x 8 d column of 700 grains (undamped, to 1e-5) D = 2 at h = 3
+# settled at t = 9.0; in 20 d x 20 d columns of 6,400 grains (13.5 d deep), undamped to 1e-5 (the
+# column poured to 1e-5, t = 21.0) D = 2 at h = 3 at 4.5 (18 grains removed, 37.5 s wall), D = 4 at
+# h = 8 at 6.0 (83 removed, 47.6 s), damped (settle_damping 1) D = 2 at h = 3 at 3.0; damped to 1e-7
+# (the column poured damped to 1e-7, t = 28.5) D = 2 at h = 3 at 6.0 (17 removed, 47.2 s; to 1e-6:
+# 3.5) and D = 4 at h = 8 at 16.0 (77 removed, 93.7 s). Undamped to 1e-7, D = 2 at h = 3 ran to
+# max_settle_time 20 (3.5e-7 per grain at t = 20): an undamped placement below 1e-5 runs to its
+# max_settle_time, as does any below 1e-7 (not measured). Each entry: (lowest ke_threshold, damped
+# placements only, the slowest settling time measured at or above it).
+PLACE_STOP = ((1e-5, False, 9.0), (1e-7, True, 16.0))
+
+
+def _place_threshold(bed, config):
+    """The ke_threshold a placement settles to: its own, or its column's pour's (granudrag's)."""
+    own = placement_settings(config, bed.system).get("ke_threshold")
+    return float(own if own else pour_settings(config, bed.system).get("ke_threshold", 1e-7))
+
+
+def expected_place_time(bed, config):
+    """Simulated time a placement is expected to settle (PLACE_STOP), at least its
+    min_settle_time, at most its max_settle_time."""
+    settings = placement_settings(config, bed.system)
+    limit, least = place_limit(config, bed.system), float(settings.get("min_settle_time", 1.0) or 0.0)
+    damped = float(settings.get("settle_damping", 0.0) or 0.0) > 0
+    threshold = _place_threshold(bed, config)
+    for lowest, needs_damping, time in PLACE_STOP:
+        if threshold >= lowest and (damped or not needs_damping):
+            return min(limit, max(least, time))
+    return limit
+
+
+def expected_bed_cost(bed, config):
+    """Particle-steps a bed is expected to cost: a pour's for its expected settling time, or a
+    placed bed's placement's (its column is priced once per seed, expected_column_cost): the
+    cost of a study's estimate; the scheduler's limits take bed_cost."""
+    if not placed(config, bed.system):
+        return expected_column_cost(bed, config)
+    grains = int(config["systems"][bed.system]["grains"])
+    return grains * expected_place_time(bed, config) / bed_dt(bed, config)
 
 
 def pull_distance(pull, config):
@@ -173,23 +229,29 @@ def bed_retries(plan_):
     config = plan_.config
     if not config.get("max_runtime") or not plan_.beds:
         return None
-    worst = max(job_seconds(bed_cost(b, config), config) for b in plan_.beds.values()) / 60.0
+    costs = [bed_cost(b, config) for b in plan_.beds.values()]
+    costs += [column_cost(b, config) for b in plan_.columns.values()]
+    worst = max(job_seconds(c, config) for c in costs) / 60.0
     return max(1, job_attempts(1.5 * worst + 5, config) - 1)
 
 
 def summary(plan_):
     """Numbers of jobs and estimated particle-steps and core-hours: the expected cost of the beds
-    and pulls; the beds' upper bound (every pour to its max_settle_time) as bed_particle_steps_bound,
-    the pulls' whole cost (without the active region's saving) as pull_particle_steps_whole."""
+    (placed beds' columns included) and pulls; the beds' upper bound (every pour and placement to
+    its max_settle_time) as bed_particle_steps_bound, the pulls' whole cost (without the active
+    region's saving) as pull_particle_steps_whole."""
     config = plan_.config
     bed_ps = sum(expected_bed_cost(b, config) for b in plan_.beds.values())
     bound = sum(bed_cost(b, config) for b in plan_.beds.values())
+    bed_ps += sum(expected_column_cost(b, config) for b in plan_.columns.values())
+    bound += sum(column_cost(b, config) for b in plan_.columns.values())
     pull_ps = sum(expected_pull_cost(p, config) for p in plan_.pulls.values())
     whole = sum(pull_cost(p, config) for p in plan_.pulls.values())
     threads = int(config["threads"])
     core_h = (bed_ps + pull_ps) / float(config["throughput"]) * threads / 3600.0
     return {
         "beds": len(plan_.beds),
+        "columns": len(plan_.columns),
         "pulls": len(plan_.pulls),
         "bed_particle_steps": bed_ps,
         "bed_particle_steps_bound": bound,

@@ -213,8 +213,12 @@ def main(argv=None):
     bound = s["bed_particle_steps_bound"] + s["pull_particle_steps"]
     parallel, wall, squeezed = wall_seconds(total, tp, threads, args.cores)
     wall_bound = wall_seconds(bound, tp, threads, args.cores)[1]
-    print(f"{args.config}: {s['beds']} beds + {s['pulls']} pulls = {s['beds'] + s['pulls']} "
+    columns = f"{s['columns']} columns + " if s["columns"] else ""
+    print(f"{args.config}: {columns}{s['beds']} beds + {s['pulls']} pulls = {s['columns'] + s['beds'] + s['pulls']} "
           f"simulation jobs (+ table, restitution, force trace, report)")
+    if s["columns"]:
+        print("  placed beds: each an intruder placed into its seed's column (granudrag place; columns poured "
+              "once, counted with the beds; placement's settling time: workflow/granudrag_study/cost.py, PLACE_STOP)")
     print(f"  particle-steps: beds {s['bed_particle_steps']:.3g} expected (<= {s['bed_particle_steps_bound']:.3g}), "
           f"pulls {s['pull_particle_steps']:.3g}")
     print(f"  throughput {tp:.3g} particle-steps/s per job on {threads} thread(s) ({how})")

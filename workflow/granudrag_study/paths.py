@@ -6,6 +6,12 @@ K_n, gamma_n and the pour's seed; its path names all but the system's settings:
 
     <results>/beds/system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.054/seed~1/bed.h5
 
+A system whose beds are placed (`placement:`) pours one column per seed, without an intruder,
+and places each bed's intruder into it (granudrag place); the column's path is the bed's
+without D and depth (the bed's path stays as above):
+
+    <results>/columns/system~I/mu~0.5/kn~2e4/gn~199.054/seed~1/column.h5
+
 A pull is a bed and a speed, given as a Froude number (Fr~) or a speed (V~):
 
     <results>/pulls/system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.054/seed~1/Fr~1/run.h5
@@ -25,6 +31,7 @@ from .config import ConfigError
 # Wildcard patterns (regexes) of one bed and one speed in a path.
 BED_PATTERN = r"system~[^/~]+/D~[^/~]+/[hz]~[^/~]+/mu~[^/~]+/kn~[^/~]+/gn~[^/~]+/seed~[^/~]+"
 SPEED_PATTERN = r"(Fr|V)~[^/~]+"
+COLUMN_PATTERN = r"system~[^/~]+/mu~[^/~]+/kn~[^/~]+/gn~[^/~]+/seed~[^/~]+"
 _BED_RE = re.compile(
     r"^system~(?P<system>[^/~]+)/D~(?P<D>[^/~]+)/(?P<place>[hz])~(?P<pos>[^/~]+)"
     r"/mu~(?P<mu>[^/~]+)/kn~(?P<kn>[^/~]+)/gn~(?P<gn>[^/~]+)/seed~(?P<seed>[^/~]+)$"
@@ -88,6 +95,11 @@ class Bed:
     def value(self, name):
         return number(getattr(self, name), f"bed {self.key}: {name}")
 
+    @property
+    def column_key(self):
+        """The column a placed bed's intruder goes into: the bed but its D and depth."""
+        return f"system~{self.system}/mu~{self.mu}/kn~{self.kn}/gn~{self.gn}/seed~{self.seed}"
+
 
 @dataclass(frozen=True)
 class Pull:
@@ -114,6 +126,29 @@ class Pull:
 
 def bed_file(results, key):
     return f"{results}/beds/{key}/bed.h5"
+
+
+_COLUMN_RE = re.compile(
+    r"^system~(?P<system>[^/~]+)/mu~(?P<mu>[^/~]+)/kn~(?P<kn>[^/~]+)/gn~(?P<gn>[^/~]+)/seed~(?P<seed>[^/~]+)$"
+)
+
+
+def column_bed(key):
+    """A column's path as a Bed without intruder (D 0, no depth): what its pour and its cost read."""
+    m = _COLUMN_RE.match(key)
+    if not m:
+        raise ConfigError(f"not a column path: '{key}' (expected {COLUMN_PATTERN})")
+    return Bed(D="0", place="h", pos="0", **m.groupdict())
+
+
+def column_file(results, key):
+    return f"{results}/columns/{key}/column.h5"
+
+
+def bed_pattern(systems):
+    """BED_PATTERN restricted to the systems named (none: a pattern no path matches)."""
+    names = "|".join(re.escape(str(s)) for s in systems) or "(?!)"
+    return BED_PATTERN.replace("system~[^/~]+", f"system~(?:{names})", 1)
 
 
 def run_file(results, key):

@@ -7,11 +7,11 @@ import dataclasses
 import itertools
 import math
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from analysis.physics import PAPER_RATIO, gamman_for
 
-from .config import ConfigError, resolve_beds_from
+from .config import ConfigError, placed, resolve_beds_from
 from .paths import Bed, Pull, fmt
 
 SWEEP_AXES = ("D", "depth", "z", "mu", "kn", "gamman", "gamman_ratio", "seed")
@@ -26,6 +26,7 @@ class Plan:
     config: dict
     beds: dict  # key -> Bed, in first-seen order
     pulls: dict  # key -> Pull
+    columns: dict = field(default_factory=dict)  # column key -> its first placed Bed
 
     def pull_settings(self, bed_key, speed):
         """Pull overrides of the sweep that asked for this pull (none if no sweep did)."""
@@ -86,7 +87,8 @@ def plan(config):
     own system (its path); the bed poured for it is `poured_bed(pull.bed, config)`."""
     resolve_beds_from(config)
     systems, defaults = config["systems"], config.get("defaults", {}) or {}
-    beds, pulls = {}, {}
+    beds, pulls, columns = {}, {}, {}
+    _check_placed_systems(systems)
     for i, sweep in enumerate(config["sweeps"]):
         name = sweep.get("name", f"#{i}")
         where = f"sweeps[{i}] ({name})"
@@ -109,6 +111,12 @@ def plan(config):
             bed = Bed(system, fmt(D), place, fmt(pos), fmt(mu), kn_text, fmt(gn_value), str(int(seed)))
             poured = poured_bed(bed, config)
             beds.setdefault(poured.key, poured)
+            if placed(config, poured.system):
+                if place != "h":
+                    raise ConfigError(
+                        f"{where}: system '{poured.system}' places its intruders into columns "
+                        f"(placement), at a depth below the column's surface: give 'depth', not 'z'")
+                columns.setdefault(poured.column_key, poured)
             for speed in speeds:
                 pull = Pull(bed, speed, settings, name)
                 old = pulls.get(pull.key)
@@ -121,7 +129,25 @@ def plan(config):
     if not pulls:
         raise ConfigError("sweeps: the config describes no pulls")
     _check_yield_speeds(config, pulls)
-    return Plan(config, beds, pulls)
+    return Plan(config, beds, pulls, columns)
+
+
+# Pour keys that place an intruder: a placed system's column has none (give them under placement).
+INTRUDER_POUR_KEYS = ("intruder_x", "intruder_y", "packing_estimate")
+
+
+def _check_placed_systems(systems):
+    for name, sysc in systems.items():
+        if "placement" not in sysc or sysc.get("beds_from") is not None:
+            continue
+        for key in INTRUDER_POUR_KEYS:
+            if key in (sysc.get("pour") or {}):
+                where = f"config key 'systems.{name}.pour.{key}'"
+                if key == "packing_estimate":
+                    raise ConfigError(f"{where}: a placed system's column is poured without an "
+                                      f"intruder, whose depth placement measures: remove it")
+                raise ConfigError(f"{where}: a placed system's column is poured without an intruder: "
+                                  f"give it under systems.{name}.placement")
 
 
 def _check_yield_speeds(config, pulls):

@@ -46,7 +46,17 @@ os.environ.update(
 
 wildcard_constraints:
     bed=study.BED_PATTERN,
+    column=study.COLUMN_PATTERN,
     speed=study.SPEED_PATTERN,
+
+
+# Systems whose beds are placed (`placement:`) into a column poured once per seed (rules column and
+# placed_bed); the others' beds are poured (rule bed). A system with beds_from makes no beds.
+PLACED = [str(n) for n in config["systems"] if study.placed(config, str(n))]
+POURED_BED = study.bed_pattern(
+    [str(n) for n in config["systems"] if str(n) not in PLACED]
+)
+PLACED_BED = study.bed_pattern(PLACED)
 
 
 def bed_file(key):
@@ -58,6 +68,7 @@ def run_file(key):
 
 
 ALL_BEDS = [bed_file(k) for k in PLAN.beds]
+ALL_COLUMNS = [study.column_file(RESULTS, k) for k in PLAN.columns]
 ALL_RUNS = [run_file(k) for k in PLAN.pulls]
 # The table's input with ALL_RUNS: rewritten only when the list of pulls changes, so a grown
 # sweep remakes the table even where Snakemake has no metadata (granudrag_study/manifest.py).
@@ -113,6 +124,38 @@ def pull_args(wildcards):
 
 def _grains(wildcards):
     return int(config["systems"][_bed(wildcards).system]["grains"])
+
+
+def _column(wildcards):
+    return study.column_bed(wildcards.column)
+
+
+def column_args(wildcards):
+    return shlex.join(study.column_args(_column(wildcards), config))
+
+
+def column_of_bed(wildcards):
+    """The column a placed bed's intruder goes into."""
+    return study.column_file(RESULTS, _bed(wildcards).column_key)
+
+
+def place_args(wildcards):
+    return shlex.join(study.place_args(_bed(wildcards), config))
+
+
+def column_mem_mb(wildcards):
+    column = _column(wildcards)
+    grains = int(config["systems"][column.system]["grains"])
+    return study.job_resources(study.column_cost(column, config), grains, config)[0]
+
+
+def column_runtime(wildcards, attempt):
+    """Minutes, as bed_runtime."""
+    column = _column(wildcards)
+    grains = int(config["systems"][column.system]["grains"])
+    return study.job_resources(
+        study.column_cost(column, config), grains, config, attempt
+    )[1]
 
 
 def bed_mem_mb(wildcards):

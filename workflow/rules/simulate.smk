@@ -33,7 +33,7 @@ rule bed:
     input:
         granudrag=ancient(GRANUDRAG),
     output:
-        f"{RESULTS}/beds/{{bed}}/bed.h5",
+        f"{RESULTS}/beds/{{bed,{POURED_BED}}}/bed.h5",
     log:
         f"{LOGS}/beds/{{bed}}.log",
     benchmark:
@@ -52,6 +52,62 @@ rule bed:
     shell:
         "{params.resumable:q} {output:q} {log:q} {resources.attempt} {params.args:q} ''"
         " -- {input.granudrag:q} pour --output {output:q} --threads {threads} --resume {params.args}"
+
+
+# A placed system's (`placement:`) column: its bed's pour without an intruder, once per system,
+# contact law and seed, checkpointed and resumed as a bed's.
+rule column:
+    input:
+        granudrag=ancient(GRANUDRAG),
+    output:
+        f"{RESULTS}/columns/{{column}}/column.h5",
+    log:
+        f"{LOGS}/columns/{{column}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/columns/{{column}}.tsv"
+    retries: BED_RETRIES
+    conda:
+        "../envs/granudrag.yaml"
+    threads: THREADS
+    resources:
+        mem_mb=column_mem_mb,
+        runtime=column_runtime,
+        attempt=lambda wildcards, attempt: attempt,
+    params:
+        args=column_args,
+        resumable=RESUMABLE,
+    shell:
+        "{params.resumable:q} {output:q} {log:q} {resources.attempt} {params.args:q} ''"
+        " -- {input.granudrag:q} pour --output {output:q} --threads {threads} --resume {params.args}"
+
+
+# A placed system's bed: its intruder placed into its seed's column (granudrag place), the column
+# read only. A placement is short and has no checkpoint: a killed one starts over (granudrag
+# writes the bed atomically, so a failed placement leaves none); a new column re-places its beds.
+rule placed_bed:
+    input:
+        granudrag=ancient(GRANUDRAG),
+        column=column_of_bed,
+    output:
+        f"{RESULTS}/beds/{{bed,{PLACED_BED}}}/bed.h5",
+    log:
+        f"{LOGS}/beds/{{bed}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/beds/{{bed}}.tsv"
+    retries: BED_RETRIES
+    conda:
+        "../envs/granudrag.yaml"
+    threads: THREADS
+    resources:
+        mem_mb=bed_mem_mb,
+        runtime=bed_runtime,
+        attempt=lambda wildcards, attempt: attempt,
+    params:
+        args=place_args,
+        resumable=RESUMABLE,
+    shell:
+        "{params.resumable:q} {output:q} {log:q} {resources.attempt} {params.args:q} {input.column:q}"
+        " -- {input.granudrag:q} place --bed {input.column:q} --output {output:q} --threads {threads} {params.args}"
 
 
 # A pull checkpoints every tenth of its travel, or every `checkpoint_minutes` of
@@ -92,6 +148,11 @@ rule pull:
 rule beds:
     input:
         ALL_BEDS,
+
+
+rule columns:
+    input:
+        ALL_COLUMNS,
 
 
 rule pulls:
