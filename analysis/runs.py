@@ -48,7 +48,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from . import physics
+from . import bed_origin, physics
 from .run_series import SeriesError, drags, first_travel, kappa_error, read_series
 from .table import COLUMNS, froude, validate_table
 
@@ -65,7 +65,7 @@ EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "collision_steps", "steps",
                  "drag_dof", "plateau", "drag_err_engine", "plateau_engine", "drag_cumulative",
                  "drag_cumulative_err", "seed", "lx", "ly", "grains", "distance", "stop_reason",
                  "active_radius", "wake_force", "wake_load", "sleep_speed", "sleep_time", "perturbation", "asleep",
-                 "settle_damping", "sanity", "path"]
+                 "settle_damping", "placed", "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
 # Path components checked against the file: key in the path -> /run attribute.
@@ -191,6 +191,7 @@ def read_run(path, system=None, root=None):
             sleep_time = _setting(f, path, "pull", "sleep_time", default=math.nan)
         perturbation = _setting(f, path, "pull", "perturbation") if version >= 2 else 0.0
         settle_damping = _setting(f, path, "pour", "settle_damping") if version >= 2 else 0.0
+        placed = bed_origin.placed(_parameters(f, path)) if version >= 2 and "parameters" in f else 0.0
         asleep = _asleep(obs, scale["grains"])
         sanity = _verdict(f, path)
     except (KeyError, OSError, RuntimeError, UnicodeDecodeError) as exc:
@@ -249,7 +250,7 @@ def read_run(path, system=None, root=None):
             "sleep_speed": sleep_speed,
             "sleep_time": sleep_time,
             "perturbation": perturbation, "asleep": asleep,
-            "settle_damping": settle_damping, "sanity": sanity, "path": str(path)}
+            "settle_damping": settle_damping, "placed": placed, "sanity": sanity, "path": str(path)}
 
 
 def _verdict(f, path):

@@ -42,6 +42,7 @@ import pandas as pd
 from . import pull_length
 from .agreement import Z_AGREE, ValidationError
 from .table import combine_beds, write_csv, write_text_atomic
+from .validation_beds import placement_answer, settle_damping_answer
 from .validation_shifts import resolved_shifts
 
 
@@ -93,6 +94,11 @@ STUDIES = {
     "settle_damping": Study("settle_damping", "settle_damping", "min",
                             ("D", *PLACEMENT, "mu", "kn", "gamman", "Fr"), "settle_damping (sqrt(g/d))", False,
                             "whether beds poured with the settling damping pull as the paper's pour does"),
+    # Beds placed into settled columns (granudrag place) against beds poured with the intruder in
+    # place (the paper's protocol, placed = 0): other beds, compared as settle_damping's are.
+    "placement": Study("placement", "placed", "min", ("D", *PLACEMENT, "mu", "kn", "gamman", "Fr"),
+                       "placed (0: poured with the intruder, 1: placed)", False,
+                       "whether beds with a placed intruder pull as the paper's pour does"),
     # The same beds pulled at coarser steps (granudrag pull --collision_steps; systems with
     # beds_from): the reference is the finest, 64 steps per collision time.
     "time_step": Study("time_step", "collision_steps", "max",
@@ -425,10 +431,8 @@ def _answer(cmp, study):
             saved = ", ".join(f"{v}: {100 * g.asleep.mean():.0f} %" for v, g in _variants(cmp, study, " d"))
             text += f" Mean fraction of the grains asleep over a pull: {saved}."
         return text
-    if study.name == "settle_damping":
-        ok = [f"{v:g}" for v, g in cmp.groupby("variant") if g.agrees.all()]
-        return ("Settling damping whose beds give the paper's pour's drag at every point: "
-                + (", ".join(ok) if ok else "none") + ".")
+    if study.name in ("settle_damping", "placement"):
+        return (settle_damping_answer if study.name == "settle_damping" else placement_answer)(cmp)
     # stiffness: the drag's change per decade of K_n, at each speed (regimes differ)
     cmp = cmp.assign(_per_decade=cmp.rel_diff / np.log10(cmp.variant / cmp.reference))
     by = "Fr" if "Fr" in cmp.columns and cmp.Fr.nunique() > 1 else None

@@ -133,7 +133,7 @@ def test_scale_is_nan_when_the_file_does_not_record_it(tmp_path, version):
     assert np.isnan(row["wake_force"]) and np.isnan(row["sleep_speed"])   # so no wake or rest test either
     assert np.isnan(row["wake_load"])
     assert np.isnan(row["sleep_time"])
-    assert row["settle_damping"] == 0.0                            # nor its bed's pour
+    assert row["settle_damping"] == 0.0 and row["placed"] == 0.0     # nor its bed's pour or placement
     # A bed of format version 1, or imported: the run has no /parameters/pour.
     q = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5", speed=1.5)
     with h5py.File(q, "a") as f:

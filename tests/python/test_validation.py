@@ -215,6 +215,16 @@ def test_settle_damping_compares_other_beds_by_their_means_and_scatter():
     assert "at every point: none." in val.conclusion(cmp, "settle_damping")
 
 
+def test_placement_compares_placed_beds_with_poured_ones_and_says_where_they_differ():
+    runs = damped_runs(0.0).rename(columns={"settle_damping": "placed"})
+    cmp = val.compare(runs, "placement")
+    assert not cmp.paired.any() and set(cmp.reference) == {0.0} and set(cmp.variant) == {1.0}
+    assert cmp.agrees.all() and "pull as beds poured with the intruder in place" in val.conclusion(cmp, "placement")
+    bad = val.conclusion(val.compare(damped_runs(0.3).rename(columns={"settle_damping": "placed"}), "placement"),
+                         "placement")
+    assert "disagree with the paper's pour (|z| >= 2) at 2 of 2 points: D = 2, h = 6.5, mu = 0.5" in bad, bad
+
+
 def test_flagged_runs_and_missing_variants_are_named(tmp_path):
     runs = yield_runs({0.01: 0.0, 0.03: 0.0, 0.1: 0.0})
     runs.loc[runs.V != 0.01, "sanity"] = "overlap 0.3 d > max_overlap"

@@ -78,3 +78,26 @@ def test_pull_length_validation_runs_end_to_end(tmp_path):
     assert per_sample == pytest.approx(0.03, rel=0.02)
     assert np.allclose(prefixes.travel, prefixes.samples * per_sample, rtol=1e-9)
     assert (out / "validate_pull_length.png").stat().st_size > 5000
+
+
+def test_placement_validation_compares_placed_beds_with_poured_ones(tmp_path):
+    counts = job_counts(snakemake(tmp_path / "full", write_config(tmp_path / "full.yaml", tiny("placement")),
+                                  "-n", "validation").stdout)
+    assert (counts["column"], counts["placed_bed"], counts["bed"], counts["pull"]) == (6, 24, 24, 96), counts
+    config = tiny("placement_quick")
+    config["defaults"].update(kn=2e4, seeds=[1, 2])
+    for name in ("poured", "placed"):
+        config["systems"][name].update(lx=8, ly=8, grains=700, pour={"ke_threshold": 1e-5, "max_settle_time": 20},
+                                       pull={"distance": 0.4, "transient": 0.1, "max_overlap": 0.2, "snapshots": 1})
+    config["sweeps"] = [dict(name=n, system=n, D=2, depth=3, Fr=1) for n in ("poured", "placed")]
+    r = snakemake(tmp_path, write_config(tmp_path / "c.yaml", config), "--cores", "2", "validation")
+    assert r.returncode == 0, r.stderr[-2000:]
+    out = tmp_path / config["results"]
+    runs = pd.read_csv(out / "runs.csv")
+    # Two beds poured with the intruder, two placed into two columns (one per seed).
+    assert sorted(runs.placed) == [0, 0, 1, 1] and len(list((out / "columns").rglob("column.h5"))) == 2
+    md = (out / "validate_placement.md").read_text()
+    assert "placed = 1 against 0: agrees at" in md, md
+    assert "as beds poured with the intruder in place" in md or "disagree with the paper's pour" in md, md
+    cmp = pd.read_csv(out / "validate_placement.csv")
+    assert len(cmp) == 1 and cmp.beds.iloc[0] == 2
