@@ -133,3 +133,16 @@ def test_a_placed_study_runs_to_its_table_and_a_new_depth_reuses_the_column(tmp_
     with open(results / "beds/system~P/D~2/h~4/mu~0.5/kn~2e4/gn~199.05359/seed~1/bed.h5", "rb") as fh:
         assert fh.read(8) == b"\x89HDF\r\n\x1a\n"
     assert yaml.safe_load(configfile.read_text())["systems"]["P"]["placement"] == {}
+
+
+def test_a_failed_placement_leaves_no_bed_and_says_why(tmp_path):
+    c = config()
+    c["defaults"]["seeds"] = [1]
+    c["sweeps"] = [{"name": "too_deep", "system": "P", "D": 2, "depth": 30, "Fr": 1}]
+    r = snakemake(tmp_path, write_config(tmp_path / "c.yaml", c), "--cores", "1", "table", check=False)
+    assert r.returncode != 0
+    results = tmp_path / c["results"]
+    bed = results / "beds/system~P/D~2/h~30/mu~0.5/kn~2e4/gn~199.05359/seed~1/bed.h5"
+    assert not bed.exists() and not list(bed.parent.glob("*.tmp*"))
+    assert "deeper than the bed" in (bed.parent / "bed.h5.failed").read_text()
+    assert (results / "columns/system~P/mu~0.5/kn~2e4/gn~199.05359/seed~1/column.h5").is_file()   # kept
