@@ -3,11 +3,16 @@ gamma_n, seed) without an intruder and places each bed's intruder (D, depth) int
 `granudrag place`; the beds' paths, pulls and table are a poured system's.
 
 The plan and cost without Snakemake; then the rules on a tiny column (700 grains, 8 d x 8 d,
-K_n = 2e4): the jobs a dry run lists, a run to table.csv, and a changed depth placed again
-into the same column, which is not poured again.
+K_n = 2e4): the jobs a dry run lists, a run to table.csv, a changed depth placed again into the
+same column, which is not poured again, a failed placement that leaves no bed, and one killed
+mid-run (SIGKILL, event-driven: once it has claimed its output) that the retry starts over,
+giving the bed an uninterrupted placement gives.
 """
 import copy
+import subprocess
 
+import h5py
+import numpy as np
 import pandas as pd
 import pytest
 import yaml
@@ -146,3 +151,54 @@ def test_a_failed_placement_leaves_no_bed_and_says_why(tmp_path):
     assert not bed.exists() and not list(bed.parent.glob("*.tmp*"))
     assert "deeper than the bed" in (bed.parent / "bed.h5.failed").read_text()
     assert (results / "columns/system~P/mu~0.5/kn~2e4/gn~199.05359/seed~1/column.h5").is_file()   # kept
+
+
+# The first `granudrag place` is killed (SIGKILL, as a cluster's time limit does) once it has
+# claimed its output; every other call runs granudrag itself.
+WRAPPER = """#!/usr/bin/env bash
+real={binary}
+marks={marks}
+if [ "$1" = place ] && [ ! -e "$marks/started" ]; then
+  touch "$marks/started"
+  out="" prev=""
+  for a in "$@"; do [ "$prev" = --output ] && out=$a; prev=$a; done
+  "$real" "$@" &
+  pid=$!
+  while kill -0 "$pid" 2>/dev/null && [ ! -e "$out.lock" ]; do sleep 0.02; done
+  if kill -9 "$pid" 2>/dev/null; then
+    wait "$pid" 2>/dev/null
+    touch "$marks/killed"
+    exit 137
+  fi
+  wait "$pid"
+  exit $?
+fi
+exec "$real" "$@"
+"""
+
+
+def test_a_placement_killed_mid_run_starts_over_cleanly(tmp_path):
+    marks = tmp_path / "marks"
+    marks.mkdir()
+    wrapper = tmp_path / "granudrag"
+    wrapper.write_text(WRAPPER.format(binary=BINARY, marks=marks))
+    wrapper.chmod(0o755)
+    c = config()
+    c.update(granudrag=str(wrapper), max_runtime=10)           # max_runtime: the bed rules retry
+    c["defaults"]["seeds"] = [1]
+    c["sweeps"] = [{"name": "one", "system": "P", "D": 2, "depth": 3, "Fr": 1}]
+    assert study.bed_retries(study.plan(c)) >= 1
+    key = "system~P/D~2/h~3/mu~0.5/kn~2e4/gn~199.05359/seed~1"
+    snakemake(tmp_path, write_config(tmp_path / "c.yaml", c), "--cores", "1", f"{c['results']}/beds/{key}/bed.h5")
+    assert (marks / "killed").exists(), "the first placement was not interrupted"
+    bed = tmp_path / c["results"] / "beds" / key / "bed.h5"
+    assert not (bed.parent / "bed.h5.failed").exists() and not (bed.parent / "bed.h5.lock").exists()
+    log = (tmp_path / c["logs"] / "beds" / f"{key}.log").read_text()
+    assert "attempt 1" in log and "attempt 2" in log
+    direct = tmp_path / "direct.h5"
+    column = tmp_path / c["results"] / "columns" / "system~P/mu~0.5/kn~2e4/gn~199.05359/seed~1/column.h5"
+    subprocess.run([str(BINARY), "place", "--bed", str(column), "--output", str(direct), "--threads", "1",
+                    *study.place_args(study.Bed.parse(key), c)], check=True, capture_output=True)
+    with h5py.File(bed) as a, h5py.File(direct) as b:
+        for name in ("particles/all/position/value", "particles/all/velocity/value", "contacts/shear"):
+            assert np.array_equal(a[name][:], b[name][:]), name
