@@ -23,24 +23,21 @@ def _flags(settings):
 
 def pour_args(bed, config):
     """granudrag pour arguments (without --output and --threads) for a bed."""
-    sysc = config["systems"][bed.system]
-    args = ["--lx", fmt(sysc["lx"]), "--ly", fmt(sysc["ly"]), "--grains", str(int(sysc["grains"]))]
-    args += ["--intruder_diameter", bed.D, "--depth" if bed.place == "h" else "--intruder_z", bed.pos]
-    args += ["--mu", bed.mu, "--kn", bed.kn, "--gamman", bed.gn, "--seed", bed.seed]
-    settings = pour_settings(config, bed.system)
-    if not settings.get("checkpoint_interval"):
-        interval = pour_checkpoint_interval(bed, config)
-        if interval:
-            settings["checkpoint_interval"] = interval
-    return args + _flags(settings)
+    return _pour_args(bed, config, ["--intruder_diameter", bed.D,
+                                    "--depth" if bed.place == "h" else "--intruder_z", bed.pos])
 
 
 def column_args(bed, config):
     """granudrag pour arguments (without --output and --threads) of the column a placed bed's
     intruder goes into: the bed's system, contact law and seed, no intruder (so no depth)."""
+    return _pour_args(bed, config, ["--intruder_diameter", "0"])
+
+
+def _pour_args(bed, config, intruder):
+    """A pour's arguments for bed's system and contact law, with `intruder`'s in their place."""
     sysc = config["systems"][bed.system]
     args = ["--lx", fmt(sysc["lx"]), "--ly", fmt(sysc["ly"]), "--grains", str(int(sysc["grains"]))]
-    args += ["--intruder_diameter", "0", "--mu", bed.mu, "--kn", bed.kn, "--gamman", bed.gn, "--seed", bed.seed]
+    args += intruder + ["--mu", bed.mu, "--kn", bed.kn, "--gamman", bed.gn, "--seed", bed.seed]
     settings = pour_settings(config, bed.system)
     if not settings.get("checkpoint_interval"):
         interval = pour_checkpoint_interval(bed, config)
