@@ -6,7 +6,6 @@ The kill is event-driven (a wrapper around granudrag waits for the checkpoint fi
 never a wall-clock delay. The engine: $GRANUDRAG if set, else build/granudrag.
 """
 import copy
-import os
 import subprocess
 from pathlib import Path
 
@@ -15,48 +14,21 @@ import numpy as np
 import pytest
 import yaml
 
+from workflow_support import BINARY, ROOT, killing_wrapper
+
 import granudrag_study as study
 
-ROOT = Path(__file__).resolve().parents[2]
 SNAKEMAKE = "/usr/bin/snakemake"
-BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag")).resolve()
 
 pytestmark = [
     pytest.mark.skipif(not Path(SNAKEMAKE).exists(), reason="Debian's snakemake is not installed"),
     pytest.mark.skipif(not BINARY.exists(), reason=f"no granudrag binary at {BINARY} (build it first)"),
 ]
 
-# The first `granudrag pour` is killed as soon as its first checkpoint exists; the file
-# `killed` then says so. Every other call runs granudrag itself.
-WRAPPER = """#!/usr/bin/env bash
-real={binary}
-marks={marks}
-if [ "$1" = pour ] && [ ! -e "$marks/started" ]; then
-  touch "$marks/started"
-  out=""
-  prev=""
-  for a in "$@"; do [ "$prev" = --output ] && out=$a; prev=$a; done
-  "$real" "$@" &
-  pid=$!
-  while kill -0 "$pid" 2>/dev/null && [ ! -f "$out.checkpoint.h5" ]; do sleep 0.05; done
-  if kill -9 "$pid" 2>/dev/null; then
-    wait "$pid" 2>/dev/null
-    touch "$marks/killed"
-    exit 137
-  fi
-  wait "$pid"
-  exit $?
-fi
-exec "$real" "$@"
-"""
-
 
 def test_a_pour_killed_after_a_checkpoint_is_finished_by_the_retry_with_the_same_bed(tmp_path):
-    marks = tmp_path / "marks"
-    marks.mkdir()
-    wrapper = tmp_path / "granudrag"
-    wrapper.write_text(WRAPPER.format(binary=BINARY, marks=marks))
-    wrapper.chmod(0o755)
+    # Killed as soon as its first checkpoint exists.
+    wrapper, marks = killing_wrapper(tmp_path, "pour", until='-f "$out.checkpoint.h5"')
     with open(ROOT / "config" / "smoke.yaml") as fh:
         config = yaml.safe_load(fh)
     config = copy.deepcopy(config)

@@ -16,7 +16,8 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
-from workflow_support import BINARY, NEEDS_SNAKEMAKE_AND_ENGINE, job_counts, snakemake, write_config
+from workflow_support import (BINARY, NEEDS_SNAKEMAKE_AND_ENGINE, job_counts, killing_wrapper, snakemake,
+                              write_config)
 
 import granudrag_study as study
 
@@ -153,36 +154,9 @@ def test_a_failed_placement_leaves_no_bed_and_says_why(tmp_path):
     assert (results / "columns/system~P/mu~0.5/kn~2e4/gn~199.05359/seed~1/column.h5").is_file()   # kept
 
 
-# The first `granudrag place` is killed (SIGKILL, as a cluster's time limit does) once it has
-# claimed its output; every other call runs granudrag itself.
-WRAPPER = """#!/usr/bin/env bash
-real={binary}
-marks={marks}
-if [ "$1" = place ] && [ ! -e "$marks/started" ]; then
-  touch "$marks/started"
-  out="" prev=""
-  for a in "$@"; do [ "$prev" = --output ] && out=$a; prev=$a; done
-  "$real" "$@" &
-  pid=$!
-  while kill -0 "$pid" 2>/dev/null && [ ! -e "$out.lock" ]; do sleep 0.02; done
-  if kill -9 "$pid" 2>/dev/null; then
-    wait "$pid" 2>/dev/null
-    touch "$marks/killed"
-    exit 137
-  fi
-  wait "$pid"
-  exit $?
-fi
-exec "$real" "$@"
-"""
-
-
 def test_a_placement_killed_mid_run_starts_over_cleanly(tmp_path):
-    marks = tmp_path / "marks"
-    marks.mkdir()
-    wrapper = tmp_path / "granudrag"
-    wrapper.write_text(WRAPPER.format(binary=BINARY, marks=marks))
-    wrapper.chmod(0o755)
+    # Killed once it has claimed its output.
+    wrapper, marks = killing_wrapper(tmp_path, "place", until='-e "$out.lock"')
     c = config()
     c.update(granudrag=str(wrapper), max_runtime=10)           # max_runtime: the bed rules retry
     c["defaults"]["seeds"] = [1]

@@ -67,3 +67,39 @@ def job_counts(output):
         if in_table and m and m.group(1) != "total":
             counts[m.group(1)] = int(m.group(2))
     return counts
+
+
+# The first `granudrag <command>` is killed (SIGKILL, as a cluster's time limit does) as soon as
+# `until` holds, a bash test on its --output path $out; the file `killed` in `marks` then says
+# so. Every other call runs granudrag itself. The kill waits on an event, never on the clock.
+KILLING_WRAPPER = """#!/usr/bin/env bash
+real={binary}
+marks={marks}
+if [ "$1" = {command} ] && [ ! -e "$marks/started" ]; then
+  touch "$marks/started"
+  out="" prev=""
+  for a in "$@"; do [ "$prev" = --output ] && out=$a; prev=$a; done
+  "$real" "$@" &
+  pid=$!
+  while kill -0 "$pid" 2>/dev/null && ! [ {until} ]; do sleep 0.02; done
+  if kill -9 "$pid" 2>/dev/null; then
+    wait "$pid" 2>/dev/null
+    touch "$marks/killed"
+    exit 137
+  fi
+  wait "$pid"
+  exit $?
+fi
+exec "$real" "$@"
+"""
+
+
+def killing_wrapper(tmp_path, command, until):
+    """(wrapper, marks): an executable standing in for granudrag that kills the first `command`
+    once `until` holds (KILLING_WRAPPER)."""
+    marks = tmp_path / "marks"
+    marks.mkdir()
+    wrapper = tmp_path / "granudrag"
+    wrapper.write_text(KILLING_WRAPPER.format(binary=BINARY, marks=marks, command=command, until=until))
+    wrapper.chmod(0o755)
+    return wrapper, marks
