@@ -7,6 +7,7 @@ d, speeds in sqrt(g d), forces in rho d^3 g.
 The main modules (each a file of this folder; a test checks that every name here is one):
     table    schema, Froude number, validation, CSV loading
     runs     run files (HDF5, from `granudrag pull`) into the table
+    path_scheme  the study's paths (bed, column, pull) declared once: their components, table columns
     restitution  Kuwabara-Kono e(v_n) theory curve (Fig. 2)
     paper    the published numbers the report compares against
     result   Param (value, err) and Fit, the fit-result types

@@ -7,8 +7,14 @@
 - A path with braces (Snakemake's wildcards) is refused by the config check, naming the key.
 
 Under Snakemake 9 and 7.21 alike (GRANUDRAG_SNAKEMAKE, workflow_support.py).
+
+And the path scheme itself (issue 75): the smoke study's files at the paths they always had, and
+every kind of path (bed, column, pull) formatted, matched and parsed back to the same fields, all
+from the one declaration in analysis.path_scheme.
 """
+import dataclasses
 import json
+import re
 import shutil
 import subprocess
 
@@ -26,6 +32,61 @@ from workflow_support import (
 )
 
 import granudrag_study as study
+from analysis import path_scheme
+
+# The smoke study's files as studies on disk hold them: a change of the scheme must not move them.
+SMOKE_FILES = """
+beds/system~I/D~1.5/h~4/mu~0.5/kn~2e4/gn~199.05359/seed~1/bed.h5
+beds/system~I/D~2/h~4/mu~0.5/kn~2e4/gn~199.05359/seed~1/bed.h5
+beds/system~II/D~2/h~3/mu~0.5/kn~2e4/gn~199.05359/seed~1/bed.h5
+beds/system~II/D~2/h~5/mu~0.5/kn~2e4/gn~199.05359/seed~1/bed.h5
+beds/system~II/D~2/h~5/mu~0.5/kn~5e4/gn~344.93242/seed~1/bed.h5
+beds/system~II/D~2/h~5/mu~0.5/kn~5e4/gn~344.93242/seed~2/bed.h5
+pulls/system~I/D~1.5/h~4/mu~0.5/kn~2e4/gn~199.05359/seed~1/Fr~0.5/run.h5
+pulls/system~I/D~1.5/h~4/mu~0.5/kn~2e4/gn~199.05359/seed~1/Fr~1/run.h5
+pulls/system~I/D~1.5/h~4/mu~0.5/kn~2e4/gn~199.05359/seed~1/Fr~2/run.h5
+pulls/system~I/D~2/h~4/mu~0.5/kn~2e4/gn~199.05359/seed~1/Fr~0.5/run.h5
+pulls/system~I/D~2/h~4/mu~0.5/kn~2e4/gn~199.05359/seed~1/Fr~1/run.h5
+pulls/system~I/D~2/h~4/mu~0.5/kn~2e4/gn~199.05359/seed~1/Fr~2/run.h5
+pulls/system~I/D~2/h~4/mu~0.5/kn~2e4/gn~199.05359/seed~1/V~0.01/run.h5
+pulls/system~II/D~2/h~3/mu~0.5/kn~2e4/gn~199.05359/seed~1/Fr~1/run.h5
+pulls/system~II/D~2/h~3/mu~0.5/kn~2e4/gn~199.05359/seed~1/V~0.01/run.h5
+pulls/system~II/D~2/h~5/mu~0.5/kn~2e4/gn~199.05359/seed~1/Fr~1/run.h5
+pulls/system~II/D~2/h~5/mu~0.5/kn~2e4/gn~199.05359/seed~1/V~0.01/run.h5
+pulls/system~II/D~2/h~5/mu~0.5/kn~5e4/gn~344.93242/seed~1/Fr~1/run.h5
+pulls/system~II/D~2/h~5/mu~0.5/kn~5e4/gn~344.93242/seed~2/Fr~1/run.h5
+""".split()
+
+
+def test_the_smoke_studys_files_stay_where_they_are():
+    plan = study.plan(smoke_config())
+    files = [study.bed_file("r", k) for k in plan.beds] + [study.run_file("r", k) for k in plan.pulls]
+    assert sorted(files) == [f"r/{f}" for f in SMOKE_FILES] and not plan.columns
+
+
+def test_bed_column_and_pull_paths_round_trip_through_pattern_regex_and_key():
+    bed = study.Bed("I", "3", "z", "13.5", "0.5", "2e6", "3154.7867", "1")
+    assert [f.name for f in dataclasses.fields(study.Bed)] == [
+        f for c in path_scheme.BED for f in ((c.choice,) if c.choice else ()) + (c.field,)]
+    key = "system~I/D~3/z~13.5/mu~0.5/kn~2e6/gn~3154.7867/seed~1"
+    assert bed.key == key and study.Bed.parse(key) == bed and re.fullmatch(study.BED_PATTERN, key)
+    assert study.bed_file("results/x", key) == f"results/x/beds/{key}/bed.h5"
+    deep = study.Bed("I", "2", "h", "7", "0.5", "2e4", "199.05359", "2")
+    assert deep.key == "system~I/D~2/h~7/mu~0.5/kn~2e4/gn~199.05359/seed~2" == study.Bed.parse(deep.key).key
+    for kind, value, text in (("Fr", 4, "Fr~4"), ("V", 0.1, "V~0.1")):
+        speed = study.speed_key(kind, value)
+        assert speed == text and study.parse_speed(speed) == (kind, value) and re.fullmatch(study.SPEED_PATTERN, speed)
+        assert study.run_file("results/x", study.Pull(bed, speed).key) == f"results/x/pulls/{key}/{text}/run.h5"
+    column = "system~I/mu~0.5/kn~2e6/gn~3154.7867/seed~1"
+    assert bed.column_key == column and re.fullmatch(study.COLUMN_PATTERN, column)
+    assert study.column_bed(column) == dataclasses.replace(bed, D="0", place="h", pos="0")
+    assert study.column_bed(column).column_key == column
+    assert study.column_file("results", column) == f"results/columns/{column}/column.h5"
+    assert re.fullmatch(study.bed_pattern(["I"]), key) and not re.fullmatch(study.bed_pattern(["II"]), key)
+    for bad, parse in ((column, study.Bed.parse), (key, study.column_bed), ("F~1", study.parse_speed)):
+        with pytest.raises(study.ConfigError, match="not a"):
+            parse(bad)
+
 
 ODD = "my dir's \"é\" checkout"          # a space, both quotes, a non-ASCII letter
 

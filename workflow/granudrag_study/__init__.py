@@ -2,7 +2,8 @@
 Snakemake, so it is tested on its own (tests/workflow/test_study.py).
 
     config    the config's schema check (ConfigError names the bad key), the engine's path
-    paths     a bed and a pull as paths whose numbers are their parameters (Bed, Pull, fmt)
+    paths     a bed and a pull as paths whose numbers are their parameters (Bed, Pull, fmt),
+              from the one declaration of the path's components (analysis.path_scheme)
     plan      every bed and pull of the config's sweeps; the pulls of Figs. 4 and 9
     cost      estimated particle-steps and wall time of each job, scheduler resources
     region_cost  what the active region saves a pull: sleeping fractions measured, a model
@@ -72,6 +73,7 @@ from .paths import (
     number,
     parse_speed,
     run_file,
+    speed_key,
 )
 from .plan import (
     PAPER_FLOW_FIELD,
@@ -125,6 +127,7 @@ __all__ = [
     "nearest_pull",
     "number",
     "parse_speed",
+    "speed_key",
     "plan",
     "plan_file",
     "poured_bed",

@@ -2,41 +2,31 @@
 
 A bed is identified by its system (box, grain count, pour settings), the intruder diameter
 D, its placement (depth h below the free surface, or height z above the wall), friction mu,
-K_n, gamma_n and the pour's seed; its path names all but the system's settings:
-
-    <results>/beds/system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.054/seed~1/bed.h5
-
+K_n, gamma_n and the pour's seed; its path (`bed_file`) names all but the system's settings.
 A system whose beds are placed (`placement:`) pours one column per seed, without an intruder,
-and places each bed's intruder into it (granudrag place); the column's path is the bed's
-without D and depth (the bed's path stays as above):
-
-    <results>/columns/system~I/mu~0.5/kn~2e4/gn~199.054/seed~1/column.h5
-
-A pull is a bed and a speed, given as a Froude number (Fr~) or a speed (V~):
-
-    <results>/pulls/system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.054/seed~1/Fr~1/run.h5
+and places each bed's intruder into it (granudrag place); the column's path (`column_file`) is
+the bed's without D and depth. A pull is a bed and a speed, given as a Froude number or a speed
+(`run_file`). The components of these paths, their order and the table column each fills are
+declared once, with examples, in analysis.path_scheme (which the run reader parses by too);
+Bed's fields are that declaration's.
 
 Numbers in paths are written by `fmt` and the jobs use exactly the numbers the path states,
 so a path is a complete, reproducible name.
 """
 
 import math
-import re
 from dataclasses import dataclass, field
 
+from analysis import path_scheme as scheme
 from analysis.physics import froude_speed
 
 from .config import ConfigError
 
-# Wildcard patterns (regexes) of one bed and one speed in a path.
-BED_PATTERN = r"system~[^/~]+/D~[^/~]+/[hz]~[^/~]+/mu~[^/~]+/kn~[^/~]+/gn~[^/~]+/seed~[^/~]+"
-SPEED_PATTERN = r"(Fr|V)~[^/~]+"
-COLUMN_PATTERN = r"system~[^/~]+/mu~[^/~]+/kn~[^/~]+/gn~[^/~]+/seed~[^/~]+"
-_BED_RE = re.compile(
-    r"^system~(?P<system>[^/~]+)/D~(?P<D>[^/~]+)/(?P<place>[hz])~(?P<pos>[^/~]+)"
-    r"/mu~(?P<mu>[^/~]+)/kn~(?P<kn>[^/~]+)/gn~(?P<gn>[^/~]+)/seed~(?P<seed>[^/~]+)$"
-)
-_SPEED_RE = re.compile(r"^(?P<kind>Fr|V)~(?P<value>[^/~]+)$")
+# Wildcard patterns (regexes without groups) of one bed, one speed and one column in a path,
+# from the one declaration of the path's components (analysis.path_scheme).
+BED_PATTERN = scheme.pattern(scheme.BED)
+SPEED_PATTERN = scheme.pattern((scheme.SPEED,))
+COLUMN_PATTERN = scheme.pattern(scheme.COLUMN)
 
 
 def fmt(x):
@@ -61,10 +51,16 @@ def number(text, what="number"):
 
 
 def parse_speed(text):
-    m = _SPEED_RE.match(text)
+    m = scheme.parse((scheme.SPEED,), text)
     if not m:
-        raise ConfigError(f"not a speed: '{text}' (expected Fr~<number> or V~<number>)")
-    return m.group("kind"), number(m.group("value"), f"speed {text}")
+        expected = " or ".join(scheme.part(name, "<number>") for name in scheme.SPEED.names)
+        raise ConfigError(f"not a speed: '{text}' (expected {expected})")
+    return m["kind"], number(m["value"], f"speed {text}")
+
+
+def speed_key(kind, value):
+    """A pull's speed as its path names it: speed_key("Fr", 1.5) is "Fr~1.5"."""
+    return scheme.key((scheme.SPEED,), {"kind": kind, "value": fmt(value)})
 
 
 @dataclass(frozen=True)
@@ -80,17 +76,14 @@ class Bed:
 
     @property
     def key(self):
-        return (
-            f"system~{self.system}/D~{self.D}/{self.place}~{self.pos}/mu~{self.mu}"
-            f"/kn~{self.kn}/gn~{self.gn}/seed~{self.seed}"
-        )
+        return scheme.key(scheme.BED, vars(self))
 
     @classmethod
     def parse(cls, key):
-        m = _BED_RE.match(key)
+        m = scheme.parse(scheme.BED, key)
         if not m:
             raise ConfigError(f"not a bed path: '{key}' (expected {BED_PATTERN})")
-        return cls(**m.groupdict())
+        return cls(**m)
 
     def value(self, name):
         return number(getattr(self, name), f"bed {self.key}: {name}")
@@ -98,7 +91,7 @@ class Bed:
     @property
     def column_key(self):
         """The column a placed bed's intruder goes into: the bed but its D and depth."""
-        return f"system~{self.system}/mu~{self.mu}/kn~{self.kn}/gn~{self.gn}/seed~{self.seed}"
+        return scheme.key(scheme.COLUMN, vars(self))
 
 
 @dataclass(frozen=True)
@@ -128,17 +121,12 @@ def bed_file(results, key):
     return f"{results}/beds/{key}/bed.h5"
 
 
-_COLUMN_RE = re.compile(
-    r"^system~(?P<system>[^/~]+)/mu~(?P<mu>[^/~]+)/kn~(?P<kn>[^/~]+)/gn~(?P<gn>[^/~]+)/seed~(?P<seed>[^/~]+)$"
-)
-
-
 def column_bed(key):
     """A column's path as a Bed without intruder (D 0, no depth): what its pour and its cost read."""
-    m = _COLUMN_RE.match(key)
+    m = scheme.parse(scheme.COLUMN, key)
     if not m:
         raise ConfigError(f"not a column path: '{key}' (expected {COLUMN_PATTERN})")
-    return Bed(D="0", place="h", pos="0", **m.groupdict())
+    return Bed(D="0", place="h", pos="0", **m)
 
 
 def column_file(results, key):
@@ -147,8 +135,7 @@ def column_file(results, key):
 
 def bed_pattern(systems):
     """BED_PATTERN restricted to the systems named (none: a pattern no path matches)."""
-    names = "|".join(re.escape(str(s)) for s in systems) or "(?!)"
-    return BED_PATTERN.replace("system~[^/~]+", f"system~(?:{names})", 1)
+    return scheme.pattern(scheme.BED, system=systems)
 
 
 def run_file(results, key):

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from analysis.physics import PAPER_RATIO, gamman_for
 
 from .config import ConfigError, placed, resolve_beds_from
-from .paths import Bed, Pull, fmt
+from .paths import Bed, Pull, fmt, parse_speed, speed_key
 
 SWEEP_AXES = ("D", "depth", "z", "mu", "kn", "gamman", "gamman_ratio", "seed")
 
@@ -101,8 +101,7 @@ def plan(config):
         ax = _sweep_values(sweep, defaults, name, i)
         place, positions = ("h", ax["depth"]) if "depth" in ax else ("z", ax["z"])
         damping = ax.get("gamman") or [("ratio", r) for r in ax.get("gamman_ratio", [PAPER_RATIO])]
-        speeds = [f"Fr~{fmt(v)}" for v in _as_list(sweep.get("Fr", []))]
-        speeds += [f"V~{fmt(v)}" for v in _as_list(sweep.get("V", []))]
+        speeds = [speed_key(kind, v) for kind in ("Fr", "V") for v in _as_list(sweep.get(kind, []))]
         settings = tuple(sorted((sweep.get("pull") or {}).items()))
         grid = itertools.product(ax["D"], positions, ax["mu"], ax["kn"], damping, ax["seed"])
         for D, pos, mu, kn, gn, seed in grid:
@@ -164,7 +163,7 @@ def _check_yield_speeds(config, pulls):
     speeds = {float(s["V"]) for s in steps}
     given = "[" + ", ".join(f"{{mu: {fmt(s['mu'])}, V: {fmt(s['V'])}}}" for s in steps) + "]"
     for pull in pulls.values():
-        if not pull.speed.startswith("V~") or not any(math.isclose(pull.V, v, rel_tol=1e-6) for v in speeds):
+        if parse_speed(pull.speed)[0] != "V" or not any(math.isclose(pull.V, v, rel_tol=1e-6) for v in speeds):
             continue
         mu = pull.bed.value("mu")
         wanted = float(yield_speeds(steps, [mu])[0])
