@@ -21,15 +21,17 @@ that looks at that text. `read_parameters` refuses version 1 by name.
 The table's `h` is the depth measured after settling (free surface at half
 the bulk packing fraction, see `granudrag pour`), the depth the intruder
 really had. Where a run's path names its parameters (the workflow writes
-`.../system~I/D~2/h~10/mu~0.5/.../Fr~1/run.h5`), the `system~` component
+`.../system~I/D~2/h~10/mu~0.5/.../Fr~1/run.h5`; the components and the table
+column each fills are declared in analysis.path_scheme), the `system~` component
 gives the table's `system` and an `h~` component the requested depth,
 kept as `h_requested` (NaN for beds placed by height, `z~`), and a `z~`
 component the requested height as `z_requested` (NaN for beds placed by
 depth): the point a run belongs to is told by what was asked, not by the
-depth each bed settled to. Other
-`key~value` components that name a stored quantity (D, mu, kn, gn, Fr, V)
-are checked against the file, so a run copied to the wrong place is refused
-rather than filed under the wrong parameters.
+depth each bed settled to; `seed~` gives `seed`, which tells replicate beds of
+one point apart (analysis.table.combine_beds). The others name a stored
+quantity (D, mu, kn, gn as gamman, Fr, V) and are checked against the file,
+so a run copied to the wrong place is refused rather than filed under the
+wrong parameters.
 
 Sanity: a run file records its verdict, /sanity attribute `verdict`: "clean",
 or the first failure of a pull run with `--keep_going` (grains lost, an
@@ -42,13 +44,12 @@ existed have none: they are read as before, with column `sanity` = "unknown"
 overlaps were not bounded); new files have `sanity` = "clean".
 """
 import math
-import re
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from . import bed_origin, physics
+from . import bed_origin, path_scheme, physics
 from .run_series import SeriesError, drags, first_travel, kappa_error, read_series
 from .table import COLUMNS, froude, validate_table
 
@@ -68,9 +69,12 @@ EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "collision_steps", "steps",
                  "settle_damping", "placed", "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
 
-# Path components checked against the file: key in the path -> /run attribute.
-_PATH_CHECKS = {"D": "D", "mu": "mu", "kn": "kn", "gn": "gamman"}
-_COMPONENT = re.compile(r"^([A-Za-z_]+)~(.+)$")
+# The table's columns that a run file's /run group holds: column -> attribute. A path component
+# (analysis.path_scheme) whose column is one of these is checked against the file; the others
+# (system, requested depth or height, seed) are the table's from the path alone.
+_FROM_RUN = {"D": "D", "h": "depth", "mu": "mu", "kn": "kn", "gamman": "gamman", "V": "speed",
+             "Fr": "froude"}
+_FROM_PATH = [c for c in dict.fromkeys(path_scheme.COLUMN_OF.values()) if c not in _FROM_RUN]
 
 
 class RunFileError(ValueError):
@@ -79,11 +83,28 @@ class RunFileError(ValueError):
 
 def path_parameters(path):
     """{'system': 'I', 'D': '2', 'h': '10', ...} from the key~value components of a path."""
-    out = {}
-    for part in Path(path).parts:
-        m = _COMPONENT.match(part)
-        if m:
-            out[m.group(1)] = m.group(2)
+    return path_scheme.named(path)
+
+
+def _path_columns(params, get, path):
+    """The table's columns that only the path gives ({'h_requested': 10.0, ...}: NaN for those it
+    does not name, the system aside), after checking those the file holds too against it."""
+    out = {c: math.nan for c in _FROM_PATH if c != "system"}
+    for name, text in params.items():
+        column = path_scheme.COLUMN_OF[name]
+        if column == "system":
+            continue
+        try:
+            value = float(text)
+        except ValueError:
+            raise RunFileError(f"{path}: path component '{path_scheme.part(name, text)}' "
+                               "is not a number") from None
+        attr = _FROM_RUN.get(column)
+        if attr is None:
+            out[column] = value
+        elif not math.isclose(value, get[attr], rel_tol=1e-5, abs_tol=1e-12):
+            raise RunFileError(f"{path}: the path says {name} = {text} but the file has "
+                               f"{attr} = {get[attr]:.6g} (run file in the wrong place?)")
     return out
 
 
@@ -203,22 +224,9 @@ def read_run(path, system=None, root=None):
 
     system = system if system is not None else params.get("system")
     if not system:
-        raise RunFileError(f"{path}: no system given and no 'system~' component in the path")
-    for key, attr in _PATH_CHECKS.items():
-        if key in params:
-            try:
-                named = float(params[key])
-            except ValueError:
-                raise RunFileError(f"{path}: path component '{key}~{params[key]}' is not a number") from None
-            if not math.isclose(named, get[attr], rel_tol=1e-5, abs_tol=1e-12):
-                raise RunFileError(f"{path}: the path says {key} = {params[key]} but the file has "
-                                   f"{attr} = {get[attr]:.6g} (run file in the wrong place?)")
-    for key in ("Fr", "V"):
-        if key in params:
-            stored = get["froude"] if key == "Fr" else get["speed"]
-            if not math.isclose(float(params[key]), stored, rel_tol=1e-5):
-                raise RunFileError(f"{path}: the path says {key} = {params[key]} but the file has "
-                                   f"{stored:.6g}")
+        raise RunFileError(f"{path}: no system given and no '{path_scheme.part('system', '<name>')}' "
+                           "component in the path")
+    from_path = _path_columns(params, get, path)
     fr = float(froude(get["speed"], get["D"]))
     if not math.isclose(fr, get["froude"], rel_tol=1e-6, abs_tol=1e-12):
         raise RunFileError(f"{path}: stored Froude number {get['froude']:.6g} is not paper Eq. 4 "
@@ -227,22 +235,19 @@ def read_run(path, system=None, root=None):
         raise RunFileError(f"{path}: sanity verdict is not clean, left out: {sanity}")
     if not math.isfinite(drag):
         raise RunFileError(f"{path}: the pull produced no drag (value {drag}); see its log")
-    h_requested = float(params["h"]) if "h" in params else math.nan
-    z_requested = float(params["z"]) if "z" in params else math.nan
     run_dir = path.parent
     if root is not None:
         try:
             run_dir = run_dir.relative_to(root)
         except ValueError:
             pass
-    return {"system": str(system), "D": get["D"], "h": get["depth"], "mu": get["mu"], "kn": get["kn"],
-            "gamman": get["gamman"], "V": get["speed"], "Fr": get["froude"], "drag": drag,
+    return {"system": str(system), **{c: get[a] for c, a in _FROM_RUN.items()}, "drag": drag,
             "drag_err": drag_err, "n_contacts": n, "theta": theta, "Z": Z, "kappa": kappa,
-            "run": str(run_dir), "h_requested": h_requested, "z_requested": z_requested, "dt": get["dt"],
+            "run": str(run_dir), **from_path, "dt": get["dt"],
             "collision_steps": round(physics.collision_time(get["kn"]) / get["dt"], 1),
             "steps": int(get["steps"]), "transient_distance": transient, "theta_err": theta_err,
             "theta_present": theta_present[0], "theta_present_err": theta_present[1],
-            "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau, "seed": _seed(params, path),
+            "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau,
             "drag_err_engine": drag_err_engine, "plateau_engine": plateau_engine,
             "drag_cumulative": series["drag_cumulative"], "drag_cumulative_err": series["drag_cumulative_err"],
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,
@@ -279,17 +284,6 @@ def _drag_convergence(group, drag_err):
     dof = float(group.attrs.get("error_dof", math.nan))
     plateau = bool(int(group.attrs.get("plateau", 0))) and math.isfinite(drag_err)
     return dof, plateau
-
-
-def _seed(params, path):
-    """The bed's pour seed from the path's `seed~` component (NaN if the path has none): it
-    tells replicate beds of one point apart (analysis.table.combine_beds)."""
-    if "seed" not in params:
-        return math.nan
-    try:
-        return float(params["seed"])
-    except ValueError:
-        raise RunFileError(f"{path}: path component 'seed~{params['seed']}' is not a number") from None
 
 
 def _value(value):

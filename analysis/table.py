@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from . import path_scheme
 from .physics import froude
 from .point_errors import (  # noqa: F401  (re-exported: the point table's errors for fits)
     observable_errors,
@@ -272,9 +273,9 @@ def _point_and_series(run):
     component, and its parent (the bed) likewise. Runs outside the workflow's layout (no
     `seed~` component) are each their own point and their own series."""
     parts = Path(str(run)).parts
-    if not any(p.startswith("seed~") for p in parts):
+    kept = [p for p in parts if path_scheme.name_of(p) != path_scheme.SEED.field]
+    if len(kept) == len(parts):
         return str(run), str(run)
-    kept = [p for p in parts if not p.startswith("seed~")]
     return "/".join(kept), "/".join(kept[:-1])
 
 
@@ -482,7 +483,7 @@ def bed_bootstrap(runs, n_boot, seed=0, prior=None):
                 for j, i in enumerate(drawn):
                     part = g[g.seed == seeds[i]].copy()
                     part["seed"] = float(j)  # a bed drawn twice counts as two beds
-                    part["run"] = [f"{p}/seed~{j}" for p in part["_point"]]
+                    part["run"] = [f"{p}/{path_scheme.part(path_scheme.SEED.field, j)}" for p in part["_point"]]
                     parts.append(part)
             else:
                 part = g.copy()

@@ -363,6 +363,21 @@ def test_run_in_the_wrong_place_is_refused(tmp_path):
     q = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5")
     with pytest.raises(RunFileError, match="path says Fr = 2"):
         read_run(q)
+    # Names that the table calls otherwise (analysis.path_scheme): gn is gamman, V the speed.
+    r = write_run(tmp_path / "pulls" / BED.replace("gn~199.05359", "gn~200") / "Fr~1" / "run.h5")
+    with pytest.raises(RunFileError, match="path says gn = 200 but the file has gamman = 199.054"):
+        read_run(r)
+    with pytest.raises(RunFileError, match="path says V = 0.5 but the file has speed = 0.75"):
+        read_run(write_run(tmp_path / "pulls" / BED / "V~0.5" / "run.h5"))
+    with pytest.raises(RunFileError, match="path component 'h~ten' is not a number"):
+        read_run(write_run(tmp_path / "pulls" / BED.replace("h~10", "h~ten") / "Fr~1" / "run.h5"))
+
+
+def test_a_bed_placed_by_height_gives_its_requested_height_and_no_depth(tmp_path):
+    p = write_run(tmp_path / "pulls" / BED.replace("h~10", "z~13.5") / "V~0.75" / "run.h5")
+    row = read_run(p)
+    assert row["z_requested"] == 13.5 and math.isnan(row["h_requested"]) and row["seed"] == 1.0
+    assert row["h"] == pytest.approx(9.87) and row["V"] == 0.75   # the table's h: measured, from the file
 
 
 def test_failed_pull_without_drag_is_refused(tmp_path):
