@@ -26,12 +26,14 @@ CONFIG = {
 
 
 def by_hand(beds, pulls):
-    """Core-hours of the given beds and pulls (D, Fr or V, distance), from the cost formulas."""
+    """Core-hours of the given beds and pulls (D, Fr or V, distance), from the cost formulas: a pour
+    to its limit (no ke_threshold given), a pull's particle-steps and its grains' start and time."""
     dt = physics.default_dt(2e4)
     steps = beds * 800 * 10 / dt
     for D, speed, distance in pulls:
         V = physics.froude_speed(speed[1], D) if speed[0] == "Fr" else speed[1]
         steps += 800 * distance / (V * dt)
+        steps += 800 * (study.cost.PULL_START_STEPS + study.cost.PULL_TIME_STEPS * distance / V)
     return steps / 1e7 * 2 / 3600
 
 
@@ -56,7 +58,7 @@ def test_the_whole_study_is_no_more_than_its_sweeps():
     config = copy.deepcopy(CONFIG)
     plan = study.plan(config)
     s = study.summary(plan)
-    whole = core_hours(s["bed_particle_steps"] + s["pull_particle_steps"], config)
+    whole = core_hours(s["bed_particle_steps"] + s["pull_work"], config)
     assert whole == pytest.approx(s["core_hours"], rel=1e-12)
     parts = sum(ch for _, _, _, ch in by_sweep(config))
     assert parts > whole          # beds shared by the sweeps count in each

@@ -56,6 +56,8 @@ from .cost import (
     pull_cost,
     pull_distance,
     pull_retries,
+    pull_time,
+    pull_work,
     summary,
 )
 from .manifest import plan_file, write_plan
@@ -142,6 +144,8 @@ __all__ = [
     "expected_settle_time",
     "pull_distance",
     "pull_retries",
+    "pull_time",
+    "pull_work",
     "reference_law",
     "write_plan",
     "resolve_beds_from",

@@ -9,6 +9,13 @@ granudrag's default (analysis.physics.default_dt), and a pull's the collision ti
 `collision_steps` when it sets them. The wall time of a job is its
 particle-steps over the config's `throughput` (particle-steps per second of one job on
 `threads` threads).
+
+What a job costs in CPU is more than its particle-steps: a pull also pays per grain for its start
+and end (the bed read, lists built, checkpoints and snapshots written) and per unit of simulated
+time (its samples), which weigh most in short pulls and slow ones (the CPU model below, fitted to
+the reproduction ladder's recorded rungs: granudrag_study.recorded). The study's estimate
+(summary) prices that work, in particle-step equivalents, at the config's throughput, which is
+then the rate of a pull's steps on the machine; the scheduler's limits keep the particle-steps.
 """
 
 import math
@@ -66,7 +73,18 @@ def bed_cost(bed, config):
 
 
 # When a pour stops: when the grains' kinetic energy falls below ke_threshold, else at
-# max_settle_time. Measured with settle_damping 1 (docs/study-outcomes.md, "Damped pours"), in
+# max_settle_time. Undamped pours to a ke_threshold of at least UNDAMPED_STOP_THRESHOLD (every
+# rung of the reproduction ladder) stop after UNDAMPED_SETTLE_PER_DENSITY time units per grain per
+# d^2 of base (the column's height), measured at 43.6-43.75 grains per d^2 (K_n = 2e6, mu = 0.5,
+# 1e-6): 26.0 and 29.5 (crossover-k2e6-box40-deep's 70,000-grain pours: 390,988 and 443,621 of
+# their 601,520 steps, results/reproduction/crossover-k2e6-box40-deep/README.md) and 30
+# (crossover-k2e6-box20-deep; its other pour ran to 40, results/reproduction/history.md): 28.5 on
+# average. Proportional to the height is an assumption; fitted freely to the ladder's recorded CPU
+# (granudrag_study.recorded) it comes out 1.10, but the totals hardly constrain it (the pours are
+# 10-25 % of each rung). Undamped pours to lower thresholds run to max_settle_time (below).
+UNDAMPED_SETTLE_PER_DENSITY = 0.65
+UNDAMPED_STOP_THRESHOLD = 1e-6
+# Measured with settle_damping 1 (docs/study-outcomes.md, "Damped pours"), in
 # 10 d x 10 d columns as deep as faithful.yaml's systems (K_n = 2e5, ke_threshold 1e-7): at system
 # I's depth (43.75 grains per d^2) mu = 0.1 stops after 37.0 time units, 0.25 after 25.5, 0.5
 # after 26.5 (the validation studies' shallower 40 d beds, 16 grains per d^2, 1e-6, mu = 0.25-0.8:
@@ -89,15 +107,19 @@ def _between(points, x):
 
 
 def expected_settle_time(bed, config):
-    """Simulated time a pour is expected to run (DAMPED_STOP), at most its max_settle_time."""
+    """Simulated time a pour is expected to run (UNDAMPED_SETTLE_PER_DENSITY, DAMPED_STOP), at most
+    its max_settle_time."""
     sysc = config["systems"][bed.system]
     pour, limit = pour_settings(config, bed.system), settle_limit(config, bed.system)
-    damped = float(pour.get("settle_damping", 0.0) or 0.0) == DAMPED_STOP_MEASURED["settle_damping"]
+    damping = float(pour.get("settle_damping", 0.0) or 0.0)
+    damped = damping == DAMPED_STOP_MEASURED["settle_damping"]
     threshold = float(pour.get("ke_threshold", 0.0) or 0.0)
     mu = bed.value("mu")
+    density = int(sysc["grains"]) / (float(sysc["lx"]) * float(sysc["ly"]))
+    if damping == 0 and threshold >= UNDAMPED_STOP_THRESHOLD:
+        return min(limit, UNDAMPED_SETTLE_PER_DENSITY * density)
     if not damped or threshold < DAMPED_STOP_MEASURED["ke_threshold"] or mu < DAMPED_STOP[0][1][0][0]:
         return limit
-    density = int(sysc["grains"]) / (float(sysc["lx"]) * float(sysc["ly"]))
     at_depths = [(n, _between(points, mu)) for n, points in DAMPED_STOP]
     return min(limit, _between(at_depths, density))
 
@@ -182,6 +204,39 @@ def expected_pull_cost(pull, config):
     return pull_cost(pull, config) * (1.0 - (1.0 - sleeping_cost(pull, config)) * asleep)
 
 
+# The CPU model: a pull costs, besides its particle-steps, PULL_START_STEPS particle-step
+# equivalents per grain (reading the bed, building the lists, ten checkpoints and the snapshots
+# written, the run file's end) and PULL_TIME_STEPS per grain per unit of simulated time (a sample
+# every sample_interval; the lists rebuilt as the bed moves), at the rate of its steps; a pour's
+# step costs a pull's (UNDAMPED_SETTLE_PER_DENSITY above). Fitted, with that constant and the two
+# machines' rates (LADDER_MACHINES), to the CPU seconds of the reproduction ladder's 15 recorded
+# rungs (results/reproduction/*/run.json: 5 parameters, 15 data) by `/usr/bin/python3
+# workflow/scripts/estimate_cost.py --fit-recorded` (granudrag_study.recorded; 2026-12-02). Alone,
+# particle-steps priced the 12 d boxes 1.3-1.8x too high and the 30-40 d boxes 1.2x too low.
+PULL_START_STEPS = 12170.0
+PULL_TIME_STEPS = 1037.0
+
+# The machines the recorded rungs ran on: the throughput (a pull's step rate, particle-steps per
+# second of one 1-thread job) of each, from the date a rung started. Both were 2-core virtual
+# machines reporting "Intel(R) Xeon(R) Processor"; the second, from 2026-11-29 (2 MiB L2, 260 MiB
+# L3), runs 1.63x slower per core in the fit, as docs/benchmark.md found on the 7.7k bench's loop
+# (86-119 ns per particle-step there against 65 on the first). Fitted as above.
+LADDER_MACHINES = (("2026-11-25", 1.982e7), ("2026-11-29", 1.246e7))
+
+
+def pull_time(pull, config):
+    """Simulated time of a pull, sqrt(d/g): its expected travel over V."""
+    return pull_distance(pull, config) / pull.V
+
+
+def pull_work(pull, config):
+    """Particle-step equivalents of a pull's CPU (the CPU model): its expected particle-steps and
+    its grains' start and sampling."""
+    grains = int(config["systems"][pull.bed.system]["grains"])
+    overhead = grains * (PULL_START_STEPS + PULL_TIME_STEPS * pull_time(pull, config))
+    return expected_pull_cost(pull, config) + overhead
+
+
 def job_seconds(particle_steps, config):
     """Estimated wall time of one job on config['threads'] threads."""
     return particle_steps / float(config["throughput"])
@@ -237,7 +292,8 @@ def bed_retries(plan_):
 
 def summary(plan_):
     """Numbers of jobs and estimated particle-steps and core-hours: the expected cost of the beds
-    (placed beds' columns included) and pulls; the beds' upper bound (every pour and placement to
+    (placed beds' columns included) and pulls, the core-hours of the pulls' work (pull_work, the
+    CPU model) rather than their particle-steps; the beds' upper bound (every pour and placement to
     its max_settle_time) as bed_particle_steps_bound, the pulls' whole cost (without the active
     region's saving) as pull_particle_steps_whole."""
     config = plan_.config
@@ -246,9 +302,10 @@ def summary(plan_):
     bed_ps += sum(expected_column_cost(b, config) for b in plan_.columns.values())
     bound += sum(column_cost(b, config) for b in plan_.columns.values())
     pull_ps = sum(expected_pull_cost(p, config) for p in plan_.pulls.values())
+    work = sum(pull_work(p, config) for p in plan_.pulls.values())
     whole = sum(pull_cost(p, config) for p in plan_.pulls.values())
     threads = int(config["threads"])
-    core_h = (bed_ps + pull_ps) / float(config["throughput"]) * threads / 3600.0
+    core_h = (bed_ps + work) / float(config["throughput"]) * threads / 3600.0
     return {
         "beds": len(plan_.beds),
         "columns": len(plan_.columns),
@@ -257,6 +314,7 @@ def summary(plan_):
         "bed_particle_steps_bound": bound,
         "pull_particle_steps": pull_ps,
         "pull_particle_steps_whole": whole,
+        "pull_work": work,
         "core_hours": core_h,
         "threads": threads,
     }

@@ -2,14 +2,19 @@
 
     /usr/bin/python3 -m granudrag_study.estimate config/paper.yaml [--throughput PS] [--cores N] [--by-sweep]
         [--by-figure] [--measure [--grains G] [--binary build/granudrag]]
+    /usr/bin/python3 -m granudrag_study.estimate --check-recorded   # against the recorded rungs
+    /usr/bin/python3 -m granudrag_study.estimate --fit-recorded     # refit the CPU model
 
 Cost model (granudrag_study.cost): a pull costs grains x travel / (V dt)
 particle-steps, a pour at most grains x max_settle_time / dt, and is expected to stop
-at the kinetic-energy threshold as measured (damped frictional beds: after about a
-quarter of faithful.yaml's limits; others run to the limit). dt is the config's, or
-granudrag's default (analysis.physics.default_dt, proportional to K_n^-0.4).
-Core-hours = particle-steps / throughput x threads, where throughput is the
-particle-steps per second of one job on `threads` threads (the config's `throughput`,
+at the kinetic-energy threshold as measured (undamped pours to 1e-6 after a time
+proportional to the column's height, damped frictional beds after about a quarter of
+faithful.yaml's limits; others run to the limit). dt is the config's, or granudrag's
+default (analysis.physics.default_dt, proportional to K_n^-0.4). A pull's CPU is its
+particle-steps plus, per grain, a start and a cost per unit of simulated time (the CPU
+model, fitted to the reproduction ladder's recorded rungs: granudrag_study.recorded).
+Core-hours = that work / throughput x threads, where throughput is the particle-steps
+per second of a pull's steps, one job on `threads` threads (the config's `throughput`,
 measured with `granudrag pull`, which prints it).
 Wall time on N cores (default: this machine's) assumes N / threads jobs at a time, perfectly
 packed; on fewer cores than a job's threads, the jobs run one at a time on N threads at the
@@ -40,6 +45,7 @@ import yaml
 import granudrag_study as study
 
 from .breakdown import by_figure, core_hours
+from .recorded import RECORDED
 
 # Assumed efficiency of a job's OpenMP threads beyond those measured here (2 threads: 0.95-0.97
 # on bench/compare_lammps.sh's beds).
@@ -135,9 +141,32 @@ def _use_measured_shares(path):
     region_cost.ASLEEP_SHARE = region_cost.ASLEEP_SHARE_DAMPED = shares   # whichever pour the beds had
 
 
+def _recorded(check_dir, fit_dir):
+    """--check-recorded and --fit-recorded (granudrag_study.recorded)."""
+    from . import recorded
+
+    root = Path(check_dir or fit_dir)
+    if not root.is_dir() or not recorded.recorded_rungs(root):
+        sys.exit(f"estimate_cost: no recorded rung (<rung>/run.json) under {root}")
+    if fit_dir:
+        values, ratios = recorded.fit(root)
+        print(f"fitted to {len(ratios)} rungs: " + ", ".join(f"{n} {v:.4g}" for n, v in zip(recorded.FITTED, values)))
+        print(f"  measured / estimate {min(ratios.values()):.2f}-{max(ratios.values()):.2f}")
+        if not check_dir:
+            return 0
+    recorded.print_check(recorded.check(root), sys.stdout)
+    return 0
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("config", help="study config (YAML)")
+    ap.add_argument("config", nargs="?", help="study config (YAML)")
+    ap.add_argument("--check-recorded", nargs="?", const=str(RECORDED), metavar="DIR",
+                    help="print the estimate of every rung recorded in DIR (default: %(const)s) against its "
+                         "measured CPU, at the throughput of the machine it ran on")
+    ap.add_argument("--fit-recorded", nargs="?", const=str(RECORDED), metavar="DIR",
+                    help="fit the CPU model's constants to the rungs recorded in DIR and print them (scipy; "
+                         "about a minute)")
     ap.add_argument("--throughput", type=float, help="particle-steps/s of one job (default: the config's)")
     ap.add_argument("--cores", type=_positive_int, default=len(os.sched_getaffinity(0)) or 1,
                     help="cores for the wall-time estimate (default: this machine's)")
@@ -163,6 +192,10 @@ def main(argv=None):
     ap.add_argument("--grains", type=int, help="grains of the --measure bed (default: smallest system's, <= 70000)")
     ap.add_argument("--binary", help="granudrag for --measure (default: the config's `granudrag`)")
     args = ap.parse_args(argv)
+    if args.check_recorded or args.fit_recorded:
+        return _recorded(args.check_recorded, args.fit_recorded)
+    if not args.config:
+        ap.error("give a study config (or --check-recorded)")
     try:
         with open(args.config) as fh:
             config = yaml.safe_load(fh)
@@ -209,8 +242,8 @@ def main(argv=None):
         plan = study.plan(config)
     s = study.summary(plan)
     tp, threads = float(config["throughput"]), s["threads"]
-    total = s["bed_particle_steps"] + s["pull_particle_steps"]
-    bound = s["bed_particle_steps_bound"] + s["pull_particle_steps"]
+    total = s["bed_particle_steps"] + s["pull_work"]
+    bound = s["bed_particle_steps_bound"] + s["pull_work"]
     parallel, wall, squeezed = wall_seconds(total, tp, threads, args.cores)
     wall_bound = wall_seconds(bound, tp, threads, args.cores)[1]
     columns = f"{s['columns']} columns + " if s["columns"] else ""
@@ -223,11 +256,13 @@ def main(argv=None):
           f"pulls {s['pull_particle_steps']:.3g}")
     print(f"  throughput {tp:.3g} particle-steps/s per job on {threads} thread(s) ({how})")
     print(f"  cost: {s['core_hours']:.3g} core-hours (beds {core_hours(s['bed_particle_steps'], config):.3g}, "
-          f"pulls {core_hours(s['pull_particle_steps'], config):.3g}); at most {core_hours(bound, config):.3g} if "
+          f"pulls {core_hours(s['pull_work'], config):.3g}, of which their particle-steps "
+          f"{core_hours(s['pull_particle_steps'], config):.3g}); at most {core_hours(bound, config):.3g} if "
           f"every pour runs to its max_settle_time (beds {core_hours(s['bed_particle_steps_bound'], config):.3g})")
     if s["bed_particle_steps"] < s["bed_particle_steps_bound"]:
-        print("  pours: damped frictional beds are expected to stop at the kinetic-energy threshold early "
-              "(measured settling times: workflow/granudrag_study/cost.py, DAMPED_STOP)")
+        print("  pours: undamped pours to 1e-6 and damped frictional ones are expected to stop at the "
+              "kinetic-energy threshold early (measured settling times: workflow/granudrag_study/cost.py, "
+              "UNDAMPED_SETTLE_PER_DENSITY, DAMPED_STOP)")
     packing = (f"each {threads}-thread job on {args.cores} cores, one at a time: the core-hours / {args.cores}"
                if squeezed else f"{parallel} job(s) at a time")
     print(f"  wall time on {args.cores} cores ({packing}): about {hours(wall)} (<= {hours(wall_bound)})")
@@ -238,9 +273,9 @@ def main(argv=None):
               f"{1 - s['pull_particle_steps'] / s['pull_particle_steps_whole']:.0%} of the pulls' particle-steps "
               f"(whole cost {s['pull_particle_steps_whole']:.3g}; model and its measurements: "
               f"workflow/granudrag_study/region_cost.py; the scheduler's limits keep the whole cost)")
-    longest = max(plan.pulls.values(), key=lambda p: study.expected_pull_cost(p, config))
+    longest = max(plan.pulls.values(), key=lambda p: study.pull_work(p, config))
     print(f"  longest pull: {longest.key} "
-          f"({hours(study.job_seconds(study.expected_pull_cost(longest, config), config))})")
+          f"({hours(study.job_seconds(study.pull_work(longest, config), config))})")
     if args.by_sweep:
         cost = defaultdict(float)
         count = defaultdict(int)
