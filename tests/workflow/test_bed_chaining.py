@@ -13,7 +13,6 @@ import h5py
 import numpy as np
 import pytest
 import yaml
-
 from workflow_support import BINARY, ROOT, killing_wrapper
 
 import granudrag_study as study

@@ -16,8 +16,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
-from workflow_support import (BINARY, NEEDS_SNAKEMAKE_AND_ENGINE, job_counts, killing_wrapper, snakemake,
-                              write_config)
+from workflow_support import BINARY, NEEDS_SNAKEMAKE_AND_ENGINE, job_counts, killing_wrapper, snakemake, write_config
 
 import granudrag_study as study
 
