@@ -29,7 +29,7 @@ std::vector<ParameterSpec> bench_keys() {
       skin_key(),
   };
   // The contact law of a pour, but softer by default: a benchmark bed settles in fewer steps.
-  for (const auto& k : contact_keys()) {
+  for (const auto& k : contact_keys().specs()) {
     if (k.key == "kn")
       keys.push_back(Key(k).default_value("2e5").help(
           "normal stiffness K_n; K_t, gamma_n, gamma_t follow it with K_t/K_n, gamma_t/gamma_n and "

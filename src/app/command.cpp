@@ -59,45 +59,6 @@ ParameterSpec quiet_key() {
   return Key::flag("quiet").default_value("false").help("no progress lines on stderr");
 }
 
-// The help states the defaults as ContactParams and TimeStepPolicy hold them: K_n has no row
-// default, since K_n given or not decides how the other three follow (contact_from).
-std::vector<ParameterSpec> contact_keys() {
-  const ContactParams paper;
-  const std::string kn = number_text(paper.kn);
-  return {
-      Key::number("kn").unit("rho d g").above(0).help(
-          "normal stiffness K_n (default " + kn +
-          ", the paper's); K_t, gamma_n, gamma_t default to the paper's ratios (K_t/K_n, gamma_t/gamma_n "
-          "and gamma_n/K_n^0.6 fixed)"),
-      Key::number("kt").unit("rho d g").above(0).help("tangential stiffness K_t (default " +
-                                                      number_text(paper.kt / paper.kn) + " K_n)"),
-      Key::number("gamman")
-          .unit("sqrt(g/d^3)")
-          .at_least(0)
-          .help("normal damping gamma_n (default " + number_text(paper.gamman) + " (K_n/" + kn + ")^0.6)"),
-      Key::number("gammat")
-          .unit("sqrt(g/d^3)")
-          .at_least(0)
-          .help("tangential damping gamma_t (default gamma_n)"),
-      Key::number("mu").default_value(number_text(paper.mu)).at_least(0).help("friction coefficient"),
-      Key::number("youngs_modulus")
-          .unit("rho d g")
-          .above(0)
-          .help("instead of kn and kt: Young's modulus E (paper Eq. 3)"),
-      Key::number("poisson_ratio")
-          .default_value("0.3")
-          .above(-1)
-          .below(0.5)
-          .help("Poisson ratio nu with youngs_modulus"),
-      Key::number("dt")
-          .unit("sqrt(d/g)")
-          .above(0)
-          .help("time step (default: Hertz collision time of two 0.9 d grains at " +
-                number_text(TimeStepPolicy::reference_speed) + " sqrt(gd), over " +
-                number_text(TimeStepPolicy::steps_per_collision_default) + ")"),
-  };
-}
-
 ContactParams contact_from(const Parameters& p) {
   ContactParams c;
   if (p.is_set("youngs_modulus")) {
@@ -111,7 +72,7 @@ ContactParams contact_from(const Parameters& p) {
   }
   if (p.is_set("gamman")) c.gamman = p.number("gamman");
   c.gammat = p.is_set("gammat") ? p.number("gammat") : c.gamman;
-  c.mu = p.number("mu");
+  contact_keys().read(p, c);  // the keys that are a plain field (mu)
   c.validate();
   return c;
 }

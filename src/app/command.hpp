@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/contact_keys.hpp"
 #include "contact/contact_params.hpp"
 #include "core/parameters.hpp"
 #include "protocol/pour.hpp"
@@ -47,10 +48,9 @@ ParameterSpec output_key(const std::string& help);  // required text
 ParameterSpec threads_key();                        // OpenMP threads, 0: OMP_NUM_THREADS or all
 ParameterSpec quiet_key();                          // no progress lines
 
-// The contact law's keys (kn, kt, gamman, gammat, mu, youngs_modulus, poisson_ratio, dt) and the
-// law they give: K_n (default the paper's 2e8) with K_t, gamma_n, gamma_t at the paper's ratios,
-// or Young's modulus and Poisson's ratio; each of kt, gamman, gammat overrides its part.
-std::vector<ParameterSpec> contact_keys();
+// The contact law the contact keys (contact/contact_keys.hpp) give: K_n (default the paper's 2e8)
+// with K_t, gamma_n, gamma_t at the paper's ratios, or Young's modulus and Poisson's ratio; each
+// of kt, gamman, gammat overrides its part.
 ContactParams contact_from(const Parameters& p);
 
 void set_threads(const Parameters& p);

@@ -37,7 +37,7 @@ std::vector<ParameterSpec> import_lammps_keys() {
           "steps them in, so that the threaded force loop runs its two-colour schedule; false: keep the "
           "file's order"),
   };
-  for (const auto& k : contact_keys()) keys.push_back(k);
+  for (const auto& k : contact_keys().specs()) keys.push_back(k);
   keys.push_back(skin_key());
   keys.push_back(threads_key());
   return keys;

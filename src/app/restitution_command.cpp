@@ -28,7 +28,7 @@ std::vector<ParameterSpec> restitution_keys() {
           .above(0)
           .help("diameter of the grain dropped on the wall"),
   };
-  for (const auto& k : contact_keys()) keys.push_back(k);
+  for (const auto& k : contact_keys().specs()) keys.push_back(k);
   keys.push_back(skin_key());
   keys.push_back(threads_key());
   return keys;

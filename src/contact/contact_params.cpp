@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "contact/contact_keys.hpp"
 #include "core/error.hpp"
 
 namespace granudrag {
@@ -31,23 +32,8 @@ ContactParams ContactParams::with_stiffness(double kn_new) const {
   return p;
 }
 
-namespace {
-void require(bool ok, const char* key, double value, const char* range) {
-  if (ok) return;
-  std::ostringstream msg;
-  msg << "contact parameter '" << key << "' = " << value << " is out of range: it must be " << range;
-  throw Error(msg.str());
-}
-}  // namespace
-
-void ContactParams::validate() const {
-  require(std::isfinite(kn) && kn > 0, "kn", kn, "> 0 (paper: 2e8)");
-  // K_t > 0 also when mu = 0: the Coulomb rescaling divides by it, as LAMMPS does.
-  require(std::isfinite(kt) && kt > 0, "kt", kt, "> 0 (paper: 2.45e8)");
-  require(std::isfinite(gamman) && gamman >= 0, "gamman", gamman, ">= 0 (paper: 5e4)");
-  require(std::isfinite(gammat) && gammat >= 0, "gammat", gammat, ">= 0 (paper: 5e4)");
-  require(std::isfinite(mu) && mu >= 0, "mu", mu, ">= 0 (paper: 0 to 0.9)");
-}
+// Each field within its key's range (contact_keys.cpp).
+void ContactParams::validate() const { contact_keys().check(*this, "contact law"); }
 
 std::string ContactParams::describe() const {
   std::ostringstream s;

@@ -1,6 +1,6 @@
-// The key tables bound to PourSpec and PullSpec (core/parameter_table.hpp): every bound key reads
-// into its field, its field is checked against the key's range by the struct's validate(), and a
-// row's default is its field's initial value.
+// The key tables bound to PourSpec, PullSpec and ContactParams (core/parameter_table.hpp): every bound key
+// reads into its field, its field is checked against the key's range by the struct's validate(), and a row's
+// default is its field's initial value.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/contact_keys.hpp"
 #include "core/error.hpp"
 #include "core/parameter_table.hpp"
 #include "protocol/placement.hpp"
@@ -203,4 +204,38 @@ TEST(KeyTables, NumberTextIsHowAPersonWritesADefault) {
   EXPECT_EQ(number_text(-1), "-1");
   EXPECT_EQ(number_text(9e18), "9e18");
   EXPECT_EQ(number_text(1.225), "1.225");
+}
+
+TEST(KeyTables, EveryContactFieldIsAKeyAndValidateChecksItsRange) {
+  // Every field of the contact law has its row; the rows without one say why (contact_keys.cpp).
+  std::vector<std::string> bound, read_by_table;
+  for (const auto& row : contact_keys().rows()) {
+    if (row.number) bound.push_back(row.spec.key);
+    if (row.read) read_by_table.push_back(row.spec.key);
+  }
+  EXPECT_EQ(bound, (std::vector<std::string>{"kn", "kt", "gamman", "gammat", "mu"}));
+  EXPECT_EQ(read_by_table, (std::vector<std::string>{"mu"}));  // K_n's others follow it (contact_from)
+  EXPECT_EQ(find_spec(contact_keys(), "mu").default_value, number_text(ContactParams{}.mu));
+  EXPECT_EQ(find_spec(contact_keys(), "kn").default_value, "");
+
+  const std::vector<std::pair<std::string, double ContactParams::*>> fields = {
+      {"kn", &ContactParams::kn},
+      {"kt", &ContactParams::kt},
+      {"gamman", &ContactParams::gamman},
+      {"gammat", &ContactParams::gammat},
+      {"mu", &ContactParams::mu}};
+  EXPECT_NO_THROW(ContactParams{}.validate());
+  for (const auto& [key, field] : fields) {
+    const ParameterSpec& spec = find_spec(contact_keys(), key);
+    for (const double bad : {std::stod(invalid_value(spec)), double(NAN)}) {
+      ContactParams c;
+      c.*field = bad;
+      try {
+        c.validate();
+        ADD_FAILURE() << key << " = " << bad << " accepted";
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("'" + key + "' = "), std::string::npos) << e.what();
+      }
+    }
+  }
 }
