@@ -8,9 +8,11 @@
 #   tools/rung-pieces.sh status CONFIG    # what the plan asks for, and what is finished
 # The engine is deterministic (a bed and a pull are the same bits on any x86-64 machine of the
 # portable build and one thread per job), so a lost machine costs only the piece in flight.
-# Files keep their modification times both ways (a pull stays newer than its bed, so Snakemake
-# takes it as finished); nothing already in place is overwritten, and an unfinished job's
-# checkpoint or temporary file is never copied (only bed.h5, run.h5 and benchmark .tsv files).
+# Saved files keep their modification times; restored ones take the time of the restore, beds
+# before pulls, so a pull is newer than its bed whether the bed was restored with it or poured
+# again on the fresh checkout first (beds are not committed), and Snakemake takes it as
+# finished. Nothing already in place is overwritten, and an unfinished job's checkpoint or
+# temporary file is never copied (only bed.h5, run.h5 and benchmark .tsv files).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 usage() { echo "usage: tools/rung-pieces.sh save|restore|status config/ladder/RUNG.yaml" >&2; exit 2; }
@@ -28,14 +30,16 @@ finished() {
   (cd "$1" && find beds pulls benchmarks \( -name bed.h5 -o -name run.h5 -o -name '*.tsv' \) -type f 2>/dev/null | sort)
 }
 
-# Copies each finished file from $1 to $2 that $2 lacks; prints how many.
+# Copies each finished file from $1 to $2 that $2 lacks, in `finished`'s order (beds, then
+# benchmarks, then pulls); $3 is --preserve=timestamps to keep the files' times, or
+# --no-preserve=timestamps to give them the time of the copy. Prints how many.
 copy_missing() {
-  local from=$1 to=$2 n=0 f
+  local from=$1 to=$2 keep=$3 n=0 f
   while IFS= read -r f; do
     [ -n "$f" ] || continue
     [ -e "$to/$f" ] && continue
     mkdir -p "$to/$(dirname "$f")"
-    cp -p "$from/$f" "$to/$f.tmp.$$"
+    cp "$keep" "$from/$f" "$to/$f.tmp.$$"
     mv "$to/$f.tmp.$$" "$to/$f"
     n=$((n + 1))
   done < <(finished "$from")
@@ -45,12 +49,12 @@ copy_missing() {
 case "$action" in
   save)
     [ -d "$results" ] || { echo "tools/rung-pieces.sh: no results directory '$results' (run the rung first)" >&2; exit 2; }
-    n=$(copy_missing "$results" "$pieces")
+    n=$(copy_missing "$results" "$pieces" --preserve=timestamps)
     echo "tools/rung-pieces.sh: $n new file(s) saved in $pieces ($(du -sh "$pieces" | cut -f1) in all); commit them with: git add $pieces"
     ;;
   restore)
     [ -d "$pieces" ] || { echo "tools/rung-pieces.sh: no saved pieces in '$pieces'" >&2; exit 2; }
-    n=$(copy_missing "$pieces" "$results")
+    n=$(copy_missing "$pieces" "$results" --no-preserve=timestamps)
     echo "tools/rung-pieces.sh: $n file(s) restored into $results; now: tools/study.sh --configfile $config"
     ;;
   status)

@@ -1,5 +1,6 @@
 """tools/rung-pieces.sh: a long rung's finished beds, pulls and job benchmarks saved beside the
-ladder and put back on a fresh checkout, times kept, an unfinished job's files left behind."""
+ladder and put back on a fresh checkout, each pull newer than its bed, an unfinished job's files
+left behind."""
 import os
 import subprocess
 from pathlib import Path
@@ -43,17 +44,27 @@ def test_save_then_restore_keeps_finished_files_and_their_times(tmp_path):
     # A second save copies nothing again.
     assert "0 new file(s) saved" in _run("save", config, pieces).stdout
 
-    # A fresh checkout: the results are gone; restore brings back the finished files with their
-    # times, so the pull is still newer than its bed (Snakemake takes it as finished).
+    # A fresh checkout: the results are gone; restore brings back the finished files, the pull
+    # newer than its bed (Snakemake takes it as finished).
     fresh = tmp_path / "fresh"
     config.write_text(f"results: {fresh}\n")
     r = _run("restore", config, pieces)
     assert r.returncode == 0, r.stderr
     assert "3 file(s) restored" in r.stdout
     assert (fresh / bed).read_text() == "bed"
-    assert os.stat(fresh / bed).st_mtime == 1_000_000
-    assert os.stat(fresh / pull).st_mtime == 2_000_000
+    assert os.stat(fresh / bed).st_mtime_ns < os.stat(fresh / pull).st_mtime_ns
     assert not (fresh / running).exists()
+
+    # Beds are not committed: on a fresh clone the bed is poured again first (now), and the pull
+    # restored after it is still the newer.
+    again = tmp_path / "again"
+    config.write_text(f"results: {again}\n")
+    (pieces / bed).unlink()
+    _write(again / bed, "bed poured again", os.stat(fresh / pull).st_mtime)
+    r = _run("restore", config, pieces)
+    assert "2 file(s) restored" in r.stdout
+    assert os.stat(again / bed).st_mtime_ns < os.stat(again / pull).st_mtime_ns
+    config.write_text(f"results: {fresh}\n")
 
     # Nothing in place is overwritten.
     (fresh / pull).write_text("newer pull")
