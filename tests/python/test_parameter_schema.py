@@ -302,3 +302,18 @@ def test_the_bootstrap_count_is_declared_once(schema):
     assert schema["properties"]["report"]["properties"]["n_boot"]["default"] == N_BOOT
     fit = parser().parse_args(["fit", "t.csv", "--output", "f.json"])
     assert fit.n_boot == N_BOOT
+
+
+def test_the_contact_axes_follow_the_engines_ranges(monkeypatch, cli):
+    """The sweep axes mu, kn and gamman are generated from `granudrag pour --schema`: a range the
+    engine changes (here mu <= 2, a range no `$defs` entry states) reaches the schema's axis, and
+    the schema's validator then refuses a value outside it."""
+    import jsonschema
+    tool = _schema_blocks()
+    changed = {key: dict(node) for key, node in cli["pour"].items()}
+    changed["mu"]["maximum"] = 2
+    monkeypatch.setattr(tool, "engine_keys", lambda binary, command: changed)
+    node = yaml.safe_load("\n".join(tool.axis_lines(BINARY, indent="")))
+    assert node["kn"] == {"$ref": "#/$defs/positive_or_list"}
+    check = jsonschema.Draft7Validator(node["mu"]).is_valid
+    assert check(0.5) and check([0, 2]) and not check(2.5) and not check([0.5, -1])
