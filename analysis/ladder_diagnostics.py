@@ -133,7 +133,7 @@ def kappa_decomposition(shells, fr=DECOMPOSITION_FR, widths=DECOMPOSITION_WIDTHS
 
 STARTUP_FIT_COLUMNS = ["rung", "D", "pull", "fr_max", "continuous", "Fr1", "Fr1_err", "Fr2", "Fr2_err",
                        "delta_at_5", "note"]
-PAPER_PULL = 40.0  # d: system I's box length, the paper's pull
+PAPER_PULL = paper.SYSTEMS["I"][0]  # d: system I's box length, the paper's pull
 
 
 def _drag_series(table):
@@ -232,7 +232,7 @@ def fr2_vs_range(table_df, fr_max_values=FR_MAX_VALUES, *, n_boot=100, seed=0, r
 KNEE_COLUMNS = ["rung", "D", "knee", "fr_low", "fr_high", "level", "level_err", "slope_below", "slope_below_err",
                 "slope_above", "slope_above_err", "ratio", "ratio_err", "steepening", "steepening_err", "z",
                 "chi2_red", "n_points", "note"]
-KNEE_FR = 5.0            # the paper's Fr_2
+KNEE_FR = paper.CROSSOVER_FR2   # the paper's Fr_2
 KNEE_RANGE = (1.0, 10.0)  # its regime II starts at Fr_1 ≈ 1; its data end at Fr = 10
 
 

@@ -2,6 +2,8 @@
 
 The paper gives no error bars; "approximately" values are stored as printed.
 """
+from .physics import PAPER_KN
+
 CROSSOVER_FR1 = 1.0     # quasistatic -> linear (Secs. III A, III G, III I)
 CROSSOVER_FR2 = 5.0     # linear -> quadratic
 
@@ -27,4 +29,4 @@ DEEP_H = 45.0           # the depth (d) from which Eq. 12's collapse holds, h >~
 
 # The paper's scale (Sec. II): box lx x ly (d), grains, K_n; pulls over one box length.
 SYSTEMS = {"I": (40.0, 40.0, 70000), "II": (80.0, 40.0, 300000)}
-KN = 2.0e8
+KN = PAPER_KN           # declared with the paper's gamma_n in analysis.physics
