@@ -12,6 +12,7 @@ ignoring it did).
 import numpy as np
 import pandas as pd
 
+from .least_squares import jacobian
 from .regimes import regime_curve
 from .table import bed_labels, pooled_drag_err, select, shared_bed_variance, yield_rows
 
@@ -28,15 +29,8 @@ def bed_covariance(model, x, popt, s, shared, beds):
     """The parameters' covariance of a fit weighted by 1/s^2 when the points' errors s hold a part
     `shared` by every point of the same bed (labels `beds`): the sandwich A J'W S W J A, S the
     points' covariance (s^2 on the diagonal, shared_i shared_j between two points of one bed),
-    A = (J'WJ)^-1, J the model's Jacobian at popt (central differences)."""
-    p = np.asarray(popt, float)
-    J = np.empty((len(x), len(p)))
-    for j in range(len(p)):
-        h = 1e-6 * max(1.0, abs(p[j]))
-        up, dn = p.copy(), p.copy()
-        up[j] += h
-        dn[j] -= h
-        J[:, j] = (model(x, *up) - model(x, *dn)) / (2 * h)
+    A = (J'WJ)^-1, J the model's Jacobian at popt (least_squares.jacobian)."""
+    J = jacobian(model, x, popt)
     W = 1.0 / s ** 2
     A = np.linalg.pinv(J.T @ (W[:, None] * J))
     S = np.outer(shared, shared) * (beds[:, None] == beds[None, :])

@@ -2,7 +2,9 @@
 
 Where the errors come from:
   fit_regimes             bootstrap refits, crossovers included (regimes.py)
-  fit_theta, fit_linear,  least-squares covariance (with the beds' shared errors: beds.py),
+  fit_theta, fit_linear,  least squares solved exactly, one nonlinear parameter profiled
+                          (least_squares.py: no optimiser, the same on every SciPy); errors:
+                          least-squares covariance (with the beds' shared errors: beds.py),
   fit_power_law,          scaled by the reduced chi^2 when above 1; NaN when there are no
   fit_saturation          degrees of freedom left
   fit_scaling_law         lambda and predictions: bootstrap of the regime fit on the collapsed
@@ -15,10 +17,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import curve_fit
 
 from .beds import BedDraws, bed_covariance
 from .goodness import goodness
+from .least_squares import covariance, ill_posed, linear_fit, separable_fit
 from .regimes import RegimeFitter, fit_regimes, regime_curve
 from .result import N_BOOT, Fit, Param
 from .table import (
@@ -34,7 +36,7 @@ from .table import (
 
 __all__ = ["Fit", "Param", "fit_regimes", "regime_curve", "fit_theta", "fit_kappa",
            "fit_linear", "fit_broken_line", "fit_power_law", "fit_saturation", "fit_phi", "fit_alpha",
-           "theta_start", "sum_rule", "fit_scaling_law", "ScalingLaw", "evaluate"]
+           "sum_rule", "fit_scaling_law", "ScalingLaw", "evaluate"]
 
 
 # --- model functions -----------------------------------------------------
@@ -88,9 +90,10 @@ def _weights(sigma, n):
     return s if (len(s) == n and np.all(np.isfinite(s) & (s > 0))) else None
 
 
-def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf), groups=None,
+def _covariance_fit(model, name, x, y, sigma, solve, names, bounds=(-np.inf, np.inf), groups=None,
                     shared=None, beds=None):
-    """groups: each point's series, for the goodness's runs test (goodness.py); shared, beds: the
+    """solve(x, y, s): the parameters (least_squares.py; None: the model is linear in all).
+    groups: each point's series, for the goodness's runs test (goodness.py); shared, beds: the
     part of each point's error its bed shares, and its bed (beds.bed_covariance)."""
     x, y = np.asarray(x, float), np.asarray(y, float)
     ok = np.isfinite(x) & np.isfinite(y)
@@ -101,10 +104,10 @@ def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf
         shared, beds = np.asarray(shared, float)[ok], np.asarray(beds)[ok]
     if len(x) < len(names):
         raise ValueError(f"{name} fit needs at least {len(names)} points, got {len(x)}")
-    # With errors: the covariance they give (absolute), scaled below; an exact fit (chi^2 = 0,
-    # as SciPy >= 1.16 can return for points on the curve) then keeps the measurements' error.
-    popt, pcov = curve_fit(model, x, y, p0=p0, sigma=s, absolute_sigma=s is not None,
-                           bounds=bounds, maxfev=20000)
+    # With errors: the covariance they give (absolute), scaled below; an exact fit (chi^2 = 0)
+    # then keeps the measurements' error.
+    popt = linear_fit(model, x, y, s, len(names)) if solve is None else solve(x, y, s)
+    pcov = covariance(model, x, y, popt, s)
     dof = len(x) - len(names)
     method = "least-squares covariance scaled by reduced chi^2"
     if s is not None and shared is not None and np.any(shared > 0):   # the beds' shared errors
@@ -117,12 +120,16 @@ def _covariance_fit(model, name, x, y, sigma, p0, names, bounds=(-np.inf, np.inf
         if chi2 > 1:
             pcov = pcov * chi2
         method = "least-squares covariance scaled by reduced chi^2 when > 1"
-    err = np.sqrt(np.diag(pcov)) if dof > 0 else np.full(len(names), np.nan)
+    # Ill-posed (least_squares.ill_posed): no error rather than one of no precision, which moved
+    # with the library's rounding; the report calls its numbers inconclusive and says why.
+    why = ill_posed(model, x, popt, s)
+    err = np.sqrt(np.diag(pcov)) if dof > 0 and not why else np.full(len(names), np.nan)
     return Fit(model=name, params={k: Param(float(v), float(e)) for k, v, e in zip(names, popt, err)},
-               covariance=pcov if dof > 0 else None,
+               covariance=pcov if dof > 0 and not why else None,
                method=method + ("" if s is not None else " (unweighted: no per-point errors)"),
                n_points=len(x), x_range=(float(x.min()), float(x.max())),
                meta={"at_bounds": _at_bounds(names, popt, bounds), "weighted": s is not None,
+                     **({"ill_posed": why} if why else {}),
                      "errors_from": "points" if s is not None and dof > 0 and chi2 <= 1 else "residuals",
                      "goodness": goodness(x, y, model(x, *popt), len(names), s, groups)})
 
@@ -138,25 +145,16 @@ def _at_bounds(names, values, bounds):
     return out
 
 
-THETA_U2_GRID = np.geomspace(0.02, 4.0, 60)
+# Eq. 7's bounds: U2 (profiled) and U3, held as pi/U3, the constant it is linear in.
+THETA_BOUNDS = ([-np.inf, 1e-3, 0.1], [np.inf, 5.0, 100.0])
 
 
-def theta_start(Fr, theta, sigma=None):
-    """A start for the Eq. 7 fit from the data alone: for each U2 on a grid the model is
-    linear in U1 and pi/U3, so the best (U1, U3) follow by least squares; the U2 with the
-    least squared error wins."""
-    Fr, theta = np.asarray(Fr, float), np.asarray(theta, float)
-    w = np.ones_like(Fr) if sigma is None else 1.0 / np.asarray(sigma, float) ** 2
-    best = None
-    for U2 in THETA_U2_GRID:
-        A = np.column_stack([Fr ** U2, np.ones_like(Fr)]) * np.sqrt(w)[:, None]
-        (U1, c), *_ = np.linalg.lstsq(A, theta * np.sqrt(w), rcond=None)
-        sse = float(np.sum(w * (theta - U1 * Fr ** U2 - c) ** 2))
-        if c > 0 and (best is None or sse < best[0]):
-            best = (sse, [float(U1), float(U2), float(np.pi / c)])
-    if best is None:
-        raise ValueError("theta(Fr): no positive static angle pi/U3 fits the data")
-    return best[1]
+def _theta_solve(Fr, theta, s):
+    """(U1, U2, U3): for each U2 the model is linear in U1 and pi/U3 (least_squares.separable_fit)."""
+    (_, lo2, lo3), (_, hi2, hi3) = THETA_BOUNDS
+    columns = lambda x, U2: np.column_stack([x ** U2, np.ones_like(x)])   # noqa: E731
+    U2, (U1, c) = separable_fit(columns, Fr, theta, s, (lo2, hi2), bound=(1, np.pi / hi3, np.pi / lo3))
+    return np.array([U1, U2, np.pi / c])
 
 
 THETA_MIN_POINTS = 3   # Eq. 7 has three parameters
@@ -168,8 +166,8 @@ THETA_DEFINITIONS = {"theta": "per contact formation",
 
 def fit_theta(Fr, theta, sigma=None, groups=None, shared=None, beds=None):
     """theta(Fr) = U1 Fr^U2 + pi/U3 (paper Eq. 7; paper: -0.15, 0.38, 2.45), weighted by
-    the per-point errors sigma when given. Started from theta_start (the data's own
-    best grid point), not from the paper's numbers; bounds U2 in [1e-3, 5] and
+    the per-point errors sigma when given. U2 is profiled over its bounds (_theta_solve), with
+    no start from the paper's numbers; bounds U2 in [1e-3, 5] and
     U3 in [0.1, 100] are reported in meta["at_bounds"] when reached. groups: each point's series
     (its D), for the goodness's runs test. shared, beds: the part of each point's error its bed
     shares and the beds (beds.bed_covariance; table.observable_errors)."""
@@ -178,17 +176,14 @@ def fit_theta(Fr, theta, sigma=None, groups=None, shared=None, beds=None):
     s = _weights(None if sigma is None else np.asarray(sigma, float)[ok], ok.sum())
     if ok.sum() < THETA_MIN_POINTS:
         raise ValueError(f"theta fit needs at least {THETA_MIN_POINTS} points, got {ok.sum()}")
-    p0 = theta_start(Fr[ok], theta[ok], s)
-    lo, hi = [-np.inf, 1e-3, 0.1], [np.inf, 5.0, 100.0]
-    p0 = list(np.clip(p0, np.array(lo) + 1e-9, np.array(hi) - 1e-9))
     sub = lambda v: None if v is None else np.asarray(v)[ok]   # noqa: E731
-    return _covariance_fit(theta_curve, "theta", Fr[ok], theta[ok], s, p0, ["U1", "U2", "U3"],
-                           bounds=(lo, hi), groups=sub(groups), shared=sub(shared), beds=sub(beds))
+    return _covariance_fit(theta_curve, "theta", Fr[ok], theta[ok], s, _theta_solve, ["U1", "U2", "U3"],
+                           bounds=THETA_BOUNDS, groups=sub(groups), shared=sub(shared), beds=sub(beds))
 
 
 def fit_linear(x, y, sigma=None, groups=None, shared=None, beds=None):
     """y = k0 + k1 x."""
-    return _covariance_fit(linear_curve, "linear", x, y, sigma, [0.0, 1.0], ["k0", "k1"], groups=groups,
+    return _covariance_fit(linear_curve, "linear", x, y, sigma, None, ["k0", "k1"], groups=groups,
                            shared=shared, beds=beds)
 
 
@@ -199,8 +194,7 @@ def fit_broken_line(x, y, sigma=None, knee=5.0):
     def model(x, level, below, above):
         return broken_line_curve(x, level, below, above, knee)
     y = np.asarray(y, float)
-    fit = _covariance_fit(model, "broken_line", x, y, sigma, [float(np.nanmean(y)), 1.0, 1.0],
-                          ["level", "below", "above"])
+    fit = _covariance_fit(model, "broken_line", x, y, sigma, None, ["level", "below", "above"])
     fit.meta["fixed"] = {"knee": float(knee)}
     return fit
 
@@ -243,9 +237,14 @@ def fit_saturation(mu, FY, sigma=None):
     """F_Y(mu) = F0 + dF (1 - exp(-mu/mu_c)): mu_c small against the sampled
     range of mu means the yield force saturates there (paper Sec. III E)."""
     mu, FY = np.asarray(mu, float), np.asarray(FY, float)
-    p0 = [FY[np.argmin(mu)], max(np.ptp(FY), 1e-9), 0.2]
-    return _covariance_fit(saturation_curve, "saturation", mu, FY, sigma, p0,
-                           ["F0", "dF", "mu_c"], bounds=([-np.inf, 0.0, 1e-3], [np.inf, np.inf, 10.0]))
+    lo, hi = [-np.inf, 0.0, 1e-3], [np.inf, np.inf, 10.0]
+
+    def solve(x, y, s):   # linear in F0 and dF for each mu_c, which is profiled
+        columns = lambda m, mu_c: np.column_stack([np.ones_like(m), 1.0 - np.exp(-m / mu_c)])   # noqa: E731
+        mu_c, (F0, dF) = separable_fit(columns, x, y, s, (lo[2], hi[2]), bound=(1, lo[1], hi[1]))
+        return np.array([F0, dF, mu_c])
+    return _covariance_fit(saturation_curve, "saturation", mu, FY, sigma, solve,
+                           ["F0", "dF", "mu_c"], bounds=(lo, hi))
 
 
 # --- exponents of the yield force ---------------------------------------

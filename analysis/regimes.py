@@ -54,9 +54,27 @@ MIN_POINTS = {"I": 2, "I_power": 4, "II": 3, "III": 3}
 # regime). Within them the data decide; a fit that ends on a bound says so (at_bounds).
 C0_MIN, C0_MAX = 0.05, 2.0
 C0_GRID = np.linspace(0.1, 1.9, 10)
+# Froude numbers this close are one: Fr = V / sqrt(g D) of one nominal speed differs by an ulp
+# between D's (0.25 and 0.25000000000000006 in a rung's Eq. 12 collapse), and counted as two
+# they let a regime of one speed pass MIN_POINTS, a fit that moved with how the table's last
+# digit was parsed (issue 76).
+FR_RTOL = 1e-9
 # h_ii -> 1 only for a point that pins its segment almost alone; its residual
 # is then ~0 and says nothing about its noise, so it is not blown up further.
 H_MAX = 0.95
+
+
+def nominal_froude(x):
+    """x with each run of values within FR_RTOL of its neighbour set to the run's smallest."""
+    x = np.asarray(x, float)
+    if len(x) == 0:
+        return x
+    order = np.argsort(x, kind="stable")
+    xs = x[order]
+    new = np.r_[True, np.diff(xs) > FR_RTOL * np.abs(xs[1:])]
+    out = np.empty_like(x)
+    out[order] = xs[new][np.cumsum(new) - 1]
+    return out
 
 
 def violations(best, errs=None):
@@ -178,8 +196,9 @@ class RegimeFitter:
 
     def prepare(self, Fr, drag, sigma=None):
         """Finite points sorted by Fr, with weights; raise if too few."""
-        x, y = np.asarray(Fr, float), np.asarray(drag, float)
+        x, y = np.array(Fr, float), np.asarray(drag, float)
         ok = np.isfinite(x) & np.isfinite(y)
+        x[ok] = nominal_froude(x[ok])
         w = np.ones_like(x)
         if sigma is not None:
             s = np.asarray(sigma, float)

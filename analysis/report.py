@@ -92,9 +92,10 @@ def _row(quantity, p, published, shown=None, fit=None, rows=None, extra="", dof=
     g = goodness if goodness is not None else meta.get("goodness")
     rejected = rejection_text(g) if g and g.get("rejected") else ""
     v, why = verdict(p, published, meta.get("violations", ()), meta.get("at_bounds", ()),
-                     fit_dof(fit) if dof is None else dof, rejected, errors_from_points(fit, g))
+                     fit_dof(fit) if dof is None else dof, rejected, errors_from_points(fit, g),
+                     meta.get("ill_posed", ""))
     shown = shown or f"{published:g}"
-    notes = [rejected] if rejected else []
+    notes = ([rejected] if rejected else []) + ([meta["ill_posed"]] if meta.get("ill_posed") else [])
     notes += list(meta.get("at_bounds", [])) + list(meta.get("violations", []))
     if rows is not None:
         notes += basis_notes(rows, bed_scatter, observable)
@@ -212,6 +213,7 @@ def _saturation_row(D, fit):
     err = mu_c.err if math.isfinite(mu_c.err) else math.inf
     g = fit.meta.get("goodness") or {}
     notes = ([rejection_text(g)] if g.get("rejected") else []) + list(fit.meta.get("at_bounds", []))
+    notes += [fit.meta["ill_posed"]] if fit.meta.get("ill_posed") else []
     if notes:
         v = "inconclusive"
     elif 3 * (mu_c.value + within_quantile(fit_dof(fit)) * err) < mu_max:

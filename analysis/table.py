@@ -93,6 +93,12 @@ def validate_table(df):
     return df
 
 
+# pandas < 3 parses floats with its own fast routine, an ulp off for about one value in ten: Debian's
+# 1.5 read a rung's Fr 0.25000000000000006 as 0.25, and the fits moved (issue 76). round_trip is
+# Python's correctly rounded parser; pandas 3 parses so by default and deprecates the option.
+EXACT_FLOATS = {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+
+
 def load_csv(path):
     """Read a pull table from CSV; raise TableError saying what is wrong."""
     path = Path(path)
@@ -106,7 +112,7 @@ def load_csv(path):
     if b"\x00" in head:
         raise TableError(f"{path}: is a binary file, not a CSV pull table")
     try:
-        df = pd.read_csv(path, dtype={c: str for c in TEXT_COLUMNS})
+        df = pd.read_csv(path, dtype={c: str for c in TEXT_COLUMNS}, **EXACT_FLOATS)
     except (UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
         raise TableError(f"{path}: not a readable CSV file ({exc})") from None
     try:

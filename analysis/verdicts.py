@@ -62,14 +62,17 @@ def errors_from_points(fit=None, goodness=None):
     return c is not None and math.isfinite(c) and c <= 1.0
 
 
-def verdict(p, published, violations=(), at_bounds=(), dof=None, rejected="", from_points=False):
+def verdict(p, published, violations=(), at_bounds=(), dof=None, rejected="", from_points=False, ill_posed=""):
     """Verdict and its reason for Param p against a published number; violations: what
     the fit breaks of its model (regimes.violations), at_bounds: parameters that ended on a
-    bound, rejected: "model rejected (...)" when the data reject the model (goodness.py), any
-    of which makes it inconclusive; dof: the fit's degrees of freedom, those of its error
-    unless from_points (errors_from_points: the normal quantile)."""
+    bound, rejected: "model rejected (...)" when the data reject the model (goodness.py),
+    ill_posed: why its errors are not estimable (least_squares.ill_posed), any of which makes it
+    inconclusive; dof: the fit's degrees of freedom, those of its error unless from_points
+    (errors_from_points: the normal quantile)."""
     if p is None or not math.isfinite(p.value):
         return "not reproduced", "no fit"
+    if ill_posed:
+        return "inconclusive", ill_posed
     if violations:
         return "inconclusive", "the fit breaks its model: " + "; ".join(violations)
     if rejected:
