@@ -156,12 +156,14 @@ trap 'rm -rf "$pytmp"' EXIT
 # balance the two (measured 2026-11-26 under Debian's pass): the movie target (46 s: a pull with
 # frames and ParaView's drawing, plain rules the smoke study runs under both) and the bed
 # chaining test (4 s; it runs Debian's Snakemake in either pass) in Debian's; the two validation
-# studies end to end (11 s) and the measured cost estimate (2 s) in the project environment's.
+# studies end to end (11 s), the measured cost estimate (2 s) and a committed rung refitted on
+# both Python stacks (test_stacks.py, which starts both interpreters itself) in the project environment's.
 # Everything about the generations (the smoke study, faults, kill and unlock, --lint, --report,
 # --rerun-triggers, extending a grid, every validation config planned) runs in both.
 workflow_debian_only=(tests/workflow/test_smoke.py::test_the_movie_target_pulls_figure_4s_pull_again_with_frames
   tests/workflow/test_bed_chaining.py)
-workflow_venv_only=(tests/workflow/test_validation_target.py::test_yield_speed_validation_runs_end_to_end
+workflow_venv_only=(tests/workflow/test_stacks.py::test_a_committed_rung_refits_alike
+  tests/workflow/test_validation_target.py::test_yield_speed_validation_runs_end_to_end
   tests/workflow/test_validation_target.py::test_pull_length_validation_runs_end_to_end
   tests/workflow/test_study.py::test_estimate_cost_measures_throughput_and_scales_the_cost)
 beside "$pytmp/debian.log" env GRANUDRAG="$PWD/build/granudrag" "$PY" -m pytest -q -p no:cacheprovider \
