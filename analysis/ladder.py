@@ -105,6 +105,7 @@ from .ladder_summary import (
     evidence_figures,
     read_summary,
     replace_claims,
+    replace_marked,
     summary_markdown,
     summary_rows,
 )
@@ -297,15 +298,8 @@ def _rung_frames(root, rungs, infos, name):
 
 
 def _replace_section(readme, md):
-    """Put md between the README's ladder markers (atomically); False if it has none."""
-    text = readme.read_text()
-    a, b = text.find(LADDER_BEGIN), text.find(LADDER_END)
-    if a < 0 or b < a:
-        return False
-    new = text[:a + len(LADDER_BEGIN)] + "\n" + md.rstrip("\n") + "\n" + text[b:]
-    if new != text:
-        write_text_atomic(readme, new)
-    return True
+    """Put md between the README's ladder markers; False if it has none."""
+    return replace_marked(readme, LADDER_BEGIN, LADDER_END, md)
 
 
 def ladder_summary(root, rungs):

@@ -327,17 +327,22 @@ def _table1_figure(table, fits, tmp, rung):
     return _savefig(fig, tmp / "table1.png")
 
 
-def replace_claims(readme, md):
-    """Put md between the README's claim-table markers (atomically); False if it has none."""
+def replace_marked(readme, begin, end, md):
+    """Put md between the README's `begin` and `end` markers (atomically); False if it has none."""
     from .table import write_text_atomic
     text = readme.read_text()
-    a, b = text.find(CLAIMS_BEGIN), text.find(CLAIMS_END)
+    a, b = text.find(begin), text.find(end)
     if a < 0 or b < a:
         return False
-    new = text[:a + len(CLAIMS_BEGIN)] + "\n" + md.rstrip("\n") + "\n" + text[b:]
+    new = text[:a + len(begin)] + "\n" + md.rstrip("\n") + "\n" + text[b:]
     if new != text:
         write_text_atomic(readme, new)
     return True
+
+
+def replace_claims(readme, md):
+    """Put md between the README's claim-table markers; False if it has none."""
+    return replace_marked(readme, CLAIMS_BEGIN, CLAIMS_END, md)
 
 
 def _pyplot():
