@@ -34,6 +34,17 @@ STEPS_PER_COLLISION_DEFAULT = 64.0
 STEPS_PER_COLLISION_MIN = 16.0
 SMALLEST_GRAIN = 0.9
 
+# The contact keys' ranges, as the engine's key table states them (src/contact/contact_keys.cpp;
+# tests/python/test_engine_defaults.py compares): key -> (lower bound, exclusive).
+CONTACT_RANGES = {"mu": (0.0, False), "kn": (0.0, True), "gamman": (0.0, False)}
+
+
+def in_contact_range(key, values):
+    """Whether each value lies in the contact key's range (CONTACT_RANGES)."""
+    low, exclusive = CONTACT_RANGES[key]
+    values = np.asarray(values, dtype=float)
+    return values > low if exclusive else values >= low
+
 
 def froude(V, D, d=1.0, g=1.0):
     """Froude number of paper Eq. 4: t2/t1 = 2 V sqrt(2 D / g) / (D + d)."""

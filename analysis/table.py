@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 
 from . import path_scheme
-from .physics import froude
+from .physics import CONTACT_RANGES, froude, in_contact_range
 from .point_errors import (  # noqa: F401  (re-exported: the point table's errors for fits)
     observable_errors,
     pooled_bed_r2,
@@ -79,8 +79,8 @@ def validate_table(df):
             problems.append(f"{c} is missing or not finite in {bad.sum()} row(s)")
     if problems:
         raise ValueError("invalid values: " + "; ".join(problems))
-    for c, ok in [("D", df.D > 0), ("h", df.h > 0), ("mu", df.mu >= 0),
-                  ("kn", df.kn > 0), ("gamman", df.gamman >= 0), ("V", df.V >= 0)]:
+    for c, ok in [("D", df.D > 0), ("h", df.h > 0), *[(k, in_contact_range(k, df[k])) for k in CONTACT_RANGES],
+                  ("V", df.V >= 0)]:
         if not ok.all():
             problems.append(f"{c} out of range in {(~ok).sum()} row(s)")
     # Fr is stored for convenience but must be Eq. 4 of the stored V and D,

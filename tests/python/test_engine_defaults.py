@@ -53,3 +53,14 @@ def test_the_wake_force_copied_is_the_engines_at_soft_beds():
 
 def test_the_papers_contact_law_is_declared_once():
     assert paper.KN is physics.PAPER_KN
+
+
+def test_the_analysis_contact_ranges_are_the_engines(schema):
+    """analysis.physics.CONTACT_RANGES (the table's checks) against the contact keys' rows."""
+    for key, (low, exclusive) in physics.CONTACT_RANGES.items():
+        row = schema["pour"][key]
+        bound = "exclusiveMinimum" if exclusive else "minimum"
+        assert row.get(bound) == low and not {"maximum", "exclusiveMaximum"} & set(row), (
+            f"analysis.physics.CONTACT_RANGES[{key!r}] = {(low, exclusive)}, granudrag pour --{key}: {row}")
+    assert list(physics.in_contact_range("kn", [0.0, 2e4])) == [False, True]
+    assert list(physics.in_contact_range("mu", [0.0, -0.1])) == [True, False]
