@@ -226,7 +226,8 @@ TEST(KeyTables, EveryContactFieldIsAKeyAndValidateChecksItsRange) {
       {"mu", &ContactParams::mu}};
   EXPECT_NO_THROW(ContactParams{}.validate());
   for (const auto& [key, field] : fields) {
-    const ParameterSpec& spec = find_spec(contact_keys(), key);
+    const ParameterSpec spec =
+        find_spec(contact_keys(), key);  // a copy: the table converts to a temporary list
     for (const double bad : {std::stod(invalid_value(spec)), double(NAN)}) {
       ContactParams c;
       c.*field = bad;
