@@ -9,9 +9,8 @@
 namespace granudrag {
 
 ContactParams ContactParams::from_young(double E, double nu, double gamman, double gammat, double mu) {
-  if (!(E > 0)) throw Error("youngs_modulus must be > 0 (got " + std::to_string(E) + ")");
-  if (!(nu > -1.0 && nu < 0.5))
-    throw Error("poisson_ratio must lie in (-1, 0.5) (got " + std::to_string(nu) + ")");
+  // E and nu are keys without a field (the struct keeps kn and kt): checked against their rows.
+  check_ranges(contact_keys().specs(), {{"youngs_modulus", E}, {"poisson_ratio", nu}}, "contact law");
   const double G = E / (2.0 * (1.0 + nu));
   ContactParams p;
   p.kn = 4.0 * G / (3.0 * (1.0 - nu));

@@ -167,8 +167,17 @@ TEST(ContactParams, YoungsModulusFormOfEq3) {
   EXPECT_DOUBLE_EQ(p.kn, 4 * G / (3 * 0.7));
   EXPECT_DOUBLE_EQ(p.kt, 4 * G / 1.7);
   EXPECT_EQ(p.gammat, 2.0);
-  EXPECT_THROW(ContactParams::from_young(-1, 0.3, 1, 1, 0.5), Error);
-  EXPECT_THROW(ContactParams::from_young(1, 0.6, 1, 1, 0.5), Error);
+  // Out of their key rows' ranges (contact_keys.cpp), each named, both in one message.
+  try {
+    ContactParams::from_young(-1, 0.6, 1, 1, 0.5);
+    ADD_FAILURE() << "from_young accepted E = -1, nu = 0.6";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("youngs_modulus"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("poisson_ratio"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ContactParams::from_young(std::nan(""), 0.3, 1, 1, 0.5), Error);
+  EXPECT_THROW(ContactParams::from_young(1, -1, 1, 1, 0.5), Error);
+  EXPECT_NO_THROW(ContactParams::from_young(1, 0.49, 1, 1, 0.5));
 }
 
 TEST(ContactParams, SofterVariantKeepsRestitutionInvariants) {
