@@ -232,13 +232,31 @@ def _saturation_row(D, fit):
 
 # --- document ------------------------------------------------------------
 
+def _pull_count(df):
+    """How many points the table holds, and the pulls behind them: a point pooled over beds (the
+    table's n_beds) is that many pulls."""
+    beds = df["n_beds"].fillna(1) if "n_beds" in df else None
+    if beds is None or (beds <= 1).all():
+        return f"{len(df)} pull{'s' if len(df) != 1 else ''}"
+    return f"{len(df)} points from {int(beds.sum())} pulls (each point the mean of its beds)"
+
+
+def _regime_errors(r):
+    """The regime fits' error methods as their fits record them (fits.json's `method`), each once,
+    with how many fits used it."""
+    how = Counter(f.method.split("errors = ", 1)[-1] for f in r.regimes.values())
+    if not how:
+        return "no regime fits"
+    return "; ".join(f"{m} ({k} fit{'s' if k > 1 else ''})" for m, k in how.items())
+
+
 def _blocks(df, r, figs, n_boot, seed):
     kn, gn = reference_params(df)
     b = [("h1", "granudrag: drag scaling in dense granular media"),
-         ("p", f"{len(df)} pulls; systems {', '.join(sorted(df.system.unique()))}; "
+         ("p", f"{_pull_count(df)}; systems {', '.join(sorted(df.system.unique()))}; "
                f"μ = {', '.join(f'{m:g}' for m in sorted(df.mu.unique()))}; reference contact law "
                f"K_n = {kn:.3g}, γ_n = {gn:.3g}. Regime fits: crossovers fitted by profile least "
-               f"squares, errors from {n_boot} wild-bootstrap refits (seed {seed}); other fits: "
+               f"squares, errors the {_regime_errors(r)}; other fits: "
                "least-squares covariance. Errors are one standard error. " + bed_scatter_sentence(df)),
          ("p", _scale_text(df, kn)),
          ("p", f"Verdicts: inconclusive = no error bar, an error above {INCONCLUSIVE:.0%} of the "

@@ -280,3 +280,25 @@ def test_theta_and_kappa_from_yield_pulls_or_few_speeds_are_not_studied(table):
     for n, studied in ((4, False), (5, True)):
         keep = ~moving | table.Fr.round(6).isin(speeds[:n])
         assert any(map(theta_kappa, names(table[keep]))) == studied, n
+
+
+def test_the_header_counts_pulls_behind_pooled_points_and_quotes_the_fits_own_error_method():
+    # The header once said "184 pulls" of a table of 184 points pooled over 2 beds (368 pulls),
+    # and "wild-bootstrap refits" where fits.json recorded Gaussian noise of each point's error.
+    import pandas as pd
+
+    from analysis.fitset import Results
+    from analysis.report import _pull_count, _regime_errors
+    from analysis.result import Fit
+
+    assert _pull_count(pd.DataFrame({"n_beds": [2, 2, 3]})) == "3 points from 7 pulls (each point the mean of its beds)"
+    assert _pull_count(pd.DataFrame({"n_beds": [1, 1]})) == "2 pulls"
+    assert _pull_count(pd.DataFrame({"drag": [1.0]})) == "1 pull"
+
+    def fit(how):
+        return Fit("regimes", {}, f"profile least squares; errors = {how}", 3, (0.5, 15.0))
+
+    r = Results(regimes={("D", 0.5, 3.0): fit("200 refits (seed 0)"), ("D", 0.0, 3.0): fit("200 refits (seed 0)"),
+                         ("h", 0.5, 6.0): fit("resampled beds")})
+    assert _regime_errors(r) == "200 refits (seed 0) (2 fits); resampled beds (1 fit)"
+    assert _regime_errors(Results()) == "no regime fits"
