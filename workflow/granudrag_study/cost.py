@@ -219,7 +219,7 @@ PULL_TIME_STEPS = 1037.0
 # The machines the recorded rungs ran on: the throughput (a pull's step rate, particle-steps per
 # second of one 1-thread job) of each, from the date a rung started. Both were 2-core virtual
 # machines reporting "Intel(R) Xeon(R) Processor"; the second, from 2026-11-29 (2 MiB L2, 260 MiB
-# L3), runs 1.63x slower per core in the fit, as docs/benchmark.md found on the 7.7k bench's loop
+# L3), runs 1.63x slower per core in the fit, as docs/log/benchmark.md found on the 7.7k bench's loop
 # (86-119 ns per particle-step there against 65 on the first). Fitted as above.
 LADDER_MACHINES = (("2026-11-25", 1.982e7), ("2026-11-29", 1.246e7))
 

@@ -96,12 +96,12 @@ ASLEEP_SHARE_DAMPED = {
 # 40 d validation's yield pulls, each against the same bed's pull without the region (Snakemake's
 # benchmark files, 1 thread): median 0.22 over the 8 pairs (0.10-0.18 for D = 2, 0.26-0.41 for
 # D = 6, whose wider disturbance leaves more sleeping grains with an awake partner); in a bed
-# still creeping (the 70,001-body bed of docs/benchmark.md, settled to 1e-4 only) awake grains are
+# still creeping (the 70,001-body bed of docs/log/benchmark.md, settled to 1e-4 only) awake grains are
 # scattered through the sleeping ones and c was 0.49. What a sleeping grain still costs: the scan
 # of its pairs when a partner is awake, and the integration's, lists' and checks' passes over
 # every body. In beds poured with settle_damping, at rest, a held grain none of whose partners is
 # awake is quiet and costs nothing until a list build (docs/pour-and-pull.md): c was 0.03 over the
-# second half of a yield pull through a 70,001-body bed (docs/benchmark.md), and over whole yield
+# second half of a yield pull through a 70,001-body bed (docs/log/benchmark.md), and over whole yield
 # pulls through the 40 d beds (D = 2, R = 3 and 6 D) median -0.01 over 10 pairs (-0.04 to +0.05;
 # active_region_40_long.yaml, 5 d at V = 0.03, 69-84 % asleep, 3.0-7.6x faster) and -0.04 over 8
 # (-0.21 to +0.00; active_region_40_mu.yaml, mu = 0.25 and 0.8, 72-84 % asleep, 5.0-7.7x): the
@@ -126,7 +126,7 @@ SLEEPING_COST_DAMPED = 0.03
 #    pairs; 51 % and 50 % asleep: c about 0.5), a sleeping grain's cost being its wake-ups.
 # STIFF_SHARE_RATIO is these four ratios' middle (0.745), rounded; STIFF_SLEEPING_COST the yield
 # pull's (most of a study's cost). Both held over a yield pull of faithful.yaml's length (5 d at
-# V = 0.1 through one of the deep study's beds, docs/benchmark.md, 2026-11-28): 0.82 of the table's
+# V = 0.1 through one of the deep study's beds, docs/log/benchmark.md, 2026-11-28): 0.82 of the table's
 # share asleep, a sleeping grain 0.48 of an awake one, the pull 1.38x cheaper in CPU; at twice the
 # default wake test (4) 0.30 and 1.81x, not priced here (not the default).
 # Half the dwell (sleep_time 0.5, faithful.yaml's) puts a grain woken for a load it only carries
