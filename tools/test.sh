@@ -32,8 +32,9 @@ took() {  # took "what": the time since the previous step ended
   step_start=$SECONDS
 }
 # Commands run side by side: `beside LOG COMMAND...` starts one in the background, its output
-# to LOG; `joined` waits for every one started, prints the last line of each log (the whole log
-# of one that failed) and fails if any did.
+# to LOG; `joined` waits for every one started, prints the last line of each log (from pytest's
+# table of its slowest tests on, where it printed one; the whole log of one that failed) and
+# fails if any did.
 beside_started=()
 beside() {
   local log=$1
@@ -46,7 +47,14 @@ joined() {
   for entry in "${beside_started[@]}"; do
     read -r pid log <<<"$entry"
     echo "--- $log:"
-    if wait "$pid"; then tail -n 1 "$log"; else cat "$log"; ok=false; fi
+    if ! wait "$pid"; then
+      cat "$log"
+      ok=false
+    elif grep -q '^=* slowest' "$log"; then
+      sed -n '/^=* slowest/,$p' "$log"
+    else
+      tail -n 1 "$log"
+    fi
   done
   beside_started=()
   $ok
@@ -166,11 +174,13 @@ workflow_venv_only=(tests/workflow/test_stacks.py::test_a_committed_rung_refits_
   tests/workflow/test_validation_target.py::test_yield_speed_validation_runs_end_to_end
   tests/workflow/test_validation_target.py::test_pull_length_validation_runs_end_to_end
   tests/workflow/test_study.py::test_estimate_cost_measures_throughput_and_scales_the_cost)
-beside "$pytmp/debian.log" env GRANUDRAG="$PWD/build/granudrag" "$PY" -m pytest -q -p no:cacheprovider \
+# Each pass prints its slowest tests (pytest --durations), where the suite's time goes.
+durations=(--durations=12 --durations-min=10)
+beside "$pytmp/debian.log" env GRANUDRAG="$PWD/build/granudrag" "$PY" -m pytest -q -p no:cacheprovider "${durations[@]}" \
   --basetemp "$pytmp/debian" "${workflow_venv_only[@]/#/--deselect=}" \
   tests/workflow tests/python/test_packaging.py tests/python/test_cli.py "${slow_python[@]}"
 beside "$pytmp/venv.log" env GRANUDRAG="$PWD/build/granudrag" GRANUDRAG_SNAKEMAKE="$PWD/.venv/bin/snakemake" \
-  .venv/bin/python -m pytest -q -p no:cacheprovider --basetemp "$pytmp/venv" "${slow_python[@]/#/--ignore=}" \
+  .venv/bin/python -m pytest -q -p no:cacheprovider "${durations[@]}" --basetemp "$pytmp/venv" "${slow_python[@]/#/--ignore=}" \
   "${workflow_debian_only[@]/#/--deselect=}" tests/python tests/workflow
 joined || { echo "test.sh: a Python pass failed (its output above)" >&2; exit 1; }
 took "Python tests: the workflow under Debian's Python + Snakemake 7.21 and everything under the project environment + Snakemake 9, side by side"
