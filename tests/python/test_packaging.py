@@ -47,23 +47,25 @@ def test_workflow_does_not_touch_sys_path():
     assert offenders == []
 
 
-def test_every_module_the_package_docstring_names_exists():
-    # The list of modules in analysis/__init__.py's docstring: each name (or ladder_*-style
-    # pattern) at the list's indent is a module of the package.
+def test_every_room_and_module_the_package_docstring_names_exists():
+    # The list of rooms and commands in analysis/__init__.py's docstring: each name at the list's
+    # indent is a subpackage (a room) or a module at the top of the package, and every room is
+    # named (tests/python/test_layout.py checks how the rooms import each other).
     import ast
-    import fnmatch
     import re
 
     pkg = ROOT / "analysis"
     doc = ast.get_docstring(ast.parse((pkg / "__init__.py").read_text()))
-    listed = doc.split("The main modules", 1)[1]
+    listed = doc.split("The rooms", 1)[1]
     names = [name for line in listed.splitlines()
-             if (m := re.match(r"    ([a-z_*]+(?:, [a-z_*]+)*)", line)) and not line.startswith("     ")
+             if (m := re.match(r"    ([a-z_]+(?:, [a-z_]+)*)", line)) and not line.startswith("     ")
              for name in m.group(1).split(", ")]
-    modules = [p.stem for p in pkg.glob("*.py")]
-    assert len(names) >= 20, names
-    missing = [name for name in names if not fnmatch.filter(modules, name)]
-    assert missing == [], f"analysis/__init__.py names modules that do not exist: {missing}"
+    rooms = {p.parent.name for p in pkg.glob("*/__init__.py")}
+    modules = {p.stem for p in pkg.glob("*.py")}
+    assert len(names) >= 10, names
+    missing = [name for name in names if name not in rooms | modules]
+    assert missing == [], f"analysis/__init__.py names rooms or modules that do not exist: {missing}"
+    assert rooms <= set(names), f"analysis/__init__.py does not name the rooms {sorted(rooms - set(names))}"
 
 
 def test_the_analysis_modules_import_each_other_without_a_cycle():
