@@ -1,28 +1,25 @@
 """Analysis of granudrag pulls: tidy table, fits, figures, report, predictor.
 
 Everything works on one tidy pandas table with a row per pull (see
-`analysis.table.COLUMNS`), in the project's dimensionless units: lengths in
+`analysis.core.table.COLUMNS`), in the project's dimensionless units: lengths in
 d, speeds in sqrt(g d), forces in rho d^3 g.
 
-The main modules (each a file of this folder; a test checks that every name here is one):
-    table    schema, Froude number, validation, CSV loading
-    runs     run files (HDF5, from `granudrag pull`) into the table
-    path_scheme  the study's paths (bed, column, pull) declared once: their components, table columns
-    restitution  Kuwabara-Kono e(v_n) theory curve (Fig. 2)
-    paper    the published numbers the report compares against
-    result   Param (value, err) and Fit, the fit-result types
-    regimes  three-regime drag(Fr) fit with fitted crossovers
-    fits     the other fits, the Eq. 12 scaling law, fit-file save/load
-    goodness every fit's chi^2/dof and runs test of its residuals (rejects a model that trends)
-    alpha_drag  alpha_mu from the drag at several speeds, averaged (Fig. 18)
-    fitset   every fit of a table into fits.json, and back
-    figures, figures_yield, figures_drawing, figures_bed
-             one function per paper figure (PNG + PDF), and what they share
-    claims   the paper's headline claims by letter
-    report   Markdown/HTML report with fitted-vs-published table
-    report_render  the report's blocks as Markdown and HTML
-    predict  command-line drag prediction from a saved fit file
-    ladder, ladder_*  the reproduction ladder (collect, claims, diagnostics, report)
+The rooms, one subpackage per concern (each says its job in its __init__; a test checks that
+every name here is a subpackage or module, and that the rooms import each other without a cycle):
+    core     the table (schema, Froude number, CSV), physics, the paper's numbers and claims,
+             Param and Fit, the study's path scheme
+    runs     run files (HDF5, from `granudrag pull`) into the table, each drag's error from its series
+    fits     the regime fits, the other fits, Eq. 12's law, goodness, fits.json saved and read
+    figures  one function per paper figure (PNG + PDF), and what they share
+    regime_tests  claim (a) tested: a line, a quadratic and the paper's shape, with their power
+    report   Markdown/HTML report with fitted-vs-published table and its verdicts
+    validation  validation studies against their reference protocol, pooled over studies
+    ladder   the reproduction ladder (collect, claims, diagnostics, report)
+and at the top, the commands that drive them:
+    cli      `python -m analysis` and `granudrag-analysis`
+    predict  `python -m analysis.predict` and `granudrag-predict`: drag from a saved fit file
+    ladder_refit  `python -m analysis.ladder_refit`: the ladder's rungs refitted from their runs
+    drag_profile  `python -m analysis.drag_profile`: the drag along each pull of a study
 
 The workflow's library (config, plan, paths, cost) is another package, `granudrag_study`
 (workflow/granudrag_study/), which the analysis does not import.

@@ -11,14 +11,14 @@
     python -m analysis ladder table results/reproduction [--n-boot 100] [--seed 0]
 
 `fit` does what the workflow's `fits` rule does, on any table with the columns of
-results/table.csv (analysis.table.COLUMNS); the file it writes is described in
+results/table.csv (analysis.core.table.COLUMNS); the file it writes is described in
 analysis/README.md. `report` draws every figure and writes report.md and report.html as the
 workflow's figure and report rules do (figures whose data are not given are listed as not
 drawn). `predict` is `python -m analysis.predict`. `validate` compares a validation study's
-runs with the reference protocol (analysis.validation), or finds how long pulls must be
-(analysis.pull_length), and writes a figure, the comparison table and a sentence; `pool` pools
-one study's comparison tables over several studies (analysis.validation_pool). `ladder`
-keeps the reproduction ladder (analysis.ladder): `collect` copies a finished study's small
+runs with the reference protocol (analysis.validation.validation), or finds how long pulls must be
+(analysis.validation.pull_length), and writes a figure, the comparison table and a sentence; `pool` pools
+one study's comparison tables over several studies (analysis.validation.validation_pool). `ladder`
+keeps the reproduction ladder (analysis.ladder.ladder): `collect` copies a finished study's small
 files into a rung directory (default results/reproduction/<config stem>), `table` writes the
 claims-by-rungs table, its figures and README section. Errors go to standard error with exit
 status 2; outputs are written under a temporary name and renamed when complete.
@@ -27,9 +27,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from .alpha_drag import ALPHA_SPEEDS
-from .fit_file import FitFileError
-from .result import N_BOOT
+from .core.result import N_BOOT
+from .fits.alpha_drag import ALPHA_SPEEDS
+from .fits.fit_file import FitFileError
 
 
 def _speeds(text):
@@ -56,8 +56,8 @@ def _non_negative(kind, name):
 
 
 def _fit(args):
-    from .fitset import Options, run_fits, save_results
-    from .table import load_csv, mark_yield
+    from .core.table import load_csv, mark_yield
+    from .fits.fitset import Options, run_fits, save_results
 
     df = load_csv(args.table)
     if args.yield_speed is not None:
@@ -76,9 +76,9 @@ def _fit(args):
 
 
 def _report(args):
-    from .figure_list import NAMES, draw, read_inputs
-    from .fitset import load_results
-    from .report import write_report
+    from .figures.figure_list import NAMES, draw, read_inputs
+    from .fits.fitset import load_results
+    from .report.report import write_report
 
     results = load_results(args.fits)
     inputs = read_inputs(table=args.table, restitution=args.restitution, theory=args.theory,
@@ -93,8 +93,8 @@ def _report(args):
 
 
 def _validate(args):
-    from .table import load_csv
-    from .validation import validate
+    from .core.table import load_csv
+    from .validation.validation import validate
 
     paths = validate(load_csv(args.table), args.study, args.output_dir)
     print(paths[-1].read_text().split("\n\n")[-1].strip())
@@ -102,7 +102,7 @@ def _validate(args):
 
 
 def _pool(args):
-    from .validation_pool import write
+    from .validation.validation_pool import write
 
     paths = write(args.tables, args.study, args.output_dir, args.wake_relative)
     print(paths[-1].read_text().split("\n\n")[-1].strip())
@@ -110,7 +110,7 @@ def _pool(args):
 
 
 def _ladder(args):
-    from . import ladder
+    from .ladder import ladder
 
     if args.ladder_command == "collect":
         out = args.out or Path("results/reproduction") / Path(args.config).stem
@@ -129,9 +129,9 @@ def _ladder(args):
 
 
 def _regime_tests(args):
-    from .regime_figure import draw
-    from .regime_tests import write_tests
-    from .table import load_csv
+    from .core.table import load_csv
+    from .regime_tests.regime_figure import draw
+    from .regime_tests.regime_tests import write_tests
 
     df = load_csv(args.table)
     tests, path = write_tests(df, args.out, n_sim=args.n_sim, seed=args.seed, averaging=args.averaging)
@@ -172,7 +172,7 @@ def parser():
                        ("coordination", "P(Z) CSV (Fig. 7)"), ("flow", "velocity-field CSV (Fig. 9)")):
         r.add_argument(f"--{name}", help=what)
     v = sub.add_parser("validate", help="a validation study: does a cheaper protocol agree?")
-    from .validation import NAMES, STUDIES
+    from .validation.validation import NAMES, STUDIES
 
     v.add_argument("study", choices=NAMES, help="what is varied")
     v.add_argument("table", help="run table (results/.../runs.csv; or the point table)")
@@ -223,7 +223,7 @@ def main(argv=None):
     if argv and argv[0] == "predict":
         return _predict(argv[1:])
     args = parser().parse_args(argv)
-    from .table import TableError
+    from .core.table import TableError
 
     try:
         commands = {"fit": _fit, "report": _report, "validate": _validate, "pool": _pool, "ladder": _ladder,

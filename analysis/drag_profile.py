@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .pull_length import read_convergence
-from .table import bed_mean, write_csv
+from .core.table import bed_mean, write_csv
+from .validation.pull_length import read_convergence
 
 PROFILE_COLUMNS = ["D", "Fr", "seed", "x_lo", "x_hi", "drag", "samples"]
 LATE_COLUMNS = ["D", "Fr", "beds", "travel", "transient", "drag", "drag_err", "late_from", "late_drag",

@@ -1,6 +1,6 @@
 """Refitting the recorded rungs with the current analysis, from the files each rung keeps:
 runs.csv (one row per pull, as the study's table rule wrote it) -> table.csv (replicate beds
-combined, analysis.table.combine_beds) -> fits.json (analysis.fitset.run_fits, with the options
+combined, analysis.core.table.combine_beds) -> fits.json (analysis.fits.fitset.run_fits, with the options
 the rung's own fits.json recorded) -> report.md (every figure the table and fits allow, drawn
 in a scratch directory; only report.md is kept). Nothing is simulated again: run.json,
 kappa_shells.csv and startup.csv come from the run files and stay as collected.
@@ -11,7 +11,7 @@ kappa_shells.csv and startup.csv come from the run files and stay as collected.
 A rung without run.json (not run) or without runs.csv (collected before runs.csv was kept) is
 left alone and named on standard error. --report-only rewrites report.md from the rung's
 table.csv and fits.json (after a change of the report's rules, which need no refit). --rejudge
-decides each fit's `rejected` again by the current rule (analysis.goodness.is_rejected) from the
+decides each fit's `rejected` again by the current rule (analysis.fits.goodness.is_rejected) from the
 goodness fits.json records beside it, changing nothing else in fits.json, then rewrites
 report.md: after a change of that rule alone, which moves no fitted number.
 """
@@ -22,8 +22,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from .ladder_claims import LadderError
-from .table import write_text_atomic
+from .core.table import write_text_atomic
+from .ladder.ladder_claims import LadderError
 
 __all__ = ["refit_table", "refit_fits", "rejudge_fits", "rewrite_report", "refit_rung", "main"]
 
@@ -55,7 +55,7 @@ def refit_table(rung_dir):
     """table.csv of a rung again from its runs.csv (what workflow/scripts/make_table.py does after
     reading the run files, with the bed-scatter prior of the rung's config.yaml; runs.csv already
     has the yield pulls marked). Returns the point table."""
-    from .table import combine_beds, load_csv, save_csv
+    from .core.table import combine_beds, load_csv, save_csv
 
     d = Path(rung_dir)
     runs = load_csv(d / "runs.csv")
@@ -66,7 +66,7 @@ def refit_table(rung_dir):
 
 def _options(rung_dir):
     """The fits' options the rung's fits.json was written with (n_boot, seed, h_min, alpha_speeds)."""
-    from .fitset import Options
+    from .fits.fitset import Options
 
     path = Path(rung_dir) / "fits.json"
     try:
@@ -78,8 +78,8 @@ def _options(rung_dir):
 
 def refit_fits(rung_dir):
     """fits.json of a rung again from its table.csv, with the options it recorded. Returns Results."""
-    from .fitset import run_fits, save_results
-    from .table import load_csv
+    from .core.table import load_csv
+    from .fits.fitset import run_fits, save_results
 
     d = Path(rung_dir)
     r = run_fits(load_csv(d / "table.csv"), options=_options(d))
@@ -93,8 +93,8 @@ def rejudge_fits(rung_dir):
     chi2_dof, n and trend_p, as verdicts.table_goodness reads it), the exponents' summary lists
     and the top-level `rejected` list with them. Nothing else moves: the fits are not redone.
     Returns the names of the fits whose verdict changed."""
-    from .goodness import describe, is_rejected
-    from .verdicts import table_goodness
+    from .fits.goodness import describe, is_rejected
+    from .report.verdicts import table_goodness
 
     path = Path(rung_dir) / "fits.json"
     try:
@@ -139,10 +139,10 @@ def rewrite_report(rung_dir):
     """report.md of a rung again from its table.csv and fits.json: the figures those allow are
     drawn in a scratch directory (the rung keeps none; Figs. 1, 2, 4, 7 and 9 need files a rung
     does not keep and are listed as not drawn), the report written there and report.md copied."""
-    from .figure_list import NAMES, Inputs, draw
-    from .fitset import load_results
-    from .report import write_report
-    from .table import load_csv
+    from .core.table import load_csv
+    from .figures.figure_list import NAMES, Inputs, draw
+    from .fits.fitset import load_results
+    from .report.report import write_report
 
     d = Path(rung_dir)
     df, r = load_csv(d / "table.csv"), load_results(d / "fits.json")
@@ -168,7 +168,7 @@ def refit_rung(rung_dir, report_only=False, rejudge=False):
 
 
 def main(argv=None):
-    from .ladder import read_ladder, rung_run
+    from .ladder.ladder import read_ladder, rung_run
 
     ap = argparse.ArgumentParser(prog="python -m analysis.ladder_refit", description=__doc__.split("\n")[0])
     ap.add_argument("root", help="the ladder's root with ladder.yaml (results/reproduction)")

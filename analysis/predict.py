@@ -14,8 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .fit_file import FitFileError, load_fits
-from .table import froude
+from .core.table import froude
+from .fits.fit_file import FitFileError, load_fits
 
 
 @dataclass
@@ -79,7 +79,7 @@ def main(argv=None):
     ap.add_argument("--h", type=float, required=True, help="depth of the intruder centre [d]")
     ap.add_argument("--mu", type=float, required=True, help="grain friction coefficient")
     ap.add_argument("--V", type=float, required=True, help="pulling speed [sqrt(g d)]")
-    ap.add_argument("--fits", required=True, help="fit file written by analysis.fit_file.save_fits")
+    ap.add_argument("--fits", required=True, help="fit file written by analysis.fits.fit_file.save_fits")
     ap.add_argument("--kn", type=float, help="contact stiffness of the law (default: the most fitted)")
     ap.add_argument("--gamman", type=float, help="normal damping of the law")
     ap.add_argument("--json", action="store_true", help="print the result as JSON")

@@ -1,4 +1,4 @@
-"""Whether each pull's drag error converged (analysis.series_error's `plateau`), and why not where it
+"""Whether each pull's drag error converged (analysis.runs.series_error's `plateau`), and why not where it
 did not: the steady series of every run file under the given paths (default: the committed pulls of
 the rung of issue 72), with its first lobe (z1, z2: the autocorrelation's first negative lag and
 the first lag after it where it is not negative, sought up to N/6), the window M, the error, its
@@ -27,8 +27,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from analysis.run_series import read_series  # noqa: E402
-from analysis.series_error import (  # noqa: E402
+from analysis.runs.run_series import read_series  # noqa: E402
+from analysis.runs.series_error import (  # noqa: E402
     LOBE_SEARCH,
     autocovariance,
     corrected_autocorrelation,

@@ -25,10 +25,10 @@ import time
 import numpy as np
 import synth  # tests/python/synth.py, beside this script
 
-from analysis.physics import froude
-from analysis.regimes import fit_regimes, regime_curve
-from analysis.result import N_BOOT
-from analysis.table import YIELD_SPEED
+from analysis.core.physics import froude
+from analysis.core.result import N_BOOT
+from analysis.core.table import YIELD_SPEED
+from analysis.fits.regimes import fit_regimes, regime_curve
 
 GRIDS = {
     # The grid of test_regimes.py: dense in regime I, uniform above.

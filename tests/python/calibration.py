@@ -25,10 +25,10 @@ import pandas as pd
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import synth  # noqa: E402  tests/python/synth.py, beside this file
 
-from analysis.fitset import Options, run_fits  # noqa: E402
-from analysis.physics import froude  # noqa: E402
-from analysis.report import errors_from_points, fit_dof, within_quantile  # noqa: E402
-from analysis.table import YIELD_SPEED, combine_beds  # noqa: E402
+from analysis.core.physics import froude  # noqa: E402
+from analysis.core.table import YIELD_SPEED, combine_beds  # noqa: E402
+from analysis.fits.fitset import Options, run_fits  # noqa: E402
+from analysis.report.report import errors_from_points, fit_dof, within_quantile  # noqa: E402
 
 THETA_TRUE = {"U1": -0.15, "U2": 0.38, "U3": 2.45}     # synth.py's theta(Fr)
 KAPPA_TRUE = {"k0": 0.887, "k1": 0.185}                # synth.py's kappa(Fr)

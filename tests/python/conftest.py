@@ -14,7 +14,7 @@ def report_dir(table, tmp_path_factory):
     """One report build shared by the report and predictor tests (it is slow)."""
     import numpy as np
 
-    from analysis.report import build_report
+    from analysis.report.report import build_report
     out = tmp_path_factory.mktemp("report")
     v = np.geomspace(1e-3, 1.0, 10)
     t = np.linspace(0.0, 20.0, 500)

@@ -1,5 +1,5 @@
 """The engine's error of a mean (src/protocol/observables.cpp, `mean_error`) in Python: the oracle
-that analysis.series_error is compared with on the same series (tests/python/test_series_error.py).
+that analysis.runs.series_error is compared with on the same series (tests/python/test_series_error.py).
 It reproduces the errors a pull's run file records for its prefixes (/observables/drag/convergence)
 and, with the N/6 fallback window the engine had when they were recorded, those of the 192 yield
 pulls in tests/data/yield_pulls_D2.h5."""

@@ -7,9 +7,9 @@ size `noise`. theta and kappa follow Eq. 7 and the Fig. 8 line.
 import numpy as np
 import pandas as pd
 
-from analysis.physics import froude, gamman_for, gamman_ratio
-from analysis.regimes import regime_curve
-from analysis.table import YIELD_SPEED
+from analysis.core.physics import froude, gamman_for, gamman_ratio
+from analysis.core.table import YIELD_SPEED
+from analysis.fits.regimes import regime_curve
 
 KN, GAMMAN = 2e5, 500.0          # a softer reference law, as a reduced config would use
 H_SYSTEM_I = 25.0

@@ -1,5 +1,5 @@
-"""analysis.bed_origin: a run says whether its bed was placed (granudrag place) or poured."""
-from analysis.bed_origin import placed
+"""analysis.runs.bed_origin: a run says whether its bed was placed (granudrag place) or poured."""
+from analysis.runs.bed_origin import placed
 
 
 def test_a_run_of_a_placed_bed_says_so_by_its_place_parameters_or_its_columns_pour():

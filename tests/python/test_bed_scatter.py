@@ -6,10 +6,7 @@ import pandas as pd
 import pytest
 import synth
 
-from analysis.fitset import point_bed_scatter, run_fits
-from analysis.report import comparisons
-from analysis.report_notes import bed_scatter_sentence
-from analysis.table import (
+from analysis.core.table import (
     BedScatterPrior,
     bed_bootstrap,
     between_bed_scatter,
@@ -19,6 +16,9 @@ from analysis.table import (
     save_csv,
     scatter_kind,
 )
+from analysis.fits.fitset import point_bed_scatter, run_fits
+from analysis.report.report import comparisons
+from analysis.report.report_notes import bed_scatter_sentence
 
 FR = np.array([0.5, 1.0, 2.0, 4.0, 8.0])
 PRIOR = {"relative": 0.05, "dof": 14, "source": "results/reproduction/some-rung"}

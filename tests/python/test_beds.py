@@ -1,12 +1,12 @@
 """Replicate beds: the point table's combination of within-run and between-bed variance
-(analysis.table.combine_beds) and the bootstrap that resamples beds (bed_bootstrap), on
+(analysis.core.table.combine_beds) and the bootstrap that resamples beds (bed_bootstrap), on
 synthetic run tables with a known bed-to-bed scatter."""
 import numpy as np
 import pandas as pd
 import pytest
 from scipy import stats
 
-from analysis.table import bed_bootstrap, between_bed_scatter, combine_beds, froude, validate_table
+from analysis.core.table import bed_bootstrap, between_bed_scatter, combine_beds, froude, validate_table
 
 FR = np.array([0.25, 0.5, 1.0, 2.0, 4.0, 8.0])
 D = 2.0
@@ -133,8 +133,8 @@ def test_exponent_fits_weighted_by_the_pooled_bed_scatter_cover_the_truth():
     about 54 % of 200 repeats (nominal 68 %); weighted by the pooled scatter, 65-80 %."""
     import synth
 
-    from analysis.fits import fit_phi
-    from analysis.table import pooled_drag_err
+    from analysis.core.table import pooled_drag_err
+    from analysis.fits.fits import fit_phi
 
     rng = np.random.default_rng(3)
     hits = {"own": 0, "pooled": 0}
@@ -169,8 +169,8 @@ def test_depth_exponents_with_shared_beds_cover_the_truth():
     averaged alpha's held it 58.5 %."""
     import synth
 
-    from analysis.alpha_drag import fit_alpha_drag
-    from analysis.fits import fit_alpha
+    from analysis.fits.alpha_drag import fit_alpha_drag
+    from analysis.fits.fits import fit_alpha
 
     rng = np.random.default_rng(5)
     truth_alpha = synth.alpha_true(0.5)

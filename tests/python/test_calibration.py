@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 from calibration import bed_runs, figures, zscores
 
-from analysis.alpha_drag import fit_alpha_drag
-from analysis.fits import fit_alpha, fit_phi
-from analysis.fitset import Options, Results, fit_observables, run_fits
-from analysis.table import combine_beds, select
+from analysis.core.table import combine_beds, select
+from analysis.fits.alpha_drag import fit_alpha_drag
+from analysis.fits.fits import fit_alpha, fit_phi
+from analysis.fits.fitset import Options, Results, fit_observables, run_fits
 
 RMS_BAND, COVER_BAND = (0.7, 1.3), (0.90, 0.98)
 

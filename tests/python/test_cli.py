@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import synth
 
-from analysis.table import save_csv
+from analysis.core.table import save_csv
 
 ROOT = synth.__file__.rsplit("/tests/", 1)[0]
 

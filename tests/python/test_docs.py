@@ -78,8 +78,8 @@ def test_the_ladder_readme_opens_with_one_row_per_claim_and_its_figure():
     # results/reproduction/README.md: a physicist reads the claims (a)-(g) first, each at the rung
     # closest to the paper's conditions with its evidence beside it (`ladder table` writes the
     # table between the markers); the dated history has its own file, linked.
-    from analysis.claims import CLAIMS
-    from analysis.ladder_summary import CLAIMS_BEGIN, CLAIMS_END
+    from analysis.core.claims import CLAIMS
+    from analysis.ladder.ladder_summary import CLAIMS_BEGIN, CLAIMS_END
     text = (LADDER / "README.md").read_text()
     before = text[:text.index(CLAIMS_BEGIN)]
     assert before.count("\n## ") <= 1, "the claim table comes first, under at most its own heading"
@@ -89,7 +89,7 @@ def test_the_ladder_readme_opens_with_one_row_per_claim_and_its_figure():
         assert f'<img src="evidence_{letter}.png"' in row and (LADDER / f"evidence_{letter}.png").is_file()
     # The written part (the generated tables aside) stays short: the dated record is in
     # history.md (it was about 9,000 words here before).
-    from analysis.ladder import LADDER_BEGIN, LADDER_END
+    from analysis.ladder.ladder import LADDER_BEGIN, LADDER_END
     written = text
     for a, b in ((CLAIMS_BEGIN, CLAIMS_END), (LADDER_BEGIN, LADDER_END)):
         written = written[:written.index(a)] + written[written.index(b):]

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from analysis import paper, physics
-from analysis.validation import SETTING_DEFAULTS
+from analysis.core import paper, physics
+from analysis.validation.validation import SETTING_DEFAULTS
 from granudrag_study import config as study_config
 from granudrag_study import region_cost
 
@@ -23,7 +23,7 @@ COPIES = [
     ("granudrag_study.config.PLACE_SETTLE_TIME_DEFAULT", study_config.PLACE_SETTLE_TIME_DEFAULT, "place",
      "max_settle_time"),
     ("granudrag_study.region_cost.SLEEP_TIME_DEFAULT", region_cost.SLEEP_TIME_DEFAULT, "pull", "sleep_time"),
-    *[(f"analysis.validation.SETTING_DEFAULTS[{k!r}]", v, "pull", k) for k, v in SETTING_DEFAULTS.items()
+    *[(f"analysis.validation.validation.SETTING_DEFAULTS[{k!r}]", v, "pull", k) for k, v in SETTING_DEFAULTS.items()
       if k != "wake_force"],
 ]
 
@@ -56,11 +56,11 @@ def test_the_papers_contact_law_is_declared_once():
 
 
 def test_the_analysis_contact_ranges_are_the_engines(schema):
-    """analysis.physics.CONTACT_RANGES (the table's checks) against the contact keys' rows."""
+    """analysis.core.physics.CONTACT_RANGES (the table's checks) against the contact keys' rows."""
     for key, (low, exclusive) in physics.CONTACT_RANGES.items():
         row = schema["pour"][key]
         bound = "exclusiveMinimum" if exclusive else "minimum"
         assert row.get(bound) == low and not {"maximum", "exclusiveMaximum"} & set(row), (
-            f"analysis.physics.CONTACT_RANGES[{key!r}] = {(low, exclusive)}, granudrag pour --{key}: {row}")
+            f"analysis.core.physics.CONTACT_RANGES[{key!r}] = {(low, exclusive)}, granudrag pour --{key}: {row}")
     assert list(physics.in_contact_range("kn", [0.0, 2e4])) == [False, True]
     assert list(physics.in_contact_range("mu", [0.0, -0.1])) == [True, False]

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import synth
 
-from analysis import figures as F
+from analysis.figures import figures as F
 
 TABLE_FIGURES = [
     (F.fig05_drag_vs_Fr, "fig05_drag_vs_Fr_mu0.5"),
@@ -254,7 +254,7 @@ def test_fitted_figure_draws_the_errors(table, tmp_path, monkeypatch, name):
 def test_drag_figures_draw_the_errors_the_regime_fits_weighted_by(table, tmp_path, monkeypatch):
     # With replicate beds the regime fits weigh a point by the between-bed scatter pooled over
     # its series (table.pooled_drag_err), not by its own drag_err: the figure draws those.
-    from analysis.table import pooled_drag_err
+    from analysis.core.table import pooled_drag_err
     t = table.copy()
     rng = np.random.default_rng(3)
     t["n_beds"] = 2
@@ -309,7 +309,7 @@ def test_kappa_error_of_a_point_combines_its_beds():
     # their scatter (as drag_err), not the first bed's error alone.
     import pandas as pd
 
-    from analysis.table import combine_beds
+    from analysis.core.table import combine_beds
     runs = pd.DataFrame([dict(system="I", D=2.0, h=14.0, mu=0.5, kn=2e5, gamman=800.0, V=1.0, Fr=1.0,
                               drag=100.0 + s, drag_err=2.0, n_contacts=9.0, theta=1.5, theta_err=0.01, Z=3.0,
                               kappa=k, kappa_err=e, seed=s, run=f"pulls/D~2/seed~{s}/Fr~1")

@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 import synth
 
-from analysis import paper
-from analysis.fit_file import FitFileError, load_fits, save_fits
-from analysis.fits import (
+from analysis.core import paper
+from analysis.core.table import select, yield_rows
+from analysis.fits.fit_file import FitFileError, load_fits, save_fits
+from analysis.fits.fits import (
     ScalingLaw,
     evaluate,
     fit_alpha,
@@ -20,7 +21,6 @@ from analysis.fits import (
     fit_theta,
     sum_rule,
 )
-from analysis.table import select, yield_rows
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -221,7 +221,7 @@ def test_kappa_fit_weighted_by_its_errors(table):
 def test_regime_fits_leave_the_yield_pull_out():
     # At mu = 0 the yield pull alone would fix a'' of a'' + b'' Fr^c''. Tripling it changes
     # no regime fit; it is reported beside the fit instead.
-    from analysis.fitset import run_fits
+    from analysis.fits.fitset import run_fits
     df = synth.make_table(seed=5, mus=(0.0, 0.5), kn_variants=False)
     moved = df.copy()
     y = (moved.system == "I") & (moved.V == 0.01) & (moved.D == 2.0) & (moved.mu == 0.0)
@@ -239,7 +239,7 @@ def test_yield_pulls_at_a_validated_faster_speed_are_found_by_their_mark(table):
     # would be taken for pulls at speed and no yield force would be found.
     import pandas as pd
 
-    from analysis.table import YIELD_SPEED, is_yield, mark_yield
+    from analysis.core.table import YIELD_SPEED, is_yield, mark_yield
 
     faster = table.assign(V=np.where(np.isclose(table.V, YIELD_SPEED), 0.03, table.V))
     assert not is_yield(faster).any()
@@ -259,7 +259,7 @@ def test_yield_pulls_at_a_validated_faster_speed_are_found_by_their_mark(table):
 
 
 def test_yield_speeds_per_friction_are_steps_from_mu_zero():
-    from analysis.table import yield_speeds
+    from analysis.core.table import yield_speeds
 
     steps = [{"mu": 0.5, "V": 0.1}, {"mu": 0, "V": 0.03}]          # any order
     assert list(yield_speeds(steps, [0, 0.3, 0.5, 0.9])) == [0.03, 0.03, 0.1, 0.1]
@@ -272,7 +272,7 @@ def test_eq12_on_shallow_and_deep_pulls_is_flagged(capsys):
     # The paper's Eq. 12 collapse holds for h >~ 45 d (Sec. III H). A table with pulls on both
     # sides of it, fitted with h_min = 0, gets a note (and a warning on stderr) naming the
     # shallow pulls and the key that leaves them out; with h_min = 45 there is none.
-    from analysis.fitset import Options, run_fits
+    from analysis.fits.fitset import Options, run_fits
     df = synth.make_table(seed=5, mus=(0.0, 0.5), kn_variants=False)
     assert (df.h < 45).any() and (df.h >= 45).any()
     shallow = int(((df.h >= 0) & (df.h < 45)).sum())
@@ -288,7 +288,7 @@ def test_every_fit_records_its_goodness_in_the_fit_file(table, tmp_path):
     # chi^2/dof and the residual-trend test beside every fitted quantity (additive keys).
     import json
 
-    from analysis.fitset import load_results, run_fits, save_results
+    from analysis.fits.fitset import load_results, run_fits, save_results
     r = run_fits(table, n_boot=5, seed=0)
     save_results(tmp_path / "fits.json", r)
     doc = json.loads((tmp_path / "fits.json").read_text())
@@ -313,7 +313,7 @@ def test_a_fit_whose_errors_have_no_precision_is_ill_posed():
     # θ of the smoke study, two series at three speeds, U3 on its bound: its covariance's condition
     # number is 1.3e10, and its errors came out 7e-5 apart on Debian's and the pinned stack
     # (issue 76). No error is written, and the report calls it inconclusive, saying why.
-    from analysis.verdicts import verdict
+    from analysis.report.verdicts import verdict
     Fr = [0.5, 1.0, 2.0, 0.5, 1.0, 2.0]
     theta = [1.50221792, 1.44030581, 1.47991295, 2.07670736, 1.36842091, 0.94867351]
     sigma = [0.27907778, 0.14722054, 0.12530438, 0.16229614, 0.17911098, 0.24557468]

@@ -20,10 +20,10 @@ import pytest
 import synth
 import yaml
 
-from analysis.fit_file import FitFileError, load_fits
-from analysis.fitset import run_fits, save_results
-from analysis.runs import RunFileError, read_run
-from analysis.table import TableError, load_csv, write_csv
+from analysis.core.table import TableError, load_csv, write_csv
+from analysis.fits.fit_file import FitFileError, load_fits
+from analysis.fits.fitset import run_fits, save_results
+from analysis.runs.runs import RunFileError, read_run
 from granudrag_study.config import ConfigError, validate_config
 from granudrag_study.plan import plan
 

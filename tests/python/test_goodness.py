@@ -1,4 +1,4 @@
-"""The goodness of a fit (analysis/goodness.py): the runs test of the residuals flags a line
+"""The goodness of a fit (analysis/fits/goodness.py): the runs test of the residuals flags a line
 through a U and, at its stated level, not a line through noisy linear data."""
 import itertools
 from math import comb
@@ -6,8 +6,8 @@ from math import comb
 import numpy as np
 import pytest
 
-from analysis.fits import fit_kappa, fit_linear, fit_regimes
-from analysis.goodness import (
+from analysis.fits.fits import fit_kappa, fit_linear, fit_regimes
+from analysis.fits.goodness import (
     CHI2_ALPHA,
     TREND_ALPHA,
     chi2_far_out,
@@ -18,7 +18,7 @@ from analysis.goodness import (
     runs_distribution,
     runs_test,
 )
-from analysis.regimes import regime_curve
+from analysis.fits.regimes import regime_curve
 
 X = np.linspace(0.5, 15.0, 20)
 SIGMA = 0.02

@@ -1,4 +1,4 @@
-"""analysis.ladder: a rung collected from a study's results, the claims-by-rungs table with the
+"""analysis.ladder.ladder: a rung collected from a study's results, the claims-by-rungs table with the
 report's verdicts, the κ shell slopes and the Fr_2-range refits, and the `ladder` CLI."""
 import json
 import subprocess
@@ -12,8 +12,9 @@ import pytest
 import synth
 from test_runs import write_run
 
-from analysis.fitset import load_results, run_fits, save_results
-from analysis.ladder import (
+from analysis.core.table import combine_beds, load_csv, save_csv
+from analysis.fits.fitset import load_results, run_fits, save_results
+from analysis.ladder.ladder import (
     CLAIMS_BEGIN,
     CLAIMS_END,
     LADDER_BEGIN,
@@ -25,8 +26,7 @@ from analysis.ladder import (
     rung_claims,
     write_ladder,
 )
-from analysis.report import comparisons
-from analysis.table import combine_beds, load_csv, save_csv
+from analysis.report.report import comparisons
 
 ROOT = Path(synth.__file__).resolve().parents[2]
 FR = np.array([0.2, 0.4, 0.6, 0.8, 1.5, 2, 3, 4, 5.5, 6.5, 8, 10, 12, 15])

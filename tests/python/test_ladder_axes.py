@@ -1,4 +1,4 @@
-"""analysis.ladder_axes: the drag of the same points in rungs of wider boxes, stiffer contacts or longer pulls,
+"""analysis.ladder.ladder_axes: the drag of the same points in rungs of wider boxes, stiffer contacts or longer pulls,
 each against the previous rung's along the axis, the summary, and their place in `ladder table`'s
 files."""
 import math
@@ -8,7 +8,9 @@ import pandas as pd
 import pytest
 from test_ladder import FR, make_rung, point_table
 
-from analysis.ladder import (
+from analysis.core.point_errors import pooled_drag_err
+from analysis.core.table import save_csv
+from analysis.ladder.ladder import (
     BOX,
     LENGTH,
     STIFFNESS,
@@ -19,8 +21,6 @@ from analysis.ladder import (
     stiffness_axis,
     write_ladder,
 )
-from analysis.point_errors import pooled_drag_err
-from analysis.table import save_csv
 
 SCALED = ("drag", "drag_err", "drag_err_within", "drag_err_between")
 

@@ -1,4 +1,4 @@
-"""analysis.ladder's diagnostics: parsing fitted numbers, the kappa shell slopes and their
+"""analysis.ladder.ladder's diagnostics: parsing fitted numbers, the kappa shell slopes and their
 decomposition, the start of each pull kept as the paper's cumulative average, the Fr_2-range
 refits, the broken line and the knee at Fr 5."""
 import numpy as np
@@ -7,8 +7,8 @@ import pytest
 import synth
 from test_ladder import FR, SHELL_SLOPES, point_table, shell_table
 
-from analysis.fits import evaluate, fit_broken_line
-from analysis.ladder import (
+from analysis.fits.fits import evaluate, fit_broken_line
+from analysis.ladder.ladder import (
     fr2_vs_range,
     inside_box,
     kappa_decomposition,

@@ -47,72 +47,25 @@ def test_workflow_does_not_touch_sys_path():
     assert offenders == []
 
 
-def test_every_module_the_package_docstring_names_exists():
-    # The list of modules in analysis/__init__.py's docstring: each name (or ladder_*-style
-    # pattern) at the list's indent is a module of the package.
+def test_every_room_and_module_the_package_docstring_names_exists():
+    # The list of rooms and commands in analysis/__init__.py's docstring: each name at the list's
+    # indent is a subpackage (a room) or a module at the top of the package, and every room is
+    # named (tests/python/test_layout.py checks how the rooms import each other).
     import ast
-    import fnmatch
     import re
 
     pkg = ROOT / "analysis"
     doc = ast.get_docstring(ast.parse((pkg / "__init__.py").read_text()))
-    listed = doc.split("The main modules", 1)[1]
+    listed = doc.split("The rooms", 1)[1]
     names = [name for line in listed.splitlines()
-             if (m := re.match(r"    ([a-z_*]+(?:, [a-z_*]+)*)", line)) and not line.startswith("     ")
+             if (m := re.match(r"    ([a-z_]+(?:, [a-z_]+)*)", line)) and not line.startswith("     ")
              for name in m.group(1).split(", ")]
-    modules = [p.stem for p in pkg.glob("*.py")]
-    assert len(names) >= 20, names
-    missing = [name for name in names if not fnmatch.filter(modules, name)]
-    assert missing == [], f"analysis/__init__.py names modules that do not exist: {missing}"
-
-
-def test_the_analysis_modules_import_each_other_without_a_cycle():
-    # One direction per pair (analysis.validation dispatches to pull_length; both take what
-    # "agrees" means from analysis.agreement): a cycle makes the import order matter and hides
-    # which module owns a concept. Relative imports anywhere in a module count, deferred ones too.
-    import ast
-
-    pkg = Path(__file__).resolve().parents[2] / "analysis"
-    graph = {}
-    for path in pkg.rglob("*.py"):
-        parts = path.relative_to(pkg.parent).with_suffix("").parts
-        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
-        package = ".".join(parts[:-1])
-        for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ImportFrom) and node.level:
-                base = package.rsplit(".", node.level - 1)[0] if node.level > 1 else package
-                targets = [f"{base}.{node.module}"] if node.module else [f"{base}.{a.name}" for a in node.names]
-                graph.setdefault(name, set()).update(t for t in targets if t != name)
-
-    def cycle_from(start, node, seen):
-        for nxt in graph.get(node, ()):
-            if nxt == start:
-                return [node, nxt]
-            if nxt not in seen:
-                seen.add(nxt)
-                rest = cycle_from(start, nxt, seen)
-                if rest:
-                    return [node, *rest]
-        return None
-
-    cycles = [c for m in sorted(graph) if (c := cycle_from(m, m, {m}))]
-    assert not cycles, f"import cycles in analysis/: {cycles}"
-
-
-def test_the_analysis_does_not_import_the_workflows_study_library():
-    """Layers: the workflow's study library (workflow/granudrag_study) uses the analysis (its
-    physics, the fits' options), never the reverse, so the fits' package stands alone."""
-    import ast
-
-    pkg = Path(__file__).resolve().parents[2] / "analysis"
-    offenders = []
-    for path in pkg.rglob("*.py"):
-        for node in ast.walk(ast.parse(path.read_text())):
-            names = ([node.module or ""] if isinstance(node, ast.ImportFrom)
-                     else [a.name for a in node.names] if isinstance(node, ast.Import) else [])
-            if any(n.split(".")[0] == "granudrag_study" for n in names):
-                offenders.append(f"{path.name}:{node.lineno}")
-    assert offenders == []
+    rooms = {p.parent.name for p in pkg.glob("*/__init__.py")}
+    modules = {p.stem for p in pkg.glob("*.py")}
+    assert len(names) >= 10, names
+    missing = [name for name in names if name not in rooms | modules]
+    assert missing == [], f"analysis/__init__.py names rooms or modules that do not exist: {missing}"
+    assert rooms <= set(names), f"analysis/__init__.py does not name the rooms {sorted(rooms - set(names))}"
 
 
 def test_no_source_file_is_over_500_lines():

@@ -297,7 +297,7 @@ def test_the_reference_range_notation_is_the_engines():
 def test_the_bootstrap_count_is_declared_once(schema):
     """report.n_boot's schema default, the workflow's fallback and `analysis fit --n-boot` are N_BOOT."""
     from analysis.cli import parser
-    from analysis.result import N_BOOT
+    from analysis.core.result import N_BOOT
 
     assert schema["properties"]["report"]["properties"]["n_boot"]["default"] == N_BOOT
     fit = parser().parse_args(["fit", "t.csv", "--output", "f.json"])

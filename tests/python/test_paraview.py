@@ -7,7 +7,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from analysis.headless import run_pvbatch
+from analysis.figures.headless import run_pvbatch
 
 ROOT = Path(__file__).resolve().parents[2]
 BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag"))
@@ -76,7 +76,7 @@ FIG1 = ROOT / "workflow" / "scripts" / "fig1.py"
 def test_fig1_draws_all_panels_and_the_report_lists_it_first(tmp_path):
     import matplotlib.image
 
-    from analysis.report import figure_entries
+    from analysis.report.report import figure_entries
 
     bed, _ = lattice_bed(tmp_path)
     out = tmp_path / "fig01_beds.png"
@@ -91,7 +91,7 @@ def test_fig1_draws_all_panels_and_the_report_lists_it_first(tmp_path):
 
 
 def test_fig1_without_paraview_says_which_panels_are_missing(tmp_path):
-    from analysis.report import figure_entries
+    from analysis.report.report import figure_entries
 
     bed, _ = lattice_bed(tmp_path)
     out = tmp_path / "fig01_beds.png"
@@ -188,7 +188,7 @@ def test_paraview_plays_a_dumped_pour(tmp_path):
 
 
 def test_a_render_that_lost_its_display_is_retried_after_a_growing_pause(monkeypatch):
-    import analysis.headless as headless
+    import analysis.figures.headless as headless
 
     outcomes = [(134, headless.LOST_DISPLAY), (134, headless.LOST_DISPLAY), (0, "")]
     calls, pauses = [], []

@@ -1,4 +1,4 @@
-"""analysis.path_scheme: the study's paths declared once (issue 75) -- the pattern, the regex, the
+"""analysis.core.path_scheme: the study's paths declared once (issue 75) -- the pattern, the regex, the
 key and the reader's parser all come from it, and no module holds a copy of its components."""
 import math
 import re
@@ -7,8 +7,8 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from analysis import path_scheme as scheme
-from analysis.runs import path_parameters
+from analysis.core import path_scheme as scheme
+from analysis.runs.runs import path_parameters
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -111,7 +111,7 @@ COPY = re.compile(r"\b(" + "|".join(map(re.escape, scheme.COLUMN_OF)) + r")~(\[|
 
 
 def test_no_module_but_the_declaration_spells_out_a_path_component():
-    mine = ROOT / "analysis" / "path_scheme.py"
+    mine = ROOT / "analysis" / "core" / "path_scheme.py"
     found = []
     for top in SOURCES:
         for p in sorted((ROOT / top).rglob("*")):
@@ -120,7 +120,7 @@ def test_no_module_but_the_declaration_spells_out_a_path_component():
             for n, line in enumerate(p.read_text(errors="replace").splitlines(), 1):
                 if COPY.search(line):
                     found.append(f"{p.relative_to(ROOT)}:{n}: {line.strip()}")
-    assert not found, "a copy of the path scheme outside analysis/path_scheme.py:\n" + "\n".join(found)
+    assert not found, "a copy of the path scheme outside analysis/core/path_scheme.py:\n" + "\n".join(found)
     # ... and the check sees one: the forms the copies had.
     for line in ('r"system~[^/~]+/D~"', 'f"/kn~{self.kn}/gn~{self.gn}"', 'p.startswith("seed~")',
                  '(?P<place>[hz])~(?P<pos>', 'f"Fr~{fmt(v)}"'):

@@ -1,4 +1,4 @@
-"""analysis.physics against the engine: `granudrag info` prints the engine's own numbers
+"""analysis.core.physics against the engine: `granudrag info` prints the engine's own numbers
 (time step, collision time, default damping, Froude number) as JSON with 17 significant
 digits, so every formula the workflow and the analysis share with the engine is checked
 here rather than trusted.
@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from analysis import physics
+from analysis.core import physics
 
 ROOT = Path(__file__).resolve().parents[2]
 BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag")).resolve()

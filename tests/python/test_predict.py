@@ -6,9 +6,9 @@ import sys
 import pytest
 import synth
 
-from analysis.fit_file import load_fits
+from analysis.core.table import froude
+from analysis.fits.fit_file import load_fits
 from analysis.predict import predict
-from analysis.table import froude
 
 ROOT = synth.__file__.rsplit("/tests/", 1)[0]
 

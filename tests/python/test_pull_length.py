@@ -1,11 +1,11 @@
-"""analysis.pull_length: the travel from which a pull's drag and error hold, per regime."""
+"""analysis.validation.pull_length: the travel from which a pull's drag and error hold, per regime."""
 import h5py
 import numpy as np
 import pandas as pd
 import pytest
 
-from analysis import pull_length as pl
-from analysis import validation as val
+from analysis.validation import pull_length as pl
+from analysis.validation import validation as val
 
 # Drag of the first L d: converges to 100, error 10/sqrt(L) (a 5 % error at L = 4).
 TRAVEL = np.array([0.5, 1, 2, 4, 8, 16])

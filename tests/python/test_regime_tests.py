@@ -1,4 +1,4 @@
-"""Claim (a)'s regime tests (analysis.regime_fits, regime_power, regime_tests, regime_figure): each fit
+"""Claim (a)'s regime tests (analysis.regime_tests.regime_fits, regime_power, regime_tests, regime_figure): each fit
 against an independent solver or an exact curve, the power calibration against curves whose answer
 is known, and a test that fails when the test is made blind (a knee fitted without asking whether a
 line fits as well has no power)."""
@@ -12,8 +12,8 @@ from scipy.optimize import lsq_linear
 from scipy.stats import norm
 
 from analysis.cli import main
-from analysis.physics import froude, froude_speed
-from analysis.regime_fits import (
+from analysis.core.physics import froude, froude_speed
+from analysis.regime_tests.regime_fits import (
     PaperShape,
     fit_line,
     fit_paper_shape,
@@ -27,8 +27,8 @@ from analysis.regime_fits import (
     profile_paper_shape,
     profile_plateau_line,
 )
-from analysis.regime_power import Calibration, verdict
-from analysis.regime_tests import COLUMNS, averagings, regime_tests, series
+from analysis.regime_tests.regime_power import Calibration, verdict
+from analysis.regime_tests.regime_tests import COLUMNS, averagings, regime_tests, series
 
 ROOT = Path(__file__).resolve().parents[2]
 # The crossover rung's 14 speeds on 1 <= Fr <= 10, and its errors there (about 2-6 % of the drag).

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 import synth
 
-from analysis.regimes import RegimeFitter, fit_regimes, regime_curve
+from analysis.fits.regimes import RegimeFitter, fit_regimes, regime_curve
 
 FR = np.concatenate([np.geomspace(0.02, 0.8, 8), np.linspace(1.0, 10.0, 19)])
 # One series of the synthetic pull table (a yield pull, then the pulls at
@@ -135,7 +135,7 @@ def test_errors_are_nan_without_bootstrap_and_too_few_points_raise():
 def test_fit_on_a_bound_says_so():
     # Regime I flatter than any exponent allowed (c0 = 0.02 < C0_MIN): the fit ends on the
     # lower bound and says so; a series inside the bounds reports none.
-    from analysis.regimes import C0_MIN
+    from analysis.fits.regimes import C0_MIN
     p = dict(synth.G_params(0.0), c0=0.02)
     y = regime_curve(FR, **p) * (1 + 0.002 * np.random.default_rng(0).standard_normal(len(FR)))
     fit = fit_regimes(FR, y, 0.002 * y, regime1="power", n_boot=0)
@@ -157,7 +157,7 @@ def test_a_regime_pressed_to_its_fewest_points_is_reported():
 
 
 def test_falling_regime_is_a_violation():
-    from analysis.regimes import violations
+    from analysis.fits.regimes import violations
     assert violations({"b1": 0.3, "b2": 0.1}) == []
     v = violations({"b1": -2.0, "b2": 0.1}, {"b1": 0.5})
     assert v == ["drag falls with Fr in regime II (b1 = -2, 4.0 standard errors below 0)"]
@@ -188,7 +188,7 @@ def test_a_shared_bed_shift_is_in_the_levels_errors_not_in_the_crossovers():
 def test_the_bed_scatter_comes_from_the_replicated_points():
     import pandas as pd
 
-    from analysis.fitset import point_bed_scatter
+    from analysis.fits.fitset import point_bed_scatter
     # sigma_B^2 = n_beds * drag_err_between^2: 2 * (0.05 * 100 / sqrt 2)^2 = 25 -> 5 %
     pts = pd.DataFrame({"drag": [100.0, 200.0, 50.0], "n_beds": [2, 2, 1],
                         "drag_err_between": [5 / np.sqrt(2), 10 / np.sqrt(2), 0.0]})
@@ -200,7 +200,7 @@ def test_the_bed_scatter_comes_from_the_replicated_points():
 def test_fr2_profile_excludes_a_far_crossover_and_keeps_the_true_one():
     # A three-regime series with Fr2 = 5 and 3 % noise: the profile is lowest near 5, the
     # 95 % interval (delta < 3.84) holds 5 and excludes 8; held at the fitted Fr2 it is ~0.
-    from analysis.regimes import fit_regimes, profile_fr2, regime_curve
+    from analysis.fits.regimes import fit_regimes, profile_fr2, regime_curve
     rng = np.random.default_rng(3)
     Fr = np.array([0.25, 0.5, 0.75, 1.5, 2, 2.5, 3, 3.5, 4, 6, 7, 8, 9, 10, 12])
     true = regime_curve(Fr, a0=100, a1=60, b1=40, a2=110, b2=6, Fr1=1.0, Fr2=5.0)

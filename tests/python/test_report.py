@@ -4,8 +4,8 @@ import math
 import numpy as np
 import synth
 
-from analysis.report import comparisons, run_fits, verdict
-from analysis.result import Param
+from analysis.core.result import Param
+from analysis.report.report import comparisons, run_fits, verdict
 
 FIGURES = ["fig02_restitution", "fig04_force_trace", "fig05_drag_vs_Fr_mu0.5",
            "fig06_theta_vs_Fr", "fig07_coordination_distribution", "fig08_kappa_vs_Fr",
@@ -50,9 +50,9 @@ def test_falling_regime_ii_is_flagged_and_counted_apart():
     # The default study's D = 1, mu = 0.5 series: a plateau at 135, then down to 95 at Fr = 1,
     # then rising (the shape the issue reports). The fit must flag it; the report counts it
     # as inconclusive, apart from the other verdicts.
-    from analysis.fitset import Results
-    from analysis.regimes import fit_regimes
-    from analysis.report import counts
+    from analysis.fits.fitset import Results
+    from analysis.fits.regimes import fit_regimes
+    from analysis.report.report import counts
     Fr = np.array([0.25, 0.5, 0.75, 1.0, 1.5, 2.5, 3.5, 4.5, 6.0, 8.0, 10.0])
     drag = np.array([135, 134, 136, 95, 100, 108, 117, 125, 160, 230, 330.0])
     fit = fit_regimes(Fr, drag, 0.03 * drag, n_boot=30)
@@ -91,7 +91,7 @@ def test_report_compares_with_paper_values(report_dir):
 
 
 def test_scale_is_stated_beside_the_papers(table):
-    from analysis.report import _scale_text
+    from analysis.report.report import _scale_text
     t = table.assign(lx=10.0, ly=np.where(table.system == "I", 10.0, 8.0), grains=1500.0, distance=5.0)
     text = _scale_text(t, 2e4)
     assert "system I: 10 × 10 d, 1500 grains" in text and "system II: 10 × 8 d" in text
@@ -138,8 +138,8 @@ def test_the_point_table_counts_its_combined_beds(table):
 
 
 def test_the_report_leads_with_one_line_per_claim_and_states_a_shared_caveat_once():
-    from analysis.report import Row, headline, shared_caveats
-    from analysis.report_render import to_html as _html
+    from analysis.report.report import Row, headline, shared_caveats
+    from analysis.report.report_render import to_html as _html
 
     beds = "2 replicate bed(s) per point"
     rows = [Row("Fr_1 (μ = 0.5, D = 1)", "0.9 ± 0.1", "≈ 1", "reproduced within error bars", "", [beds], "a."),
@@ -160,7 +160,7 @@ def test_the_report_leads_with_one_line_per_claim_and_states_a_shared_caveat_onc
 def test_a_rejected_model_is_reported_as_such_not_as_a_slope(table):
     # κ falling to a minimum and rising again (issue 30): a line through it is rejected, and the
     # report says "model rejected (χ²/dof = ..., residuals trend ...)" where the slope would be.
-    from analysis.report import Row
+    from analysis.report.report import Row
     u = table.copy()
     u["kappa"] = 0.80 + 0.004 * (u.Fr - 5.0) ** 2
     u["kappa_err"] = 0.02
@@ -210,8 +210,8 @@ def test_a_sum_rule_built_on_a_rejected_fit_is_inconclusive(table):
 def test_a_continuous_regime_fits_dof_counts_its_free_parameters():
     # The continuous law lists b1 and b2 but derives them from continuity at Fr1 and Fr2: its
     # dof is 2 more than points minus listed parameters (which took Student's t at 4 dof for 6).
-    from analysis.regimes import fit_regimes
-    from analysis.report import fit_dof
+    from analysis.fits.regimes import fit_regimes
+    from analysis.report.report import fit_dof
     Fr = np.array([0.25, 0.5, 0.75, 1, 1.5, 2.5, 3.5, 4.5, 6, 8, 10.0])
     drag = 100 + np.where(Fr > 1, 20 * (Fr - 1), 0) + np.where(Fr > 5, 30 * (Fr - 5), 0)
     for continuous, free in ((True, 5), (False, 7)):
@@ -222,7 +222,7 @@ def test_a_continuous_regime_fits_dof_counts_its_free_parameters():
 def test_the_sum_rules_dof_is_welch_satterthwaites_of_its_parts():
     import pandas as pd
 
-    from analysis.verdicts import sum_dof as _sum_dof
+    from analysis.report.verdicts import sum_dof as _sum_dof
     key = dict(mu=0.5, kn=2e4, gamman=199.0)
     t = pd.Series({**key, "phi_err": 0.3, "alpha_err": 0.4, "n_min": 4})
     part = lambda chi2, n: pd.DataFrame([{**key, "n": n, "chi2_dof": chi2, "trend_p": 0.5, "rejected": 0.0}])
@@ -243,7 +243,7 @@ def test_a_number_at_about_one_degree_of_freedom_is_untestable_not_reproduced():
     # and "within error bars" would hold for anything within ±4. Untestable at that rung.
     import pandas as pd
 
-    from analysis.verdicts import MIN_DOF, sum_dof, within_quantile
+    from analysis.report.verdicts import MIN_DOF, sum_dof, within_quantile
     key = dict(mu=0.5, kn=2e4, gamman=199.0)
     t = pd.Series({**key, "phi_err": 0.33, "alpha_err": 0.06, "n_min": 3})
     part = lambda chi2, n: pd.DataFrame([{**key, "n": n, "chi2_dof": chi2, "trend_p": math.nan, "rejected": 0.0}])
@@ -263,8 +263,8 @@ def test_theta_and_kappa_from_yield_pulls_or_few_speeds_are_not_studied(table):
     # A yield and depth sweep (scaling-k2e4-box20) has system I at μ = 0.5 only in its yield
     # pulls: θ and κ fitted to those three points (a κ "slope" of 17 ± 4 against Fr 0.12-0.14)
     # test nothing, and the report lists no number for them.
-    from analysis.table import is_yield
-    from analysis.verdicts import OBSERVABLE_MIN_SPEEDS, observable_speeds
+    from analysis.core.table import is_yield
+    from analysis.report.verdicts import OBSERVABLE_MIN_SPEEDS, observable_speeds
     sysI = (table.system == "I") & np.isclose(table.mu, 0.5)
     names = lambda t: {x.quantity for x in comparisons(run_fits(t, n_boot=0), t)}      # noqa: E731
     theta_kappa = lambda q: q.startswith(("θ(Fr)", "κ(Fr)"))                         # noqa: E731
@@ -287,9 +287,9 @@ def test_the_header_counts_pulls_behind_pooled_points_and_quotes_the_fits_own_er
     # and "wild-bootstrap refits" where fits.json recorded Gaussian noise of each point's error.
     import pandas as pd
 
-    from analysis.fitset import Results
-    from analysis.report import _pull_count, _regime_errors
-    from analysis.result import Fit
+    from analysis.core.result import Fit
+    from analysis.fits.fitset import Results
+    from analysis.report.report import _pull_count, _regime_errors
 
     assert _pull_count(pd.DataFrame({"n_beds": [2, 2, 3]})) == "3 points from 7 pulls (each point the mean of its beds)"
     assert _pull_count(pd.DataFrame({"n_beds": [1, 1]})) == "2 pulls"

@@ -1,9 +1,9 @@
-"""analysis.restitution: the Kuwabara-Kono/Brilliantov e(v_n) series of Fig. 2."""
+"""analysis.core.restitution: the Kuwabara-Kono/Brilliantov e(v_n) series of Fig. 2."""
 import numpy as np
 import pytest
 
-from analysis.physics import PAPER_GAMMAN, PAPER_KN, PAPER_RATIO, gamman_for
-from analysis.restitution import beta, contact_law, kuwabara_kono
+from analysis.core.physics import PAPER_GAMMAN, PAPER_KN, PAPER_RATIO, gamman_for
+from analysis.core.restitution import beta, contact_law, kuwabara_kono
 
 
 def test_series_matches_the_integrated_contact_law_where_it_converges():

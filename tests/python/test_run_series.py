@@ -1,4 +1,4 @@
-"""The drag from a run file's force series (analysis.run_series, through analysis.runs): the
+"""The drag from a run file's force series (analysis.runs.run_series, through analysis.runs.runs): the
 cumulative average checked against the series, the first travel of a pull (window_drag), and a
 real pull's errors against the engine's (tests/python/engine_estimator.py)."""
 import math
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from test_runs import BED, BINARY, write_run
 
-from analysis.runs import RunFileError, read_run, window_drag
-from analysis.series_error import mean_error
+from analysis.runs.runs import RunFileError, read_run, window_drag
+from analysis.runs.series_error import mean_error
 
 
 def test_a_cumulative_drag_that_is_not_the_force_series_mean_is_refused(tmp_path):
@@ -48,7 +48,7 @@ def test_the_engine_error_oracle_and_the_readers_agree_with_a_real_pull(tmp_path
     """A real pour and a 3 d pull: the engine's errors of the drag over its prefixes
     (/observables/drag/convergence) are tests/python/engine_estimator.py's, to 1e-9; the
     stored cumulative average ends at the force series' mean, and read_run's drag error is
-    analysis.series_error's of the series after the engine's transient."""
+    analysis.runs.series_error's of the series after the engine's transient."""
     from engine_estimator import engine_error
     subprocess.run([str(BINARY), "pour", "--output", str(tmp_path / "bed.h5"), "--grains", "150",
                     "--lx", "5", "--ly", "4.5", "--intruder_diameter", "1.5", "--depth", "1.5",

@@ -1,4 +1,4 @@
-"""analysis.runs: run files (HDF5, the layout `granudrag pull` writes) into the tidy table."""
+"""analysis.runs.runs: run files (HDF5, the layout `granudrag pull` writes) into the tidy table."""
 import math
 import os
 import subprocess
@@ -8,7 +8,8 @@ import h5py
 import numpy as np
 import pytest
 
-from analysis.runs import (
+from analysis.core.table import froude, validate_table
+from analysis.runs.runs import (
     RunFileError,
     load_runs,
     path_parameters,
@@ -18,9 +19,8 @@ from analysis.runs import (
     read_run,
     read_snapshots,
 )
-from analysis.series_error import mean_error
-from analysis.table import froude, validate_table
-from analysis.validation import SETTING_DEFAULTS
+from analysis.runs.series_error import mean_error
+from analysis.validation.validation import SETTING_DEFAULTS
 
 BED = "system~I/D~2/h~10/mu~0.5/kn~2e4/gn~199.05359/seed~1"
 # The engine, for the test that reads what it writes: $GRANUDRAG, else build/granudrag.
@@ -107,7 +107,7 @@ def test_reads_one_run_with_path_parameters(tmp_path):
     assert row["D"] == 2.0 and row["mu"] == 0.5 and row["kn"] == 2e4
     assert row["V"] == 0.75 and row["Fr"] == pytest.approx(1.0)
     # The drag as the engine stored it; its error recomputed from the force series after the
-    # transient (analysis.series_error), the engine's kept beside; the cumulative average of all
+    # transient (analysis.runs.series_error), the engine's kept beside; the cumulative average of all
     assert row["drag"] == pytest.approx(111.1) and row["drag_err_engine"] == 2.5
     with h5py.File(p) as f:
         drag_t = -f["observables/intruder_force/value"][:, 0]
@@ -260,7 +260,7 @@ def test_the_engine_writes_what_the_reader_reads(tmp_path):
 
 def test_drag_error_convergence_and_seed_are_read(tmp_path):
     # The engine's convergence flag is kept as plateau_engine; drag_dof and plateau are the
-    # force series' own (analysis.series_error: 40 samples of a slow sine do not converge).
+    # force series' own (analysis.runs.series_error: 40 samples of a slow sine do not converge).
     p = write_run(tmp_path / "pulls" / BED / "Fr~1" / "run.h5", convergence=(3.2, 0))
     row = read_run(p, root=tmp_path)
     assert row["plateau_engine"] is False and row["seed"] == 1.0
@@ -363,7 +363,7 @@ def test_run_in_the_wrong_place_is_refused(tmp_path):
     q = write_run(tmp_path / "pulls" / BED / "Fr~2" / "run.h5")
     with pytest.raises(RunFileError, match="path says Fr = 2"):
         read_run(q)
-    # Names that the table calls otherwise (analysis.path_scheme): gn is gamman, V the speed.
+    # Names that the table calls otherwise (analysis.core.path_scheme): gn is gamman, V the speed.
     r = write_run(tmp_path / "pulls" / BED.replace("gn~199.05359", "gn~200") / "Fr~1" / "run.h5")
     with pytest.raises(RunFileError, match="path says gn = 200 but the file has gamman = 199.054"):
         read_run(r)

@@ -1,4 +1,4 @@
-"""analysis.series_error: the error of the mean of a correlated series, against exact variances,
+"""analysis.runs.series_error: the error of the mean of a correlated series, against exact variances,
 on synthetic AR(1) series, and on recorded drag series beside the engine's estimator
 (tests/python/engine_estimator.py, the engine's mean_error in Python).
 
@@ -39,7 +39,7 @@ import pytest
 from engine_estimator import engine_error
 from scipy import signal, stats
 
-from analysis.series_error import (
+from analysis.runs.series_error import (
     MeanError,
     autocovariance,
     mean_error,

@@ -2,7 +2,16 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.table import COLUMNS, TableError, froude, load_csv, reference_params, save_csv, validate_table, yield_rows
+from analysis.core.table import (
+    COLUMNS,
+    TableError,
+    froude,
+    load_csv,
+    reference_params,
+    save_csv,
+    validate_table,
+    yield_rows,
+)
 
 
 def test_froude_is_paper_eq4():
@@ -98,7 +107,7 @@ def test_helpers(table):
 def test_write_csv_is_atomic(tmp_path):
     import pandas as pd
 
-    from analysis.table import write_csv
+    from analysis.core.table import write_csv
     path = tmp_path / "out.csv"
     write_csv(pd.DataFrame({"a": [1.5, 2.0]}), path)
     assert pd.read_csv(path).a.tolist() == [1.5, 2.0]
@@ -111,7 +120,7 @@ def test_write_csv_is_atomic(tmp_path):
 
 def point_runs(rng):
     """Run rows of two points: Fr 1 pulled in three beds, Fr 2 in one (it takes the pooled bed
-    scatter), with the columns analysis.runs reads beside the drag."""
+    scatter), with the columns analysis.runs.runs reads beside the drag."""
     rows = []
     for fr, seeds in ((1.0, (1, 2, 3)), (2.0, (1,))):
         for s in seeds:
@@ -128,7 +137,7 @@ def point_runs(rng):
 
 
 def test_the_point_table_aggregates_the_cumulative_drag_as_the_drag_and_gives_the_beds_spread():
-    from analysis.table import between_bed_scatter, combine_beds
+    from analysis.core.table import between_bed_scatter, combine_beds
     df = point_runs(np.random.default_rng(4))
     pts = combine_beds(df)
     three, one = pts.iloc[0], pts.iloc[1]

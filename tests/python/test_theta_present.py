@@ -12,14 +12,14 @@ import synth
 from test_runs import BED, write_run
 from test_table import point_runs
 
-from analysis.figures import fig06_theta
-from analysis.fit_file import VERSION
-from analysis.fits import THETA_DEFINITIONS
-from analysis.fitset import load_results, run_fits, save_results
-from analysis.ladder_summary import _observable_figure, _theta_present
-from analysis.report import comparisons
-from analysis.runs import EXTRA_COLUMNS, load_runs, read_run
-from analysis.table import combine_beds
+from analysis.core.table import combine_beds
+from analysis.figures.figures import fig06_theta
+from analysis.fits.fit_file import VERSION
+from analysis.fits.fits import THETA_DEFINITIONS
+from analysis.fits.fitset import load_results, run_fits, save_results
+from analysis.ladder.ladder_summary import _observable_figure, _theta_present
+from analysis.report.report import comparisons
+from analysis.runs.runs import EXTRA_COLUMNS, load_runs, read_run
 
 # A time-weighted θ that is not the per-formation one: other Eq. 7 parameters, known.
 TRUTH = {"U1": -0.10, "U2": 0.70, "U3": 2.30}

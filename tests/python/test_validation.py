@@ -1,9 +1,9 @@
-"""analysis.validation: comparisons of a cheaper protocol with the reference one."""
+"""analysis.validation.validation: comparisons of a cheaper protocol with the reference one."""
 import numpy as np
 import pandas as pd
 import pytest
 
-from analysis import validation as val
+from analysis.validation import validation as val
 
 
 def yield_runs(shift, beds=3, noise=0.01, bed_scatter=0.06, seed=1):

@@ -1,14 +1,14 @@
-"""analysis.validation_pool: one validation's comparisons pooled over several studies."""
+"""analysis.validation.validation_pool: one validation's comparisons pooled over several studies."""
 import numpy as np
 import pandas as pd
 import pytest
 
-from analysis import validation_pool as pool
-from analysis.agreement import ValidationError
+from analysis.validation import validation_pool as pool
+from analysis.validation.agreement import ValidationError
 
 
 def comparison(study_dir, rows):
-    """A comparison table as analysis.validation writes it, in DIR/validate_active_region.csv."""
+    """A comparison table as analysis.validation.validation writes it, in DIR/validate_active_region.csv."""
     study_dir.mkdir(parents=True)
     df = pd.DataFrame(rows)
     path = study_dir / "validate_active_region.csv"

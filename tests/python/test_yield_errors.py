@@ -35,7 +35,7 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from analysis.table import between_bed_scatter, combine_beds, froude, pooled_drag_err
+from analysis.core.table import between_bed_scatter, combine_beds, froude, pooled_drag_err
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "yield_pulls_D2.h5"
 
@@ -47,7 +47,7 @@ def pulls():
 
 
 def run_table(df):
-    """The pulls as analysis.table's run table: one point per friction and speed, the seed its bed."""
+    """The pulls as analysis.core.table's run table: one point per friction and speed, the seed its bed."""
     out = df.copy()
     out["system"], out["D"], out["h"], out["kn"], out["gamman"] = "I", 2.0, 4.0, 2e4, 199.0
     out["Fr"] = froude(out.V, out.D)

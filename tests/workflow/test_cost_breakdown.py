@@ -7,7 +7,7 @@ import pytest
 import yaml
 
 import granudrag_study as study
-from analysis import physics
+from analysis.core import physics
 from granudrag_study.breakdown import by_figure, by_sweep, core_hours
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -10,7 +10,7 @@ Under Snakemake 9 and 7.21 alike (GRANUDRAG_SNAKEMAKE, workflow_support.py).
 
 And the path scheme itself (issue 75): the smoke study's files at the paths they always had, and
 every kind of path (bed, column, pull) formatted, matched and parsed back to the same fields, all
-from the one declaration in analysis.path_scheme.
+from the one declaration in analysis.core.path_scheme.
 """
 import dataclasses
 import json
@@ -32,7 +32,7 @@ from workflow_support import (
 )
 
 import granudrag_study as study
-from analysis import path_scheme
+from analysis.core import path_scheme
 
 # The smoke study's files as studies on disk hold them: a change of the scheme must not move them.
 SMOKE_FILES = """

@@ -9,7 +9,7 @@ import pytest
 import yaml
 
 import granudrag_study as study
-from analysis import physics
+from analysis.core import physics
 from granudrag_study import region_cost
 
 ROOT = Path(__file__).resolve().parents[2]

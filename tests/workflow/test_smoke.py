@@ -174,7 +174,7 @@ def test_rerun_triggers(smoke):
 
 def test_figure_without_data_is_a_note_in_the_report(smoke):
     # The smoke study has one yield pull per D at a single mu: no phi_mu fit, no Fig. 14.
-    from analysis.figures import not_drawn_reason
+    from analysis.figures.figures import not_drawn_reason
 
     workdir, _, config = smoke
     report = workdir / config["results"] / "report"

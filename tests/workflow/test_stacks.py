@@ -4,9 +4,9 @@
 The same table once gave other Eq. 12 crossovers on each (Fr1 0.25 against 0.87 at mu = 0.5 on
 results/reproduction/config): Debian's pandas 1.5 parsed about one float in ten an ulp off, the
 regime fit counted Froude numbers an ulp apart as two, and SciPy's curve_fit stopped where each
-release's tolerances said. Now the table is parsed exactly (analysis.table.EXACT_FLOATS), the
+release's tolerances said. Now the table is parsed exactly (analysis.core.table.EXACT_FLOATS), the
 regimes count nominal Froude numbers (regimes.nominal_froude) and no fit calls an optimiser
-(analysis/least_squares.py). Both stacks must then write the same numbers to RTOL relative (ATOL
+(analysis/fits/least_squares.py). Both stacks must then write the same numbers to RTOL relative (ATOL
 absolute near zero): a fitted parameter is fixed by its least squares only to about sqrt(machine
 epsilon) times its own error over its value (each stack rounds differently; θ's Υ1, -4.63 ± 6.66
 on that rung: 3.7e-7 apart, the largest measured). A fit whose errors have no precision at all
@@ -43,8 +43,8 @@ N_BOOT = 20
 MAKE_TABLE = """
 import json, sys
 import pandas as pd
-from analysis.runs import load_runs
-from analysis.table import combine_beds, mark_yield, save_csv
+from analysis.runs.runs import load_runs
+from analysis.core.table import combine_beds, mark_yield, save_csv
 runs, root, speed, prior, out = sys.argv[1:]
 df, problems = load_runs(list(pd.read_csv(runs).path), root=root, errors="collect")
 assert not problems, problems

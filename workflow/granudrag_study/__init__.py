@@ -3,7 +3,7 @@ Snakemake, so it is tested on its own (tests/workflow/test_study.py).
 
     config    the config's schema check (ConfigError names the bad key), the engine's path
     paths     a bed and a pull as paths whose numbers are their parameters (Bed, Pull, fmt),
-              from the one declaration of the path's components (analysis.path_scheme)
+              from the one declaration of the path's components (analysis.core.path_scheme)
     plan      every bed and pull of the config's sweeps; the pulls of Figs. 4 and 9
     cost      estimated particle-steps and wall time of each job, scheduler resources
     region_cost  what the active region saves a pull: sleeping fractions measured, a model

@@ -91,11 +91,11 @@ def resolve_binary(config, repo=REPO):
 
 
 def fit_options(config):
-    """The fits' options (analysis.fitset.Options) from a validated config's `report` keys:
+    """The fits' options (analysis.fits.fitset.Options) from a validated config's `report` keys:
     n_boot, seed, h_min (Eq. 12 and Fig. 19 depth cut) and alpha_speeds."""
-    from analysis.alpha_drag import ALPHA_SPEEDS
-    from analysis.fitset import Options
-    from analysis.result import N_BOOT
+    from analysis.core.result import N_BOOT
+    from analysis.fits.alpha_drag import ALPHA_SPEEDS
+    from analysis.fits.fitset import Options
 
     rep = config.get("report") or {}
     return Options(n_boot=int(rep.get("n_boot", N_BOOT)), seed=int(rep.get("seed", 0)),

@@ -5,7 +5,7 @@ A pull costs grains x travel / (V dt) particle-steps, a pour at most grains x ma
 is a placement (granudrag place) into a column poured once per seed: the column costs a pour,
 the placement at most grains x its max_settle_time / dt, expected grains x its expected
 settling time (PLACE_STOP) / dt; dt is the config's, or
-granudrag's default (analysis.physics.default_dt), and a pull's the collision time over its
+granudrag's default (analysis.core.physics.default_dt), and a pull's the collision time over its
 `collision_steps` when it sets them. The wall time of a job is its
 particle-steps over the config's `throughput` (particle-steps per second of one job on
 `threads` threads).
@@ -20,7 +20,7 @@ then the rate of a pull's steps on the machine; the scheduler's limits keep the 
 
 import math
 
-from analysis.physics import collision_time, default_dt, froude
+from analysis.core.physics import collision_time, default_dt, froude
 
 from .config import place_limit, placed, placement_settings, pour_settings, settle_limit
 from .region_cost import asleep_fraction, sleeping_cost

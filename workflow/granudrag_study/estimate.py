@@ -10,7 +10,7 @@ particle-steps, a pour at most grains x max_settle_time / dt, and is expected to
 at the kinetic-energy threshold as measured (undamped pours to 1e-6 after a time
 proportional to the column's height, damped frictional beds after about a quarter of
 faithful.yaml's limits; others run to the limit). dt is the config's, or granudrag's
-default (analysis.physics.default_dt, proportional to K_n^-0.4). A pull's CPU is its
+default (analysis.core.physics.default_dt, proportional to K_n^-0.4). A pull's CPU is its
 particle-steps plus, per grain, a start and a cost per unit of simulated time (the CPU
 model, fitted to the reproduction ladder's recorded rungs: granudrag_study.recorded).
 Core-hours = that work / throughput x threads, where throughput is the particle-steps

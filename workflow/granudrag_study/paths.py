@@ -7,7 +7,7 @@ A system whose beds are placed (`placement:`) pours one column per seed, without
 and places each bed's intruder into it (granudrag place); the column's path (`column_file`) is
 the bed's without D and depth. A pull is a bed and a speed, given as a Froude number or a speed
 (`run_file`). The components of these paths, their order and the table column each fills are
-declared once, with examples, in analysis.path_scheme (which the run reader parses by too);
+declared once, with examples, in analysis.core.path_scheme (which the run reader parses by too);
 Bed's fields are that declaration's.
 
 Numbers in paths are written by `fmt` and the jobs use exactly the numbers the path states,
@@ -17,13 +17,13 @@ so a path is a complete, reproducible name.
 import math
 from dataclasses import dataclass, field
 
-from analysis import path_scheme as scheme
-from analysis.physics import froude_speed
+from analysis.core import path_scheme as scheme
+from analysis.core.physics import froude_speed
 
 from .config import ConfigError
 
 # Wildcard patterns (regexes without groups) of one bed, one speed and one column in a path,
-# from the one declaration of the path's components (analysis.path_scheme).
+# from the one declaration of the path's components (analysis.core.path_scheme).
 BED_PATTERN = scheme.pattern(scheme.BED)
 SPEED_PATTERN = scheme.pattern((scheme.SPEED,))
 COLUMN_PATTERN = scheme.pattern(scheme.COLUMN)

@@ -9,7 +9,7 @@ import math
 from collections import Counter
 from dataclasses import dataclass, field
 
-from analysis.physics import PAPER_RATIO, gamman_for
+from analysis.core.physics import PAPER_RATIO, gamman_for
 
 from .config import ConfigError, placed, resolve_beds_from
 from .paths import Bed, Pull, fmt, parse_speed, speed_key
@@ -158,7 +158,7 @@ def _check_yield_speeds(config, pulls):
     steps = (config.get("report") or {}).get("yield_speed")
     if not isinstance(steps, list) or config.get("validation"):
         return
-    from analysis.table import yield_speeds
+    from analysis.core.table import yield_speeds
 
     speeds = {float(s["V"]) for s in steps}
     given = "[" + ", ".join(f"{{mu: {fmt(s['mu'])}, V: {fmt(s['V'])}}}" for s in steps) + "]"

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from analysis.physics import active_radius, default_wake_force, froude
+from analysis.core.physics import active_radius, default_wake_force, froude
 
 from .config import pour_settings
 
@@ -32,7 +32,7 @@ from .config import pour_settings
 GRAINS_PER_VOLUME = 1.13
 
 # The region's settings when a config gives none: granudrag pull's defaults (its --help; its
-# wake_force follows K_n: analysis.physics.default_wake_force).
+# wake_force follows K_n: analysis.core.physics.default_wake_force).
 SLEEP_TIME_DEFAULT = 1.0
 
 # share(Fr, mu): of the grains outside the region, the fraction asleep on average once the first
@@ -114,7 +114,7 @@ SLEEPING_COST_DAMPED = 0.03
 # fixed in units of a grain's weight wakes far more grains (the force of a given creep grows as
 # K_n^(2/3)): at wake_force 0.5, the soft beds' default, the pulls of active_region_30_stiff.yaml
 # saved no CPU (0.32 and 0.37 asleep, woken as fast as they slept). At wake_force 2, the engine's
-# default at 2e6 (analysis.physics.default_wake_force), a share STIFF_SHARE_RATIO of the table's
+# default at 2e6 (analysis.core.physics.default_wake_force), a share STIFF_SHARE_RATIO of the table's
 # sleeps, and a sleeping grain costs STIFF_SLEEPING_COST (woken and put back to sleep more often),
 # both measured on D = 2, mu = 0.5, 30 d x 30 d damped beds at 2e6:
 #  active_region_30_stiff.yaml (Fr = 1, 7 d deep, 4 beds): shares 0.48 and 0.56 at R = 3 and 5 D

@@ -8,7 +8,7 @@ from pathlib import Path
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
-from analysis import figure_list
+from analysis.figures import figure_list
 import granudrag_study as study
 from granudrag_study import failures
 

@@ -1,4 +1,4 @@
-"""Fig. 1 (analysis.figures_bed): the 3D views of a system I and a system II bed rendered by
+"""Fig. 1 (analysis.figures.figures_bed): the 3D views of a system I and a system II bed rendered by
 ParaView (render_bed.py, beside this script, under pvbatch) and the slice through the
 intruder's plane.
 
@@ -8,7 +8,7 @@ Usage: python3 fig1.py OUT.png BED_I.h5 [BED_II.h5]   (or as the fig1 rule's scr
 import sys
 from pathlib import Path
 
-from analysis.figures_bed import draw
+from analysis.figures.figures_bed import draw
 
 RENDER = Path(__file__).resolve().parent / "render_bed.py"
 

@@ -1,6 +1,6 @@
-"""Rules figure_*: draw the figures the rule's PNG outputs name (analysis.figure_list)."""
+"""Rules figure_*: draw the figures the rule's PNG outputs name (analysis.figures.figure_list)."""
 
-from analysis.figure_list import draw_files
+from analysis.figures.figure_list import draw_files
 from granudrag_study.script import start
 
 log = start(snakemake)

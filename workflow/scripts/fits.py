@@ -1,7 +1,7 @@
-"""Rule fits: every fit of the report, bootstraps included -> fits.json (analysis.fitset)."""
+"""Rule fits: every fit of the report, bootstraps included -> fits.json (analysis.fits.fitset)."""
 
-from analysis.fitset import Options, run_fits, save_results
-from analysis.table import load_csv
+from analysis.core.table import load_csv
+from analysis.fits.fitset import Options, run_fits, save_results
 from granudrag_study.script import start
 
 log = start(snakemake)

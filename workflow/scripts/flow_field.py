@@ -6,8 +6,8 @@ is logged and left out, and Fig. 9 says so."""
 
 import pandas as pd
 
-from analysis.runs import read_run, read_snapshots
-from analysis.table import write_csv
+from analysis.core.table import write_csv
+from analysis.runs.runs import read_run, read_snapshots
 from granudrag_study.failures import describe, is_placeholder
 from granudrag_study.script import start
 

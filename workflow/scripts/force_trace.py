@@ -2,8 +2,8 @@
 
 import pandas as pd
 
-from analysis.runs import read_force_trace
-from analysis.table import write_csv
+from analysis.core.table import write_csv
+from analysis.runs.runs import read_force_trace
 from granudrag_study.script import start
 
 log = start(snakemake)

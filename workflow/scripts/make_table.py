@@ -1,8 +1,8 @@
-"""Rule table: every run file of the study -> results/runs.csv (one row per pull, analysis.runs),
-results/table.csv (one row per point: replicate beds combined, analysis.table.combine_beds; a
+"""Rule table: every run file of the study -> results/runs.csv (one row per pull, analysis.runs.runs),
+results/table.csv (one row per point: replicate beds combined, analysis.core.table.combine_beds; a
 point poured once takes the study's pooled between-bed scatter, else the config's
 table.bed_scatter prior, and says which in bed_scatter_source; the drag's errors recomputed from
-each pull's force series, analysis.series_error, beside the engine's and the beds' spread),
+each pull's force series, analysis.runs.series_error, beside the engine's and the beds' spread),
 and the P(Z) of every pull (Fig. 7). Unusable run files and the placeholders of failed pulls
 (table.allow_failed, granudrag_study.failures) are listed in results/table_problems.txt, one
 line each with the reason, and, with table.allow_failed, left out; the failed pulls also in
@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from analysis.runs import load_runs, read_coordination_distribution
-from analysis.table import combine_beds, mark_yield, save_csv, write_csv
+from analysis.core.table import combine_beds, mark_yield, save_csv, write_csv
+from analysis.runs.runs import load_runs, read_coordination_distribution
 from granudrag_study.failures import describe, is_placeholder
 from granudrag_study.script import start
 
@@ -49,7 +49,7 @@ replicated = points[points.n_beds > 1]
 log.info(
     f"table: {len(points)} points, {len(replicated)} with replicate beds; "
     f"{(~df.plateau.astype(bool)).sum()} of {len(df)} pulls without a converged drag error "
-    f"(analysis.series_error; the engine's: {(~df.plateau_engine.astype(bool)).sum()}), the errors "
+    f"(analysis.runs.series_error; the engine's: {(~df.plateau_engine.astype(bool)).sum()}), the errors "
     f"a median {(df.drag_err / df.drag_err_engine).median():.3g} of the engine's"
 )
 if len(replicated):  # pull noise alone: about 1 (a median 0.83 with three beds)

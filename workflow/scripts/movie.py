@@ -11,7 +11,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from analysis.headless import run_pvbatch
+from analysis.figures.headless import run_pvbatch
 
 RENDER = Path(__file__).resolve().parent / "render_bed.py"
 

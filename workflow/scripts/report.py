@@ -5,9 +5,9 @@ table.allow_failed) are listed under the title, each with its reason."""
 import html
 from pathlib import Path
 
-from analysis.fitset import load_results
-from analysis.report import write_report
-from analysis.table import load_csv, write_text_atomic
+from analysis.core.table import load_csv, write_text_atomic
+from analysis.fits.fitset import load_results
+from analysis.report.report import write_report
 from granudrag_study.script import start
 
 TITLE = "Pulls left out of the table"

@@ -3,9 +3,9 @@
 import numpy as np
 import pandas as pd
 
-from analysis.physics import gamman_ratio
-from analysis.restitution import kuwabara_kono
-from analysis.table import write_csv
+from analysis.core.physics import gamman_ratio
+from analysis.core.restitution import kuwabara_kono
+from analysis.core.table import write_csv
 from granudrag_study.script import start
 
 log = start(snakemake)

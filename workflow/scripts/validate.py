@@ -1,7 +1,7 @@
-"""Rule validation: a validation study's runs against the reference protocol (analysis.validation)."""
+"""Rule validation: a validation study's runs against the reference protocol (analysis.validation.validation)."""
 
-from analysis.table import load_csv
-from analysis.validation import validate
+from analysis.core.table import load_csv
+from analysis.validation.validation import validate
 from granudrag_study.script import start
 
 log = start(snakemake)

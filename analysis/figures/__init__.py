@@ -1,0 +1,1 @@
+"""The paper's figures (PNG + PDF, with the data each plots), one function per figure, and the list that draws them."""

@@ -1,0 +1,363 @@
+"""The ladder's claim table: one row per claim of the paper, (a)-(g), at the rung closest to the
+paper's conditions for it, and one figure of that claim's evidence at that rung.
+
+ladder.yaml says, per claim (`summary: {letter: {...}}`):
+
+    closest   the rungs in order of closeness to the paper's conditions for this claim, closest
+              first (a judgement: which settings the axes found to move the claim's numbers)
+    show      the quantities of ladder.csv the row quotes ({quantity: short name}, or a list)
+    reading   the verdict in words (no numbers: those come from the rung's files)
+    differs   what still differs from the paper at that rung (K_n, box, depth, pull, pour)
+    next      the one next run and its price (estimate_cost.py)
+
+The "top rung" of a claim, and of each of its quantities in ladder.md's "Verdict at the top
+rung", is the first rung of `closest` that has been run and measures it; rungs not in the list
+come after it, the later listed first (the ladder's old rule). The numbers, their verdicts and the
+figure follow that rung's files, so a newer rung moves the row by a change of `closest`.
+
+The figure, evidence_<letter>.png (analysis.ladder.ladder_summary.evidence_figures): (a) the drag of the
+quoted series against Fr with the line, the quadratic and the paper's shape and their residuals
+(analysis.regime_tests.regime_figure, the figure `python -m analysis regime-tests` draws, a column per
+averaging: the steady drag and the paper's cumulative average); (b) θ against Fr with the rung's
+Eq. 7 fit and the paper's, and the time-weighted θ (theta_present) with its own fit where the rung
+has it; (c) κ against Fr with the rung's line and Eq. 8; (d) and (e)
+the report's Figs. 13 and 17 drawn from the rung's table and fits; (f) α_μ + φ_μ against μ, both
+ways of α_μ, each with its standard error and the 95 % interval its verdict takes (Student's t at
+the sum's degrees of freedom), beside the paper's 3; (g) the μ = 0 drag of regime I per D with the
+rung's a'' + b'' Fr^c'' and the paper's Table I.
+"""
+import re
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from ..core import paper
+from .ladder_claims import NOT_RUN, LadderError, cell_verdict
+
+FIELDS = ("closest", "show", "reading", "differs", "next")
+EVIDENCE = {"a": "regime_tests", "b": "theta", "c": "kappa", "d": "fig13_yield_vs_D", "e": "fig17_yield_vs_h",
+            "f": "sum_rule", "g": "table1"}
+CLAIMS_BEGIN, CLAIMS_END = "<!-- claims:begin -->", "<!-- claims:end -->"
+THUMB = 260     # px: the width of a figure beside its row
+
+
+def read_summary(doc, names, path="ladder.yaml"):
+    """{letter: {closest, show, reading, differs, next}} of ladder.yaml's `summary` (doc: the
+    parsed file; names: the listed rungs). `show` becomes {quantity: short name}."""
+    spec = doc.get("summary") if isinstance(doc, dict) else None
+    if spec is None:
+        return {}
+    if not isinstance(spec, dict):
+        raise LadderError(f"{path}: `summary` must map a claim letter to its row "
+                          "({closest: [rung, ...], show: {quantity: name}, reading, differs, next})")
+    out = {}
+    for letter, entry in spec.items():
+        entry = entry or {}
+        if not isinstance(entry, dict) or set(entry) - set(FIELDS):
+            raise LadderError(f"{path}: summary.{letter} takes only {', '.join(FIELDS)}")
+        closest = [str(n) for n in entry.get("closest") or []]
+        unknown = [n for n in closest if n not in names]
+        if unknown:
+            raise LadderError(f"{path}: summary.{letter}.closest names rungs not listed: {', '.join(unknown)}")
+        show = entry.get("show") or {}
+        show = {str(q): str(q) for q in show} if isinstance(show, list) else {str(k): str(v) for k, v in show.items()}
+        out[str(letter)] = {"closest": closest, "show": show, **{k: str(entry.get(k) or "") for k in FIELDS[2:]}}
+    return out
+
+
+def rank(summary, letter, rung, order, n_rungs):
+    """A rung's place for a claim, 0 the closest to the paper's conditions: its place in the
+    claim's `closest`, else after those, the later listed first."""
+    closest = summary.get(letter, {}).get("closest", [])
+    return closest.index(rung) if rung in closest else len(closest) + (n_rungs - 1 - int(order))
+
+
+def top_rows(ran, summary, n_rungs):
+    """The row of each (claim, quantity) of ladder.csv's rows that were run at its top rung."""
+    out = []
+    for (letter, _), rows in ran.groupby(["claim", "quantity"], sort=False):
+        ranks = [rank(summary, letter, r.rung, r.order, n_rungs) for r in rows.itertuples()]
+        out.append(rows.iloc[int(np.argmin(ranks))])
+    return out
+
+
+def top_rung(ran, summary, letter, n_rungs):
+    """The claim's top rung: the closest rung that was run and has any of its quantities."""
+    rows = ran[ran.claim == letter]
+    if rows.empty:
+        return None
+    ranks = [rank(summary, letter, r.rung, r.order, n_rungs) for r in rows.itertuples()]
+    return rows.iloc[int(np.argmin(ranks))].rung
+
+
+def summary_rows(table, summary, claims, n_rungs, knee=None):
+    """One dict per claim of `summary`: letter, claim, rung, measured (cells quoting the rung's
+    numbers beside the paper's and their verdicts), reading, differs, next, figure."""
+    ran = table[table.verdict != NOT_RUN]
+    out = []
+    for letter in sorted(summary):
+        spec = summary[letter]
+        rung = top_rung(ran, summary, letter, n_rungs)
+        measured = []
+        if rung is not None:
+            mine = ran[(ran.claim == letter) & (ran.rung == rung)]
+            for q, short in (spec["show"] or {q: q for q in mine.quantity}).items():
+                hit = mine[mine.quantity == q]
+                measured.append(f"{short}: {hit.fitted.iloc[0]} (paper {hit.published.iloc[0]}) — "
+                                f"{cell_verdict(hit.iloc[0])}" if len(hit) else f"{short}: not measured at this rung")
+            if letter == "a" and knee is not None and len(knee):
+                k, D = knee[knee.rung == rung], _shown_D(spec)
+                measured += _knee_cells(k[np.isclose(k.D.astype(float), D)] if D is not None else k)
+        out.append({"letter": letter, "claim": claims.get(letter, ""), "rung": rung, "measured": measured,
+                    "reading": spec["reading"], "differs": spec["differs"], "next": spec["next"],
+                    "figure": f"evidence_{letter}.png" if rung is not None else None})
+    return out
+
+
+def _knee_cells(knee):
+    cells = []
+    for r in knee.itertuples():
+        if np.isfinite(r.ratio) and r.slope_below > 0:
+            from ..core.result import format_pm
+            cells.append(f"the slope past Fr {r.knee:g} over the slope below (D = {r.D:g}, "
+                         f"Fr {r.fr_low:g}–{r.fr_high:g}): {format_pm(r.ratio, r.ratio_err)} "
+                         "(the paper's quadratic from Fr 5: 1.5 or more)")
+    return cells
+
+
+def _cell(text):
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def summary_markdown(rows):
+    """The claim table: a row per claim, its figure beside it (a thumbnail linking the PNG)."""
+    head = ["claim", "top rung", "measured, beside the paper's", "in words", "still differs from the paper",
+            "next run and its price", "evidence"]
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in rows:
+        fig = (f'<a href="{r["figure"]}"><img src="{r["figure"]}" width="{THUMB}" alt="claim ({r["letter"]}) at '
+               f'{r["rung"]}"></a>') if r["figure"] else "—"
+        rung = f"`{r['rung']}`" if r["rung"] else NOT_RUN
+        measured = "<br>".join(_cell(m) for m in r["measured"]) or "—"
+        out.append("| " + " | ".join([f"**({r['letter']})** {_cell(r['claim'])}", rung, measured, _cell(r["reading"]),
+                                      _cell(r["differs"]), _cell(r["next"]), fig]) + " |")
+    return "\n".join(out) + "\n"
+
+
+def _shown_D(spec):
+    for q in spec.get("show", {}):
+        m = re.search(r"\bD = ([0-9.]+)", q)
+        if m:
+            return float(m.group(1))
+    return None
+
+
+def evidence_figures(root, rows, summary):
+    """evidence_<letter>.png in root for each row with a top rung, drawn from that rung's
+    table.csv and fits.json; a claim with no top rung, or whose figure cannot be drawn, has
+    its stale file removed. Returns the paths written."""
+    from ..core.table import load_csv
+    from ..fits.fitset import load_results
+    root = Path(root)
+    written = []
+    for letter in sorted(set(EVIDENCE) - {r["letter"] for r in rows}):    # no row: no figure
+        (root / f"evidence_{letter}.png").unlink(missing_ok=True)
+    for r in rows:
+        path = root / f"evidence_{r['letter']}.png"
+        png = None
+        if r["rung"] is not None:
+            d = root / r["rung"]
+            table, fits = load_csv(d / "table.csv"), load_results(d / "fits.json")
+            with tempfile.TemporaryDirectory() as tmp:
+                png = _draw(r["letter"], table, fits, Path(tmp), summary.get(r["letter"], {}), r["rung"])
+                if png is not None:
+                    shutil.copyfile(png, path.with_name(path.name + ".tmp"))
+                    path.with_name(path.name + ".tmp").replace(path)
+                    written.append(path)
+        if png is None:
+            path.unlink(missing_ok=True)
+            r["figure"] = None
+    return written
+
+
+def _draw(letter, table, fits, tmp, spec, rung):
+    """The PNG of one claim's evidence in tmp, or None when the rung's files cannot draw it."""
+    kind = EVIDENCE.get(letter)
+    if kind == "regime_tests":
+        from ..regime_tests.regime_figure import draw_series
+        from ..regime_tests.regime_tests import series
+        found = [(k, g) for k, g in series(table) if str(k["system"]) == "I" and np.isclose(k["mu"], 0.5)]
+        want = _shown_D(spec)
+        found = [kg for kg in found if want is None or np.isclose(kg[0]["D"], want)] or found
+        if not found:
+            return None
+        paths = draw_series(*found[0], tmp)
+        return next(p for p in paths if p.suffix == ".png")
+    if kind in ("theta", "kappa"):
+        return _observable_figure(kind, table, fits, tmp, rung)
+    if kind == "sum_rule":
+        return _sum_rule_figure(fits, tmp, rung)
+    if kind == "table1":
+        return _table1_figure(table, fits, tmp, rung)
+    from ..figures.figure_list import Inputs, draw
+    paths, why = draw(kind, Inputs(table=table), fits, tmp)
+    return None if why else next(p for p in paths if p.suffix == ".png")
+
+
+def _observable_figure(kind, table, fits, tmp, rung):
+    """θ or κ against Fr at the rung (system I, μ = 0.5, the reference contact law, pulls at
+    speed), per D, with the rung's fit (dashed when the data reject it) and the paper's curve."""
+    from ..core.table import is_yield, reference_params, select
+    from ..fits.fits import evaluate, series_labels
+    fit = getattr(fits, kind)
+    kn, gn = reference_params(table)
+    rows = select(table, mu=0.5, system="I", kn=kn, gamman=gn)
+    rows = rows[~is_yield(rows) & rows[kind].notna()]
+    if fit is None or rows.empty:
+        return None
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(5.6, 4.2), layout="constrained")
+    err = rows[f"{kind}_err"] if f"{kind}_err" in rows.columns else None
+    labels = series_labels(rows)
+    for i, label in enumerate(dict.fromkeys(labels)):
+        g = rows[labels == label]
+        ax.errorbar(g.Fr, g[kind], yerr=None if err is None else err[g.index], fmt="o", ms=4, capsize=2,
+                    color=f"C{i}", label=label)
+    fr = np.linspace(max(float(rows.Fr.min()), 1e-3), float(rows.Fr.max()), 200)
+    g = fit.meta.get("goodness") or {}
+    if kind == "theta":
+        p = paper.THETA
+        ax.plot(fr, p["U1"] * fr ** p["U2"] + np.pi / p["U3"], "k--", lw=1.2, label="paper, Eq. 7")
+        v = fit.values()
+        name = f"fit: {v['U1']:.3g} Fr^{v['U2']:.2g} + π/{v['U3']:.2g}"
+        ax.set_ylabel("θ [rad]")
+    else:
+        p = paper.KAPPA
+        ax.plot(fr, p["k0"] + p["k1"] * fr, "k--", lw=1.2, label="paper, Eq. 8")
+        v = fit.values()
+        name = f"fit: {v['k0']:.3f} {'+' if v['k1'] >= 0 else '−'} {abs(v['k1']):.4f} Fr"
+        ax.set_ylabel("κ")
+    bad = bool(g.get("rejected")) or bool(fit.meta.get("at_bounds"))
+    ax.plot(fr, evaluate(fit, fr), color="C3", lw=1.2, ls=":" if bad else "-",
+            label=name + (" (model rejected)" if g.get("rejected") else "")
+            + ("; on a bound" if fit.meta.get("at_bounds") else ""))
+    if kind == "theta":
+        _theta_present(ax, rows, getattr(fits, "theta_present", None), fr)
+    ax.set_xlabel("Fr")
+    what = "θ(Fr), Eq. 7" if kind == "theta" else "κ(Fr), Eq. 8"
+    ax.set_title(f"({'b' if kind == 'theta' else 'c'}) {what}: {rung}", fontsize=9)
+    ax.legend(fontsize=7)
+    return _savefig(fig, tmp / f"{kind}.png")
+
+
+def _theta_present(ax, rows, fit, fr):
+    """θ over the contacts present (time-weighted, column theta_present) beside θ per formation:
+    grey squares and its own Eq. 7 fit, when the rung has both."""
+    from ..fits.fits import evaluate
+    if fit is None or "theta_present" not in rows.columns or rows.theta_present.isna().all():
+        return
+    err = rows["theta_present_err"] if "theta_present_err" in rows.columns else None
+    ax.errorbar(rows.Fr, rows.theta_present, yerr=err, fmt="s", ms=3.5, mfc="none", capsize=2, color="0.45",
+                label="θ time-weighted (contacts present)")
+    v, rejected = fit.values(), bool((fit.meta.get("goodness") or {}).get("rejected"))
+    ax.plot(fr, evaluate(fit, fr), color="0.3", lw=1.0, ls=":" if rejected or fit.meta.get("at_bounds") else "-.",
+            label=f"its fit: {v['U1']:.3g} Fr^{v['U2']:.2g} + π/{v['U3']:.2g}"
+            + (" (model rejected)" if rejected else ""))
+
+
+def _sum_rule_figure(fits, tmp, rung):
+    """α_μ + φ_μ against μ (reference K_n) with α_μ from the yield force and from the drag, each
+    ± its standard error (thick) and ± the 95 % interval its verdict takes (thin), the paper's 3."""
+    from ..report.verdicts import sum_dof, within_quantile
+    parts = [(fits.sums, fits.alpha, "α_μ from the yield force", "C0", -0.012),
+             (fits.sums_drag, None, "α_μ from the drag, averaged over speeds (Fig. 18)", "C1", 0.012)]
+    if all(t is None or not len(t) for t, *_ in parts):
+        return None
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(5.6, 4.2), layout="constrained")
+    for tab, alphas, label, color, dx in parts:
+        if tab is None or not len(tab):
+            continue
+        for i in range(len(tab)):
+            t = tab.iloc[i]
+            q = within_quantile(sum_dof(t, fits.phi, alphas))
+            ax.errorbar(t.mu + dx, t["sum"], yerr=q * t.sum_err, fmt="none", ecolor=color, elinewidth=0.8,
+                        alpha=0.5, capsize=2)
+            ax.errorbar(t.mu + dx, t["sum"], yerr=t.sum_err, fmt="o", color=color, elinewidth=2.2, capsize=3,
+                        label=label if i == 0 else None)
+    ax.axhline(paper.SUM_RULE, color="k", ls="--", lw=1.2, label="paper ≈ 3")
+    ax.set(xlabel="μ", ylabel="α_μ + φ_μ", ylim=(0.0, 6.0))
+    ax.set_title(f"(f) the sum rule: {rung} (thin: the verdict's 95 % interval)", fontsize=9)
+    ax.legend(fontsize=7)
+    return _savefig(fig, tmp / "sum_rule.png")
+
+
+def _table1_figure(table, fits, tmp, rung):
+    """The μ = 0 drag of regime I (Fr up to 1.5) per D of Table I, with the rung's a'' + b'' Fr^c''
+    up to its Fr₁ and the paper's (dashed), on a log scale: their levels differ."""
+    from ..core.table import is_yield, pooled_drag_err, reference_params, select
+    kn, gn = reference_params(table)
+    rows = select(table, mu=0.0, system="I", kn=kn, gamman=gn)
+    rows = rows[~is_yield(rows) & (rows.Fr <= 1.5 + 1e-9)]
+    laws = {D: f for D, f in fits.by("D", 0.0).items() if "b0" in f.params and float(D).is_integer()
+            and int(D) in paper.TABLE1}
+    if rows.empty or not laws:
+        return None
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(5.6, 4.2), layout="constrained")
+    err = pooled_drag_err(rows)
+    for i, (D, fit) in enumerate(sorted(laws.items())):
+        g = rows[np.isclose(rows.D, D)]
+        c = f"C{i}"
+        ax.errorbar(g.Fr, g.drag, yerr=np.asarray(err)[np.isclose(rows.D, D)], fmt="o", ms=4, capsize=2, color=c,
+                    label=f"D = {D:g}")
+        v = fit.values()
+        fr = np.linspace(0.01, min(max(v.get("Fr1", 1.0), 0.1), 1.5), 100)
+        ax.plot(fr, v["a0"] + v["b0"] * fr ** v["c0"], "-", color=c, lw=1)
+        a, b, cc = paper.TABLE1[int(D)]
+        ax.plot(fr, a + b * fr ** cc, "--", color=c, lw=1)
+    ax.plot([], [], "k-", lw=1, label="fit a'' + b'' Fr^c''")
+    ax.plot([], [], "k--", lw=1, label="paper, Table I")
+    ax.set_yscale("log")
+    ax.set(xlabel="Fr", ylabel="F_drag [ρ g d³], μ = 0")
+    ax.set_title(f"(g) Table I: the μ = 0 drag of regime I, {rung}", fontsize=9)
+    ax.legend(fontsize=7, ncol=2)
+    return _savefig(fig, tmp / "table1.png")
+
+
+def replace_marked(readme, begin, end, md):
+    """Put md between the README's `begin` and `end` markers (atomically); False if it has none."""
+    from ..core.table import write_text_atomic
+    text = readme.read_text()
+    a, b = text.find(begin), text.find(end)
+    if a < 0 or b < a:
+        return False
+    new = text[:a + len(begin)] + "\n" + md.rstrip("\n") + "\n" + text[b:]
+    if new != text:
+        write_text_atomic(readme, new)
+    return True
+
+
+def replace_claims(readme, md):
+    """Put md between the README's claim-table markers; False if it has none."""
+    return replace_marked(readme, CLAIMS_BEGIN, CLAIMS_END, md)
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _savefig(fig, path):
+    """PNG without a timestamp or version in its metadata (a rerun gives the same bytes),
+    written under a temporary name and renamed."""
+    plt = _pyplot()
+    tmp = path.with_name(path.name + ".tmp")
+    fig.savefig(tmp, format="png", dpi=110, metadata={"Software": None})
+    plt.close(fig)
+    tmp.replace(path)
+    return path

@@ -1,0 +1,1 @@
+"""Claim (a) tested per drag-vs-Fr series: a line against a quadratic and the paper's shape, with power."""

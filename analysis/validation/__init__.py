@@ -1,0 +1,1 @@
+"""The validation studies compared with their reference protocol, and pooled over studies."""

@@ -1,0 +1,13 @@
+"""What "agrees" means for the validation studies (analysis.validation.validation, analysis.validation.pull_length):
+a variant's drag F agrees with the reference's F_ref when
+
+    z = (F - F_ref) / sqrt(e^2 + e_ref^2),  |z| < Z_AGREE,
+
+and the error a study raises when its table cannot answer its question. Both studies use these,
+and validation dispatches to pull_length, so they live here rather than in either of them."""
+
+Z_AGREE = 2.0   # |z| below this: agrees (a 95 % two-sided test for one comparison)
+
+
+class ValidationError(ValueError):
+    """The table cannot answer the study's question (says what is missing)."""
