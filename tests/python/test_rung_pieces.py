@@ -55,8 +55,8 @@ def test_save_then_restore_keeps_finished_files_and_their_times(tmp_path):
     assert os.stat(fresh / bed).st_mtime_ns < os.stat(fresh / pull).st_mtime_ns
     assert not (fresh / running).exists()
 
-    # Beds are not committed: on a fresh clone the bed is poured again first (now), and the pull
-    # restored after it is still the newer.
+    # A bed not among the pieces (a rung saved before beds were committed) is poured again first
+    # on a fresh clone (now), and the pull restored after it is still the newer.
     again = tmp_path / "again"
     config.write_text(f"results: {again}\n")
     (pieces / bed).unlink()
