@@ -27,6 +27,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from analysis.core.path_scheme import name_of  # noqa: E402
 from analysis.runs.run_series import read_series  # noqa: E402
 from analysis.runs.series_error import (  # noqa: E402
     LOBE_SEARCH,
@@ -46,7 +47,7 @@ def run_files(paths):
 
 def label(path):
     """seed~S/Fr~F (or the path) of a run file."""
-    parts = [q for q in path.parts if q.startswith(("seed~", "Fr~"))]
+    parts = [q for q in path.parts if name_of(q) in ("seed", "Fr")]
     return "/".join(parts) if parts else str(path)
 
 
