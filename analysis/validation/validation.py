@@ -1,8 +1,7 @@
 """Validation studies: does a cheaper protocol give the paper's numbers within errors?
 
 Each study varies one thing of the protocol — the yield pull's speed, the box, the stiffness,
-the active region's radius —
-and compares the drag of every point (same D, μ, depth and, for pulls at speed, Fr) with
+the active region's radius — and compares the drag of every point (same D, μ, depth and, for pulls at speed, Fr) with
 its value under the reference protocol (the slowest yield speed, the largest box, the
 stiffest K_n). A variant agrees at a point when
 
@@ -41,7 +40,7 @@ import pandas as pd
 
 from ..core.table import combine_beds, write_csv, write_text_atomic
 from . import pull_length
-from .agreement import Z_AGREE, ValidationError
+from .agreement import Z_AGREE, ValidationError, label_value
 from .validation_beds import placement_answer, settle_damping_answer
 from .validation_shifts import resolved_shifts
 
@@ -204,7 +203,8 @@ def shown_settings(cmp, study):
 
 def _setting_label(cols, values, shown=None):
     """" (wake_force 1)" for the settings that are set (and in `shown`, if given), "" for none."""
-    text = ", ".join(f"{c} {v:g}" for c, v in zip(cols, values) if pd.notna(v) and (shown is None or c in shown))
+    text = ", ".join(f"{c} {label_value(v)}" for c, v in zip(cols, values)
+                     if pd.notna(v) and (shown is None or c in shown))
     return f" ({text})" if text else ""
 
 
@@ -458,7 +458,7 @@ def draw(cmp, study, outdir):
     keys += [c for c in settings_set(cmp, study) if cmp[c].nunique() > 1]   # one series per setting
     groups = _grouped(cmp, keys) if keys else [((), cmp)]
     for i, (key, g) in enumerate(groups):
-        label = ", ".join(f"{k.replace('_requested', '')} = {v:g}" for k, v in zip(keys, key))
+        label = ", ".join(f"{k.replace('_requested', '')} = {label_value(v)}" for k, v in zip(keys, key))
         x = np.concatenate([[g.reference.iloc[0]], g.variant])
         y = np.concatenate([[1.0], 1.0 + g.rel_diff])
         err = np.concatenate([[0.0], g.rel_diff_err])

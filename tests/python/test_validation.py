@@ -419,3 +419,13 @@ def test_active_region_tells_apart_dwell_times():
     # it varies, so the default is named too; the wake and rest tests at their defaults are not
     assert "active_radius = 8 (sleep_time 1) against 0: agrees at 4 of 4" in text, text
     assert "wake_force" not in text and "sleep_speed" not in text, text
+
+
+def test_a_study_over_named_systems_labels_them_by_name(tmp_path):
+    """The smoke study pulls two systems (I, II): the figure's series and the sentence name them,
+    where a %g format of the name once stopped `validate yield_speed` with a format error."""
+    runs = pd.concat([yield_runs({0.01: 0.0, 0.03: 0.0, 0.1: 0.0}).assign(system=s, seed=lambda d, k=k: d.seed + k)
+                      for k, s in ((0, "I"), (10, "II"))], ignore_index=True)
+    paths = val.validate(runs, "yield_speed", tmp_path)
+    assert (tmp_path / "validate_yield_speed.png").stat().st_size > 5000 and len(paths) == 4
+    assert val.label_value("II") == "II" and val.label_value(np.float64(0.03)) == "0.03"
