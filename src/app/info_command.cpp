@@ -40,17 +40,16 @@ std::string info_json(const Parameters& par) {
   const double tc = shortest_collision_time(c, kSmallestGrainRadius);
   const double dt = par.is_set("dt") ? par.number("dt") : default_time_step(c, kSmallestGrainRadius);
   check_time_step(dt, c, kSmallestGrainRadius);
-  std::vector<std::string> entries = {
-      entry("kn", c.kn),
-      entry("kt", c.kt),
-      entry("gamman", c.gamman),
-      entry("gammat", c.gammat),
-      entry("mu", c.mu),
-      entry("dt", dt),
-      entry("collision_time", tc),
-      entry("max_dt", tc / TimeStepPolicy::steps_per_collision_min),
-      entry("wake_force", default_wake_force(c.kn)),
-  };
+  // The contact law as pour resolves it, field by field (a new contact key's included), then the
+  // time step's numbers.
+  std::vector<std::string> entries;
+  for (const auto& row : contact_keys().rows())
+    if (row.number)
+      if (const auto value = row.number(c)) entries.push_back(entry(row.spec.key.c_str(), *value));
+  entries.push_back(entry("dt", dt));
+  entries.push_back(entry("collision_time", tc));
+  entries.push_back(entry("max_dt", tc / TimeStepPolicy::steps_per_collision_min));
+  entries.push_back(entry("wake_force", default_wake_force(c.kn)));
   const bool has_speed = par.is_set("speed") || par.is_set("froude");
   if (par.is_set("intruder_diameter") != has_speed)
     throw Error("give 'intruder_diameter' together with 'speed' or 'froude' (or none of them)");

@@ -1,8 +1,10 @@
 // The keys of the contact law (paper Eqs. 1-3), declared once and bound to ContactParams's
 // fields: every command that builds a contact law reads them (app/command.cpp, contact_from),
 // prints them in --help and --schema, and ContactParams::validate() checks a ContactParams
-// against their ranges. The workflow's schema and the analysis's ranges follow --schema
-// (tools/schema_blocks.py, analysis/contact_keys.py).
+// against their ranges; the bed file carries each field to the pull (io/bed_file.cpp), `granudrag
+// info` prints each. The workflow's schema and config/README follow --schema
+// (tools/schema_blocks.py); the analysis's ranges, for the keys its table has a column of, are
+// checked against it (analysis/core/physics.py, CONTACT_RANGES). Adding a key: docs/engine.md.
 #include "contact/contact_keys.hpp"
 
 namespace granudrag {

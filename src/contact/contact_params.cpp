@@ -34,9 +34,13 @@ ContactParams ContactParams::with_stiffness(double kn_new) const {
 // Each field within its key's range (contact_keys.cpp).
 void ContactParams::validate() const { contact_keys().check(*this, "contact law"); }
 
+// Every field, by its key (contact_keys.cpp).
 std::string ContactParams::describe() const {
   std::ostringstream s;
-  s << "kn=" << kn << " kt=" << kt << " gamman=" << gamman << " gammat=" << gammat << " mu=" << mu;
+  for (const auto& row : contact_keys().rows())
+    if (row.number)
+      if (const auto value = row.number(*this))
+        s << (s.tellp() > 0 ? " " : "") << row.spec.key << "=" << *value;
   return s.str();
 }
 

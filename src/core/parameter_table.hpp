@@ -52,6 +52,10 @@ struct BoundKey {
   // The field as it would be written on the command line ("0.02", "3", "true"); empty without a
   // field.
   std::function<std::string(const Spec&)> text;
+  // Sets a double field to a value read back from a file (the bed's /contact group), not from
+  // parsed parameters: also for a key the command reads. Empty without a field or for a field of
+  // another type.
+  std::function<void(Spec&, double)> set_number;
 };
 
 template <class Spec>
@@ -177,6 +181,7 @@ BoundKey<Spec> bind(ParameterSpec row, Access access) {
     }
   };
   b.text = [access](const Spec& s) { return field_text(access(s)); };
+  if constexpr (std::is_same_v<T, double>) b.set_number = [access](Spec& s, double v) { access(s) = v; };
   return b;
 }
 

@@ -3,7 +3,8 @@
 // pull from it bit for bit as the pour left it.
 //   /particles, /contacts   the state with its contact histories (io/particle_data.hpp)
 //   /box                    lx, ly, wall
-//   /contact                kn, kt, gamman, gammat, mu, dt
+//   /contact                kn, kt, gamman, gammat, mu (one attribute per contact key that is a
+//                           ContactParams field: contact/contact_keys.cpp), dt
 //   /bed                    intruder (index, -1: none), surface_height, depth, requested_depth,
 //                           bulk_packing_fraction, stop_reason, kinetic_energy_per_grain,
 //                           settle_time, sanity; /bed/profile/{z,packing_fraction}

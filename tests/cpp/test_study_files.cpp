@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/contact_keys.hpp"
 #include "core/parameters.hpp"
 #include "io/file_header.hpp"
 #include "io/h5_file.hpp"
@@ -179,6 +180,23 @@ TEST(BedFile, CarriesItsParametersAndOldVersionsStillLoad) {
   EXPECT_MENTIONS(future, "format version 99");
   EXPECT_MENTIONS(future, "versions 1 to " + std::to_string(kFileVersion));
   EXPECT_MENTIONS(future, "future.h5");
+}
+
+TEST(BedFile, CarriesEveryContactField) {
+  // The pull's contact law is the bed's: each field bound to a contact key is written and read
+  // back, a new key's included (bed_file.cpp takes them from the key table).
+  TempDir dir;
+  Bed bed = tiny_bed();
+  int i = 0;
+  for (const auto& row : contact_keys().rows())
+    if (row.set_number) row.set_number(bed.contact, *row.number(bed.contact) + 0.01 * ++i);
+  save_bed(dir.file("bed.h5"), bed, pour_parameters());
+  const Bed loaded = load_bed(dir.file("bed.h5"));
+  for (const auto& row : contact_keys().rows())
+    if (row.number) {
+      EXPECT_EQ(*row.number(loaded.contact), *row.number(bed.contact)) << row.spec.key;
+    }
+  EXPECT_GT(i, 4);
 }
 
 TEST(RunFile, CarriesTheBedsParametersAndThePulls) {
