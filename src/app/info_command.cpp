@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "app/command.hpp"
+#include "contact/contact_keys.hpp"
 #include "core/error.hpp"
 #include "protocol/pull.hpp"
 
@@ -43,9 +44,7 @@ std::string info_json(const Parameters& par) {
   // The contact law as pour resolves it, field by field (a new contact key's included), then the
   // time step's numbers.
   std::vector<std::string> entries;
-  for (const auto& row : contact_keys().rows())
-    if (row.number)
-      if (const auto value = row.number(c)) entries.push_back(entry(row.spec.key.c_str(), *value));
+  for (const auto& [key, value] : contact_fields(c)) entries.push_back(entry(key.c_str(), value));
   entries.push_back(entry("dt", dt));
   entries.push_back(entry("collision_time", tc));
   entries.push_back(entry("max_dt", tc / TimeStepPolicy::steps_per_collision_min));

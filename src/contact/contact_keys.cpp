@@ -63,4 +63,12 @@ const KeyTable<ContactParams>& contact_keys() {
   return keys;
 }
 
+std::vector<std::pair<std::string, double>> contact_fields(const ContactParams& c) {
+  std::vector<std::pair<std::string, double>> out;
+  for (const auto& row : contact_keys().rows())
+    if (row.number)
+      if (const auto value = row.number(c)) out.emplace_back(row.spec.key, *value);
+  return out;
+}
+
 }  // namespace granudrag

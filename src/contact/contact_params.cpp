@@ -37,10 +37,8 @@ void ContactParams::validate() const { contact_keys().check(*this, "contact law"
 // Every field, by its key (contact_keys.cpp).
 std::string ContactParams::describe() const {
   std::ostringstream s;
-  for (const auto& row : contact_keys().rows())
-    if (row.number)
-      if (const auto value = row.number(*this))
-        s << (s.tellp() > 0 ? " " : "") << row.spec.key << "=" << *value;
+  for (const auto& [key, value] : contact_fields(*this))
+    s << (s.tellp() > 0 ? " " : "") << key << "=" << value;
   return s.str();
 }
 

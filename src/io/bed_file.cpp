@@ -36,9 +36,7 @@ void write_bed_groups(h5::File& f, const Bed& bed) {
   f.set_attr("/box", "wall", static_cast<std::int64_t>(bed.box.wall));
   // One attribute per contact key bound to a field: the pull's contact law is the bed's, so a
   // field left out here would be lost between the pour and the pull.
-  for (const auto& row : contact_keys().rows())
-    if (row.number)
-      if (const auto value = row.number(bed.contact)) f.set_attr("/contact", row.spec.key, *value);
+  for (const auto& [key, value] : contact_fields(bed.contact)) f.set_attr("/contact", key, value);
   f.set_attr("/contact", "dt", bed.dt);
   f.set_attr("/bed", "intruder", static_cast<std::int64_t>(bed.intruder));
   f.set_attr("/bed", "surface_height", bed.surface_height);

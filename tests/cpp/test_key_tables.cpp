@@ -239,3 +239,29 @@ TEST(KeyTables, EveryContactFieldIsAKeyAndValidateChecksItsRange) {
     }
   }
 }
+
+TEST(KeyTables, ContactFieldsListEachBoundKeyWithItsFieldsValueAndDescribeWritesThem) {
+  // contact_fields() is what a bed file stores, `info` prints and describe() writes: each key
+  // bound to a field, in the table's order, with that field's own value (distinct values here,
+  // so a key paired with another field's value fails).
+  ContactParams c;
+  int i = 0;
+  for (const auto& row : contact_keys().rows())
+    if (row.set_number) row.set_number(c, 1.5 + ++i);
+  const auto fields = contact_fields(c);
+  std::size_t j = 0;
+  std::string text;
+  for (const auto& row : contact_keys().rows()) {
+    if (!row.number) continue;
+    ASSERT_LT(j, fields.size()) << row.spec.key;
+    EXPECT_EQ(fields[j].first, row.spec.key);
+    EXPECT_EQ(fields[j].second, *row.number(c)) << row.spec.key;
+    text += (text.empty() ? "" : " ") + row.spec.key + "=" + number_text(*row.number(c));
+    ++j;
+  }
+  EXPECT_EQ(j, fields.size());
+  EXPECT_EQ(fields.size(), static_cast<std::size_t>(i));
+  EXPECT_EQ(fields.at(0).first, "kn");
+  EXPECT_EQ(fields.at(0).second, c.kn);
+  EXPECT_EQ(c.describe(), text);  // values of a few digits, which both write alike
+}
