@@ -195,7 +195,7 @@ def parser():
     rt.add_argument("--seed", type=_non_negative(int, "--seed"), default=0, help="seed of the copies")
     rt.add_argument("--averaging", choices=("both", "steady", "cumulative"), default="both",
                     help="the drag tested: steady (column drag), the paper's cumulative average from t = 0 "
-                         "(drag_cumulative), or both (default: each the table has)")
+                         "over one box length (drag_cumulative_box), or both (default: each the table has)")
     return ap
 
 

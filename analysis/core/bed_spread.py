@@ -19,14 +19,15 @@ def _moments(codes, k, y, e):
 
 
 def bed_spread(out, runs, codes, k, r2):
-    """combine_beds's columns of the cumulative drag, the engine's errors and the beds' spread."""
+    """combine_beds's columns of the cumulative drags (over the pull, over a box length), the engine's
+    errors and the beds' spread."""
     def by_rule(y, e):    # drag_err's rule: sqrt((sigma_B^2 + W)/k), one bed sigma_B^2 = r2 y^2
         m, s2, W = _moments(codes, k, y, e)
         return m, np.sqrt((np.nan_to_num(np.where(k >= 2, np.maximum(0.0, s2 - W), r2 * m ** 2)) + W) / k)
     y = runs.drag.to_numpy(float)
-    if {"drag_cumulative", "drag_cumulative_err"} <= set(runs.columns):
-        out["drag_cumulative"], out["drag_cumulative_err"] = by_rule(
-            runs.drag_cumulative.to_numpy(float), runs.drag_cumulative_err.to_numpy(float))
+    for c in ("drag_cumulative", "drag_cumulative_box"):
+        if {c, c + "_err"} <= set(runs.columns):
+            out[c], out[c + "_err"] = by_rule(runs[c].to_numpy(float), runs[c + "_err"].to_numpy(float))
     sd = np.sqrt(_moments(codes, k, y, y)[1])
     out["drag_bed_sd"] = sd
     for c, suffix in (("drag_err", ""), ("drag_err_engine", "_engine")):

@@ -165,14 +165,21 @@ def _num(v, digits=2):
     return f"{v:.{digits}g}" if abs(v) < 10 ** digits else f"{v:.0f}"
 
 
-def verdict(shown, found, cal, alternative, beds=None, target=TARGET_POWER):
+def verdict(shown, found, cal, alternative, beds=None, target=TARGET_POWER, fits_worse=False):
     """The verdict in words. shown: what a detection shows ("a quadratic from Fr ≈ 5"); found: the
     measured numbers ("Δχ² = -1.0"); alternative: the paper-sized alternative ("a quadratic of the
-    paper's size"); beds: the curve's beds now. Shown when p < LEVEL; else, when the power against
-    the paper's size is below target, the data cannot tell (and how many more beds would); else the
-    paper's size is excluded (at ≥ 1.64 σ; "a line preferred" only when the line is within about
-    1 σ, p ≥ LINE_PLAIN, else the data lie between the two) or only disfavoured."""
+    paper's size"); beds: the curve's beds now; fits_worse: the alternative's fit has a larger χ²
+    than the line's (Δχ² > 0; the paper's shape does not contain the line). Shown when p < LEVEL
+    and the alternative fits better; when p < LEVEL but it fits worse, the line is strained in the
+    alternative's direction (its copies fit the shape worse still) without the shape describing the
+    data: neither is shown. Else, when the power against the paper's size is below target, the
+    data cannot tell (and how many more beds would); else the paper's size is excluded (at ≥ 1.64 σ;
+    "a line preferred" only when the line is within about 1 σ, p ≥ LINE_PLAIN, else the data lie
+    between the two) or only disfavoured."""
     p = cal.p
+    if p < LEVEL and fits_worse:
+        return (f"not shown: the shape fits worse than one line ({found}), though better than lines "
+                f"usually do (p = {p:.2g}): the data are neither")
     if p < LEVEL:
         return f"{shown} shown ({found}, p = {p:.2g})"
     if cal.power < target:

@@ -21,7 +21,8 @@ above 1 (scatter beyond the errors; the quadratic's, so that a curvature does no
 `noise_scale` in the table. Yield pulls are left out (their drag is F_Y, not a drag at speed).
 
 Averagings (AVERAGINGS; `averaging` "both", "steady" or "cumulative", the command's --averaging): the
-steady drag (column drag) and the paper's cumulative average from t = 0 (drag_cumulative), each with its
+steady drag (column drag) and the paper's cumulative average from t = 0 over one box length, its pull
+(drag_cumulative_box: a curve whose speeds were pulled different lengths is read at one length), each with its
 own error column; every test is run under each, and every output says which.
 
 regime_tests.md: the verdicts in words, a section per averaging (summary_markdown).
@@ -51,13 +52,14 @@ from .regime_power import N_SIM, Calibration, verdict
 
 # (name, drag column, error column): the steady drag the table has always had, and the paper's
 # cumulative average (the whole pull, its start included) when the table has it.
-AVERAGINGS = (("steady", "drag", "drag_err"), ("cumulative", "drag_cumulative", "drag_cumulative_err"))
+AVERAGINGS = (("steady", "drag", "drag_err"), ("cumulative", "drag_cumulative_box", "drag_cumulative_box_err"))
 AVERAGING_NAMES = tuple(a[0] for a in AVERAGINGS)
 # What each averaging is, for the summary (regime_tests.md).
 AVERAGING_TEXT = {
     "steady": "The steady drag: -F_x averaged after the start's transient is discarded (column drag)",
-    "cumulative": "The cumulative average from t = 0 over the whole pull, the start included (column "
-                  "drag_cumulative): the averaging of the paper's Fig. 4, which its drags imply"}
+    "cumulative": "The cumulative average from t = 0 over one box length, the start included (column "
+                  "drag_cumulative_box): the averaging of the paper's Fig. 4, which its drags imply, at its "
+                  "pull length; a shorter pull's start is spread over a box length (analysis.runs.run_series)"}
 RANGES = ((1.0, 10.0), (1.0, 15.0))
 REGIME1_RANGE = (0.0, 3.0)
 GROUP = ["system", "D", "h", "mu", "kn"]   # h: a system II series' depth (NaN for system I)
@@ -102,7 +104,7 @@ def _calibrated(row, test, x, y, s, shown, found, alternative, n_sim, seed, beds
     row.update(statistic=cal.observed, p=cal.p, threshold=cal.threshold, power=cal.power,
                power_best_fit=cal.power_best_fit, false_positive_rate=cal.false_positive_rate,
                beds_for_80=cal.beds_for(), excluded_sigma=n,
-               verdict=verdict(shown, found, cal, alternative, beds))
+               verdict=verdict(shown, found, cal, alternative, beds, fits_worse=row["delta_chi2"] > 0))
     if at_limit:
         limit = "excluded_sigma a lower bound (no copy reached it)"
         row["note"] = "; ".join(filter(None, [row.get("note", ""), limit]))
@@ -135,17 +137,29 @@ def regime3_rows(fr, F, err, lo, hi, *, n_sim=N_SIM, seed=0, beds=None):
         row = {**base, "test": test, "chi2": fit["chi2"], "dof": fit["dof"], "delta_chi2": d, "coef": "b2",
                "coef_value": fit["b2"], "coef_err": fit["b2_err"], "crossover": fit["Fr2"],
                "note": _paper_note(fit, hi)}
-        if test == "paper_fr2_5":
-            shown = "a quadratic from Fr ≈ 5"
-        else:
+        where = "Fr ≈ 5"
+        if test == "paper_fr2_free":
             row.update(crossover_lo=fit["Fr2_lo"], crossover_hi=fit["Fr2_hi"])
-            shown = f"a quadratic from Fr₂ = {_g(fit['Fr2'])} ({_g(fit['Fr2_lo'])}-{_g(fit['Fr2_hi'])})"
+            where = f"Fr₂ = {_g(fit['Fr2'])} ({_g(fit['Fr2_lo'])}-{_g(fit['Fr2_hi'])})"
+        shown = f"a quadratic from {where}"
+        if _slope_drops(fit):
+            past = 2 * fit["b2"] * fit["Fr2"]
+            shown += f", its slope dropping there from {fit['b']:.3g} to {past:.3g} before it rises,"
         rows.append(_calibrated(row, test, x, y, s, shown, _dchi(d), alternative, n_sim, seed, beds))
     return rows
 
 
+def _slope_drops(fit):
+    """Whether the shape's slope just past Fr₂, 2b' Fr₂, is below the line's b before it: the paper's
+    regime III steepens there; a drop is a kink down that the quadratic then makes up."""
+    return 2 * fit["b2"] * fit["Fr2"] < fit["b"]
+
+
 def _paper_note(fit, end):
     notes = []
+    if _slope_drops(fit) and not fit["held"]:
+        notes.append(f"the slope drops at Fr₂, from b = {fit['b']:.3g} to 2b' Fr₂ = {2 * fit['b2'] * fit['Fr2']:.3g}, "
+                     "and rises again past it: a kink down, then a quadratic, not a steepening at Fr₂")
     if fit["held"]:
         notes.append(f"b' held at its least, b / (Fr₂ + {end:g}): the free fit's drag flattened past Fr₂")
     if fit.get("at_edge"):

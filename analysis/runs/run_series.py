@@ -20,6 +20,16 @@ widen the error by the trend's size (a stiff pull, K_n = 2e6, D = 2, Fr = 3, 20 
 its first samples, the impact of the start, are ten times its steady drag). What bed-to-bed differences there are in the
 start-up are in the point table's scatter between beds, as for the steady drag.
 
+The paper pulls one box length and averages over all of it, so the start's excess in its average is
+diluted over the box, E / L_box. A pull of another length L dilutes it over L: the same bed pulled 20 d
+and 40 d reads cumulative averages that differ by E/40 (about 0.3 % of the drag at Fr 2, 4 % at Fr 15
+at K_n = 2e6), and a drag curve whose fast speeds were pulled longer than its slow ones steps where the
+length changes. `box_cumulative` therefore gives the cumulative average at the paper's length (the
+table's `drag_cumulative_box`): over the first box length when the pull is that long, else the steady
+drag plus the start's excess spread over one box length, S + (C - S) L / L_box, which assumes the drag
+stays at its steady value past the pull's end (checked on 40 d pulls read over their first 20 d:
+results/reproduction/crossover-k2e6-box40-deep/README.md).
+
 `first_travel` gives both over the first travel_max d of a pull (analysis.runs.runs.window_drag: a
 40 d pull's first 20 d against its whole). The error of kappa from the intruder coordination
 series is here too (`kappa_error`). analysis.runs.runs reads the file and turns SeriesError into its
@@ -89,6 +99,27 @@ def first_travel(t, drag_t, skip, speed, travel_max):
     out["travel"] = float(t[keep - 1] * speed) if keep else 0.0
     out["travel_max"] = float(travel_max)
     return out
+
+
+def box_cumulative(t, drag_t, skip, speed, box_length):
+    """(value, error) of the paper's cumulative average over one box length (module docstring), from
+    read_series's t, drag_t, skip, speed. Error: the measured cumulative's when the pull is a box
+    length; else (1 - f) σ_S + f σ_C, f = L / L_box, the steady and cumulative errors taken as fully
+    correlated (the same steady samples drive both; the larger bound). NaN without a box length or
+    a steady sample."""
+    t, drag_t = np.asarray(t, dtype=float), np.asarray(drag_t, dtype=float)
+    travel = float(t[-1] * speed) if len(t) else 0.0
+    if not (math.isfinite(box_length) and box_length > 0 and travel > 0):
+        return math.nan, math.nan
+    if travel >= box_length * (1 - 1e-3):   # a box length within a sample's rounding, or longer
+        w = first_travel(t, drag_t, skip, speed, box_length)
+        return w["drag_cumulative"], w["drag_cumulative_err"]
+    whole = drags(drag_t, skip)
+    if not whole["steady_samples"]:
+        return math.nan, math.nan
+    f = travel / box_length
+    s, c = whole["drag_series"], whole["drag_cumulative"]
+    return s + f * (c - s), (1 - f) * whole["drag_err"] + f * whole["drag_cumulative_err"]
 
 
 def block_error(x, min_blocks=8):

@@ -10,8 +10,8 @@ pull and of its bed, one typed attribute per key under /parameters/pull and
 /parameters/pour (`read_parameters`). `read_run` turns one file into a row of
 `analysis.core.table.COLUMNS`; `load_runs` reads many and says by name which files
 it could not use. The row's drag error, dof and plateau are recomputed from the
-force series, and the cumulative average from t = 0 read beside the steady drag
-(analysis.runs.run_series); the engine's are drag_err_engine and plateau_engine.
+force series, and the cumulative average from t = 0 read beside the steady drag, over the pull
+and at the paper's length of one box (analysis.runs.run_series); the engine's are drag_err_engine and plateau_engine.
 
 Format versions: 2 stores the parameters by key. Version 1 (granudrag 0.1)
 stored them as one YAML text, /parameters attribute `yaml`; its run files are
@@ -52,7 +52,7 @@ import pandas as pd
 from ..core import path_scheme, physics
 from ..core.table import COLUMNS, froude, validate_table
 from . import bed_origin
-from .run_series import SeriesError, drags, first_travel, kappa_error, read_series
+from .run_series import SeriesError, box_cumulative, drags, first_travel, kappa_error, read_series
 
 RUN_FORMAT = "granudrag-run"
 RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parameters by key,
@@ -65,7 +65,8 @@ RUN_VERSIONS = (1, 2, 3)   # 1: parameters as YAML text (legacy path), 2: parame
 EXTRA_COLUMNS = ["h_requested", "z_requested", "dt", "collision_steps", "steps", "transient_distance", "theta_err",
                  "theta_present", "theta_present_err", "kappa_err",
                  "drag_dof", "plateau", "drag_err_engine", "plateau_engine", "drag_cumulative",
-                 "drag_cumulative_err", "seed", "lx", "ly", "grains", "distance", "stop_reason",
+                 "drag_cumulative_err", "drag_cumulative_box", "drag_cumulative_box_err", "seed", "lx", "ly",
+                 "grains", "distance", "stop_reason",
                  "active_radius", "wake_force", "wake_load", "sleep_speed", "sleep_time", "perturbation", "asleep",
                  "settle_damping", "placed", "sanity", "path"]
 SCALE_KEYS = ("lx", "ly", "grains")
@@ -187,7 +188,8 @@ def read_run(path, system=None, root=None):
 
         drag, drag_err = observable("drag"), observable("drag", "error")
         drag_err_engine, plateau_engine = drag_err, _drag_convergence(_group(obs, "drag", path), drag_err)[1]
-        series = drags(*read_series(f, path)[1:3])
+        recorded = read_series(f, path)
+        series = drags(*recorded[1:3])
         drag_err, drag_dof, plateau = series["drag_err"], series["drag_dof"], series["plateau"]
         # Why the pull ended: "distance", or "target_error" (sequential stopping); files from
         # before sequential stopping travelled their distance.
@@ -200,6 +202,7 @@ def read_run(path, system=None, root=None):
         Z, kappa = observable("bulk_coordination"), observable("kappa")
         kappa_err = kappa_error(obs, kappa, n, transient / get["speed"] if get["speed"] > 0 else 0.0)
         scale = _scale(f, path) if version >= 2 else _legacy_scale_v1(f)
+        cumulative_box = box_cumulative(*recorded, scale["lx"])
         region = ({k: _setting(f, path, "pull", k) for k in ("active_radius", "active_diameters")}
                   if version >= 2 else {})
         active_radius = physics.active_radius(region, get["D"])
@@ -251,6 +254,7 @@ def read_run(path, system=None, root=None):
             "kappa_err": kappa_err, "drag_dof": drag_dof, "plateau": plateau,
             "drag_err_engine": drag_err_engine, "plateau_engine": plateau_engine,
             "drag_cumulative": series["drag_cumulative"], "drag_cumulative_err": series["drag_cumulative_err"],
+            "drag_cumulative_box": cumulative_box[0], "drag_cumulative_box_err": cumulative_box[1],
             **scale, "distance": get["speed"] * get["steps"] * get["dt"], "stop_reason": stop_reason,
             "active_radius": active_radius, "wake_force": wake_force, "wake_load": wake_load,
             "sleep_speed": sleep_speed,

@@ -190,6 +190,22 @@ def test_verdicts_never_call_unseen_what_the_data_cannot_tell():
     assert verdict("a quadratic", "Δχ² = 0", exact, "a paper-sized quadratic").startswith("a line preferred")
 
 
+def test_a_shape_that_fits_worse_than_the_line_is_never_shown():
+    """The paper's shape does not contain the line, so its Δχ² against the line can be positive and
+    still lie in the lines' upper tail (their copies fit the shape worse still): the line is then
+    strained, but the shape describes the data no better. Such a curve: one that bends over the
+    whole range (a parabola about Fr 8), not from a knee at Fr 5; the quadratic test sees it."""
+    fr, err = np.array([1.5, 2, 3, 4, 5, 6, 7, 8, 10, 12, 15.0]), np.full(11, 50.0)
+    y = line(fr, a=1200.0, b=185.0) + 3 * (fr - 8) ** 2
+    cal = Calibration("paper_fr2_5", fr, y, err, n_sim=1000, seed=11)
+    worse = fit_paper_shape(fr, y, err)["chi2"] > fit_line(fr, y, err)["chi2"]
+    assert worse and cal.p < 0.05
+    text = verdict("a quadratic from Fr ≈ 5", "Δχ² = +3.3", cal, "a paper-sized quadratic", fits_worse=worse)
+    assert text.startswith("not shown") and " shown (" not in text
+    assert verdict("X", "…", cal, "Y").startswith("X shown")   # were the shape to fit better
+    assert Calibration("quadratic", fr, y, err, n_sim=1000, seed=11).p < 0.05
+
+
 # --- a table, the rung, the command --------------------------------------------------
 
 
@@ -204,9 +220,9 @@ def _table(with_cumulative=True, Ds=(3.0,)):
                          "V": froude_speed(fr, D), "Fr": float(froude(froude_speed(fr, D), D)),
                          "drag": drag + err * rng.standard_normal(), "drag_err": err, "n_contacts": 10.0,
                          "theta": 1.4, "Z": 2.5, "kappa": 0.7, "run": f"D{D}/Fr{fr}", "yield_pull": fr == 0.02,
-                         "n_beds": 2, "drag_cumulative": drag * 1.02, "drag_cumulative_err": err})
+                         "n_beds": 2, "drag_cumulative_box": drag * 1.02, "drag_cumulative_box_err": err})
     df = pd.DataFrame(rows)
-    return df if with_cumulative else df.drop(columns=["drag_cumulative", "drag_cumulative_err"])
+    return df if with_cumulative else df.drop(columns=["drag_cumulative_box", "drag_cumulative_box_err"])
 
 
 def test_series_are_split_by_diameter_and_leave_the_yield_pulls_out():
@@ -262,7 +278,7 @@ def test_each_averaging_is_tested_on_its_own_drag_and_labelled(tmp_path, capsys)
     df = _table().iloc[1:].reset_index(drop=True)          # Fr as listed, no yield pull
     assert np.allclose(df.Fr, fr)
     df["drag"], df["drag_err"] = line(fr, a=900.0), 10.0
-    df["drag_cumulative"], df["drag_cumulative_err"] = paper_shaped(fr, a=900.0, b2=8.0), 10.0
+    df["drag_cumulative_box"], df["drag_cumulative_box_err"] = paper_shaped(fr, a=900.0, b2=8.0), 10.0
     table = tmp_path / "table.csv"
     df.to_csv(table, index=False)
     assert main(["regime-tests", str(table), "--out", str(tmp_path / "both"), "--n-sim", "200"]) == 0
@@ -276,7 +292,7 @@ def test_each_averaging_is_tested_on_its_own_drag_and_labelled(tmp_path, capsys)
     assert abs(out.loc[("steady", 15, "quadratic"), "coef_value"]) < 1e-6
     md = (tmp_path / "both" / "regime_tests.md").read_text()
     steady, cumulative = md.split("## steady averaging")[1].split("## cumulative averaging")
-    assert "drag_cumulative" in cumulative and "Fig. 4" in cumulative
+    assert "drag_cumulative_box" in cumulative and "Fig. 4" in cumulative
     assert "a quadratic rise shown" in cumulative and "a quadratic rise shown" not in steady
     assert "a line preferred" in steady
     # One averaging alone: only its rows and its column of the figure
@@ -287,7 +303,7 @@ def test_each_averaging_is_tested_on_its_own_drag_and_labelled(tmp_path, capsys)
     assert drawn.series.str.startswith("cumulative: ").all()
     assert "## steady averaging" not in (tmp_path / "cum" / "regime_tests.md").read_text()
     # Asked of a table made before the cumulative average: refused, naming its columns
-    df.drop(columns=["drag_cumulative", "drag_cumulative_err"]).to_csv(table, index=False)
+    df.drop(columns=["drag_cumulative_box", "drag_cumulative_box_err"]).to_csv(table, index=False)
     capsys.readouterr()
     assert main(["regime-tests", str(table), "--out", str(tmp_path / "old"), "--averaging", "cumulative"]) == 2
-    assert "drag_cumulative" in capsys.readouterr().err
+    assert "drag_cumulative_box" in capsys.readouterr().err
