@@ -1,4 +1,4 @@
-"""The report's figures in the paper's order: each one's file name, caption and drawing.
+"""The report's figures in the paper's order: each one's file name, caption (figure_names) and drawing.
 
 A figure is drawn from the study's data (`Inputs`: the pull table, the restitution and
 force-trace series, P(Z), the velocity fields) and the report's fits (`fitset.Results`,
@@ -18,6 +18,7 @@ import pandas as pd
 
 from ..core.table import load_csv
 from ..fits.fitset import load_results
+from . import figure_names
 from . import figures as F
 
 
@@ -61,41 +62,35 @@ def _table(fn, **kw):
     return lambda inp, r, out: fn(_need(inp.table, "pull table"), out, **{k: g(r) for k, g in kw.items()})
 
 
-FIGURES = [
-    Figure("fig02_restitution", "Fig. 2: restitution coefficient", _restitution),
-    Figure("fig04_force_trace", "Fig. 4: force trace", _trace),
-    Figure("fig05_drag_vs_Fr_mu0.5", "Fig. 5: drag vs Fr, μ = 0.5",
-           _table(F.fig05_drag_vs_Fr, fits=lambda r: r.by("D", 0.5))),
-    Figure("fig06_theta_vs_Fr", "Fig. 6: contact angle θ vs Fr (per formation; time-weighted beside)",
-           _table(F.fig06_theta, fit=lambda r: r.theta, fit_present=lambda r: r.theta_present)),
-    Figure("fig07_coordination_distribution", "Fig. 7: distribution of the bulk coordination number",
-           lambda inp, r, out: F.fig07_coordination(_need(inp.coordination, "P(Z) data"), out)),
-    Figure("fig08_kappa_vs_Fr", "Fig. 8: κ vs Fr", _table(F.fig08_kappa, fit=lambda r: r.kappa)),
-    Figure("fig09_flow_field", "Fig. 9: velocity field around the intruder",
-           lambda inp, r, out: F.fig09_flow_field(_need(inp.flow, "velocity-field snapshots"), out)),
-    Figure("fig10_drag_vs_Fr_mu0", "Fig. 10: drag vs Fr, μ = 0",
-           _table(F.fig10_drag_vs_Fr_mu0, fits=lambda r: r.by("D", 0.0))),
-    Figure("table1_mu0_regime1", "Table I: μ = 0 regime-I coefficients",
-           _table(F.table1, fits=lambda r: r.by("D", 0.0)), markdown=True),
-    Figure("fig11_quasistatic_vs_mu", "Fig. 11: quasistatic drag for small μ, D = 2d",
-           _table(F.fig11_quasistatic_mu, fit_mu0=lambda r: r.by("D", 0.0).get(2.0))),
-    Figure("fig12_yield_vs_mu", "Fig. 12: yield force vs μ",
-           _table(F.fig12_yield_vs_mu, saturation=lambda r: r.saturation)),
-    Figure("fig13_yield_vs_D", "Fig. 13: yield force vs D*+1, collapse, f(μ)",
-           _table(F.fig13_yield_vs_D, phi=lambda r: r.phi)),
-    Figure("fig14_phi_vs_mu", "Fig. 14: φ_μ vs μ", _table(F.fig14_phi_vs_mu, phi=lambda r: r.phi)),
-    Figure("fig15_scaled_drag_vs_Fr_D", "Fig. 15: drag scaled by (D*+1)^φ_μ",
-           _table(F.fig15_scaled_drag_D, phi=lambda r: r.phi)),
-    Figure("fig16_drag_vs_Fr_depth", "Fig. 16: drag vs Fr at several depths",
-           _table(F.fig16_drag_vs_Fr_depth, fits=lambda r: r.by("h", 0.5))),
-    Figure("fig17_yield_vs_h", "Fig. 17: yield force vs h, collapse, g(μ)",
-           _table(F.fig17_yield_vs_h, alpha=lambda r: r.alpha)),
-    Figure("fig18_alpha_and_sum_rule", "Fig. 18: α_μ (drag at speed, averaged; and from F_Y) and the sum rule",
-           _table(F.fig18_alpha, phi=lambda r: r.phi, alpha=lambda r: r.alpha, alpha_drag=lambda r: r.alpha_drag)),
-    Figure("fig19_scaled_drag_vs_Fr_h", "Fig. 19: drag scaled by h^α_μ",
-           _table(F.fig19_scaled_drag_h, alpha=lambda r: r.alpha, h_min=lambda r: r.options.h_min)),
-    Figure("fig20_kn_gamman", "Fig. 20: K_n and γ_n variations", _table(F.fig20_kn_gamman)),
-]
+# Each figure's drawing, by its name in figure_names (which declares the names, captions and order).
+_DRAW = {
+    "fig02_restitution": _restitution,
+    "fig04_force_trace": _trace,
+    "fig05_drag_vs_Fr_mu0.5": _table(F.fig05_drag_vs_Fr, fits=lambda r: r.by("D", 0.5)),
+    "fig06_theta_vs_Fr": _table(F.fig06_theta, fit=lambda r: r.theta, fit_present=lambda r: r.theta_present),
+    "fig07_coordination_distribution":
+        lambda inp, r, out: F.fig07_coordination(_need(inp.coordination, "P(Z) data"), out),
+    "fig08_kappa_vs_Fr": _table(F.fig08_kappa, fit=lambda r: r.kappa),
+    "fig09_flow_field": lambda inp, r, out: F.fig09_flow_field(_need(inp.flow, "velocity-field snapshots"), out),
+    "fig10_drag_vs_Fr_mu0": _table(F.fig10_drag_vs_Fr_mu0, fits=lambda r: r.by("D", 0.0)),
+    "table1_mu0_regime1": _table(F.table1, fits=lambda r: r.by("D", 0.0)),
+    "fig11_quasistatic_vs_mu": _table(F.fig11_quasistatic_mu, fit_mu0=lambda r: r.by("D", 0.0).get(2.0)),
+    "fig12_yield_vs_mu": _table(F.fig12_yield_vs_mu, saturation=lambda r: r.saturation),
+    "fig13_yield_vs_D": _table(F.fig13_yield_vs_D, phi=lambda r: r.phi),
+    "fig14_phi_vs_mu": _table(F.fig14_phi_vs_mu, phi=lambda r: r.phi),
+    "fig15_scaled_drag_vs_Fr_D": _table(F.fig15_scaled_drag_D, phi=lambda r: r.phi),
+    "fig16_drag_vs_Fr_depth": _table(F.fig16_drag_vs_Fr_depth, fits=lambda r: r.by("h", 0.5)),
+    "fig17_yield_vs_h": _table(F.fig17_yield_vs_h, alpha=lambda r: r.alpha),
+    "fig18_alpha_and_sum_rule":
+        _table(F.fig18_alpha, phi=lambda r: r.phi, alpha=lambda r: r.alpha, alpha_drag=lambda r: r.alpha_drag),
+    "fig19_scaled_drag_vs_Fr_h":
+        _table(F.fig19_scaled_drag_h, alpha=lambda r: r.alpha, h_min=lambda r: r.options.h_min),
+    "fig20_kn_gamman": _table(F.fig20_kn_gamman),
+}
+if set(_DRAW) != set(figure_names.NAMES):
+    raise ImportError(f"figure_list draws {sorted(set(_DRAW) ^ set(figure_names.NAMES))} that figure_names does "
+                      "not name, or names what it does not draw: a figure is declared in both")
+FIGURES = [Figure(f.name, f.caption, _DRAW[f.name], f.markdown) for f in figure_names.FIGURES]
 BY_NAME = {f.name: f for f in FIGURES}
 NAMES = [f.name for f in FIGURES]
 

@@ -8,7 +8,7 @@ from pathlib import Path
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
-from analysis.figures import figure_list
+from analysis.figures import figure_names
 import granudrag_study as study
 from granudrag_study import failures
 
@@ -94,7 +94,7 @@ RESTITUTION_SPEEDS = study.log_grid(
 def figure(name, subcategory):
     """A figure's PNG in the report directory, in Snakemake's report with its own caption
     (workflow/report/<name>.rst)."""
-    assert name in figure_list.NAMES, name
+    assert name in figure_names.NAMES, name
     return report(
         f"{REPORT}/{name}.png",
         caption=f"../report/{name}.rst",
@@ -236,6 +236,6 @@ def figure_files(subcategory, *names):
             f"{REPORT}/{name}.pdf",
             f"{REPORT}/{name}.csv",
         ]
-        if figure_list.BY_NAME[name].markdown:
+        if figure_names.BY_NAME[name].markdown:
             files.append(f"{REPORT}/{name}.md")
     return files

@@ -7,7 +7,7 @@ rule report:
         table=f"{RESULTS}/table.csv",
         problems=f"{RESULTS}/table_problems.txt",
         fits=f"{REPORT}/fits.json",
-        figures=[f"{REPORT}/{name}.png" for name in figure_list.NAMES],
+        figures=[f"{REPORT}/{name}.png" for name in figure_names.NAMES],
         fig1=f"{REPORT}/fig01_beds.png",
     output:
         html=report(
