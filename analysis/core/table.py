@@ -377,9 +377,8 @@ def _combine_kind(runs, r2=None, prior=None):
     when the bed scatter dominates (s^2 > W), else the within-run dof combined (Satterthwaite,
     with the pooled or prior r2's dof for one bed);
     n_beds: k; plateau: every bed's error converged (plateau_engine: the engine's); seeds: the beds' seeds, ';'-joined;
-    drag_cumulative (the cumulative average from t = 0) and drag_cumulative_box (the same at the paper's
-    length of one box) with their errors as the drag's, drag_err_engine
-    the engine's errors by the same rule; drag_bed_sd: the beds' standard deviation of the drag
+    drag_cumulative (the cumulative average from t = 0; _box: over one box length) with its error as the
+    drag's, drag_err_engine the engine's errors by the same rule; drag_bed_sd: the beds' standard deviation of the drag
     (NaN for one bed), drag_bed_sd_ratio (_engine): over the beds' mean drag_err (drag_err_engine);
     theta_err_within, _between, _var_excess, theta_present's and kappa's likewise split their errors;
     bed_scatter_source: where the point's bed scatter came from (BED_SCATTER_SOURCES: replicates,
