@@ -23,3 +23,8 @@ def report_dir(table, tmp_path_factory):
                  trace=(t, 40 + np.sin(t), 2.0), coordination=synth.pz_table(table),
                  flow=synth.flow_panels())
     return out
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "slow: over about 2 s on an idle 2-core machine; tools/test.sh --quick "
+                                       "leaves these out (`-m 'not slow'`), the full suite runs them")

@@ -90,6 +90,7 @@ def test_without_replicates_or_prior_a_point_has_no_bed_scatter_and_the_report_s
     assert point_bed_scatter(pts) == 0.0
 
 
+@pytest.mark.slow
 def test_the_regime_bootstrap_and_the_bed_bootstrap_use_the_prior():
     # Mutation tried: point_bed_scatter without its prior branch (0 with no replicated point):
     # the first assertion fails; bed_bootstrap without the prior (its r from the pooled scatter

@@ -54,6 +54,7 @@ def test_three_beds_combine_to_one_row_per_point_with_the_formula():
 
 
 @pytest.mark.parametrize("seeds", [(1, 2, 3), (1, 2, 3, 4, 5)])
+@pytest.mark.slow
 def test_combined_intervals_cover_the_truth(seeds):
     """95 % Student-t intervals of the combined drag hold the true drag in 90-98 % of 400
     repeats x 6 points, with 6 % bed-to-bed and 2 % within-run scatter. With the within-run
@@ -93,6 +94,7 @@ def _series_mean(pts):
     return pts.drag.mean()
 
 
+@pytest.mark.slow
 def test_bootstrap_resamples_beds_not_points():
     """The spread of a statistic over bed resamples matches its true spread over repeats
     (bed shifts are shared by a bed's points, so resampling points would miss most of it).
@@ -115,6 +117,7 @@ def test_bootstrap_resamples_beds_not_points():
     assert np.mean(point_var) < 0.5 * np.var(true_values, ddof=1)
 
 
+@pytest.mark.slow
 def test_bootstrap_of_a_single_bed_series_is_parametric_and_correlated():
     rng = np.random.default_rng(4)
     df = pd.concat([runs(rng, seeds=(1, 2, 3, 4, 5, 6)), runs(rng, seeds=(7,), series="mu~0")])
@@ -131,6 +134,7 @@ def test_bootstrap_of_a_single_bed_series_is_parametric_and_correlated():
     np.testing.assert_allclose(single.std(axis=0), expect, rtol=0.25)
 
 
+@pytest.mark.slow
 def test_exponent_fits_weighted_by_the_pooled_bed_scatter_cover_the_truth():
     """phi_mu from yield forces on 3 beds per D (6 % bed scatter, 1 % within-run): weighted by
     each point's own between-bed variance (2 dof) the 1-sigma interval holds the true phi in
@@ -164,6 +168,7 @@ def test_exponent_fits_weighted_by_the_pooled_bed_scatter_cover_the_truth():
     assert hits["own"] / 200 < 0.62, hits
 
 
+@pytest.mark.slow
 def test_depth_exponents_with_shared_beds_cover_the_truth():
     """alpha_mu on 3 beds per depth in system II (6 % bed scatter shared by every speed pulled
     in a bed, 1 % within-run), 200 repeats: the paper's averaged alpha_mu (Fig. 18: the depth

@@ -24,6 +24,8 @@ from analysis.fits.alpha_drag import fit_alpha_drag
 from analysis.fits.fits import fit_alpha, fit_phi
 from analysis.fits.fitset import Options, Results, fit_observables, run_fits
 
+pytestmark = pytest.mark.slow   # the calibrations refit hundreds of copies (test.sh --quick leaves them out)
+
 RMS_BAND, COVER_BAND = (0.7, 1.3), (0.90, 0.98)
 
 

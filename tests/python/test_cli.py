@@ -27,6 +27,7 @@ def fitted(tmp_path_factory):
     return d, json.loads((d / "fits.json").read_text())
 
 
+@pytest.mark.slow
 def test_fit_writes_the_documented_keys(fitted):
     d, doc = fitted
     assert doc["format"] == "granudrag-fits"
@@ -71,6 +72,7 @@ def test_shallow_pulls_left_out_of_eq12_with_h_min(tmp_path):
     assert law["regimes"]["n_points"] == 2 * len(synth.FR_GRID)
 
 
+@pytest.mark.slow
 def test_report_and_predict_subcommands(fitted, tmp_path):
     d, _ = fitted
     r = run("report", d / "table.csv", "--fits", d / "fits.json", "--output-dir", tmp_path)
@@ -87,6 +89,7 @@ def test_report_and_predict_subcommands(fitted, tmp_path):
     assert abs(out["drag"] - truth) < 3 * out["err"]
 
 
+@pytest.mark.slow
 def test_bad_input_is_named(tmp_path):
     (tmp_path / "bad.csv").write_text("a,b\n1,2\n")
     r = run("fit", tmp_path / "bad.csv", "--output", tmp_path / "f.json")
@@ -105,6 +108,7 @@ def test_bad_input_is_named(tmp_path):
     assert r.returncode == 2 and "no such fit file" in r.stderr
 
 
+@pytest.mark.slow
 def test_fits_are_reproducible(fitted, tmp_path):
     d, doc = fitted
     r = run("fit", d / "table.csv", "--output", tmp_path / "again.json", "--n-boot", 40, "--seed", 1)

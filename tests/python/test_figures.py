@@ -111,6 +111,7 @@ def test_every_figure_saves_its_data(table, tmp_path, fn, name):
         assert set(d.figure) == {name} and np.isfinite(d.x).all() and np.isfinite(d.y).all()
 
 
+@pytest.mark.slow
 def test_drag_vs_fr_plots_drag_against_fr(table, tmp_path):
     d = points(data(F.fig05_drag_vs_Fr(table, tmp_path)))
     rows = table[(table.system == "I") & (table.mu == 0.5) & (table.kn == synth.KN)]
@@ -124,6 +125,7 @@ def test_drag_vs_fr_plots_drag_against_fr(table, tmp_path):
     assert len(curves) == 3 * 200
 
 
+@pytest.mark.slow
 def test_yield_collapse_plots_the_collapse_variable(table, tmp_path):
     # Fig. 13(b): F_Y / (f (D*+1)^phi) against D*+1 is 1 within the noise (2 %); with D
     # instead of D+1, or phi from another mu, it would not be. Fig. 17(b) the same in h.
@@ -180,6 +182,7 @@ def test_contact_figures_plot_their_observables(table, tmp_path):
     assert np.allclose(np.sort(ka.y), np.sort(rows.kappa))
 
 
+@pytest.mark.slow
 def test_array_figures_save_their_data(tmp_path):
     v = np.geomspace(1e-3, 1.0, 12)
     d = data(F.fig02_restitution(v, 1 - v / 2, v, 1 - v / 3, tmp_path))

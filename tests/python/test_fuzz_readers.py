@@ -62,6 +62,7 @@ def run_file(tmp_path_factory):
     return run
 
 
+@pytest.mark.slow
 def test_damaged_run_files_are_refused_by_name(run_file, tmp_path):
     data = run_file.read_bytes()
     rng = random.Random(7)
@@ -177,6 +178,7 @@ def test_damaged_fit_files_are_refused_by_name(tmp_path):
         outcome(lambda: load_fits(damaged), FitFileError)
 
 
+@pytest.mark.slow
 def test_damaged_study_configs_are_refused_by_name():
     base = yaml.safe_load((ROOT / "config" / "smoke.yaml").read_text())
     validate_config(base)
@@ -199,6 +201,7 @@ def test_damaged_study_configs_are_refused_by_name():
         outcome(lambda cfg=cfg: check(cfg), ConfigError)
 
 
+@pytest.mark.slow   # it totals every fuzzer of the file, the slow ones too
 def test_the_count(request):
     """Runs last in this file: the total over the readers."""
     print(f"\nfuzzed analysis readers: {TALLY['cases']} cases, {TALLY['named']} named errors, "

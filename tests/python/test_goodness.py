@@ -68,6 +68,7 @@ def test_a_line_through_linear_data_is_rejected_at_most_at_the_stated_rate():
     assert np.mean(alarms) <= TREND_ALPHA, np.mean(alarms)
 
 
+@pytest.mark.slow
 def test_two_series_offset_at_the_same_fr_is_not_a_trend():
     # κ at D = 2 and 3 pulled at the same Fr, D = 2 a constant 0.03 above: a line through both
     # is not rejected more often than the level (measured 0.15 % of 2000 seeds).

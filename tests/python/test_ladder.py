@@ -161,6 +161,7 @@ def test_collect_without_shells_writes_a_header_only(study, tmp_path):
     assert any("header only" in n for n in info["notes"])
 
 
+@pytest.mark.slow
 def test_collect_from_the_command_line_defaults_to_results_reproduction(study, tmp_path):
     config, res = study
     r = subprocess.run([sys.executable, "-m", "analysis", "ladder", "collect", "--config", str(config),
@@ -206,6 +207,7 @@ def ladder_root(tmp_path_factory):
     return root, written
 
 
+@pytest.mark.slow
 def test_ladder_csv_has_the_reports_verdicts(ladder_root):
     root, _ = ladder_root
     t = pd.read_csv(root / "ladder.csv")
@@ -264,6 +266,7 @@ SUMMARY = """summary:
 """
 
 
+@pytest.mark.slow
 def test_the_claim_table_quotes_the_rung_closest_to_the_papers_conditions(tmp_path):
     # Rung A reproduces κ(Fr), rung B (listed last) does not. ladder.yaml calls rung A the closest
     # to the paper's conditions for (c), rung B for (a): each claim's row, its figure and the
@@ -316,6 +319,7 @@ def run(*args):
                           capture_output=True, text=True, timeout=300)
 
 
+@pytest.mark.slow
 def test_cli_table_rewrites_the_same_files(ladder_root):
     root, _ = ladder_root
     names = ("ladder.csv", "ladder.md", "claim_c.png", "fr2_range.csv", "kappa_shells.png")
@@ -325,6 +329,7 @@ def test_cli_table_rewrites_the_same_files(ladder_root):
     assert {n: (root / n).read_bytes() for n in names} == before     # deterministic
 
 
+@pytest.mark.slow
 def test_cli_missing_root_names_it(tmp_path):
     missing = tmp_path / "nowhere"
     r = run("ladder", "table", missing)
@@ -357,6 +362,7 @@ def test_depth_series_line_up_by_the_requested_depth(tmp_path):
         {q[q.index("requested"):] for q in rows[0]}
 
 
+@pytest.mark.slow
 def test_a_recorded_rung_is_refitted_from_its_runs(tmp_path):
     # analysis.ladder_refit: table.csv from runs.csv (two beds a point), fits.json with the options
     # the rung recorded, report.md; a rung listed but not run is left alone.
@@ -384,6 +390,7 @@ def test_a_recorded_rung_is_refitted_from_its_runs(tmp_path):
     assert not (root / "rung-b").exists()
 
 
+@pytest.mark.slow
 def test_rejudge_decides_rejected_again_and_moves_nothing_else(tmp_path):
     # After a change of the rule that decides `rejected` alone (2026-12-02: a χ² far out counts),
     # `ladder_refit --rejudge` re-decides it from the goodness records fits.json keeps, without

@@ -80,6 +80,7 @@ def test_points_of_another_stiffness_or_depth_are_not_compared():
     assert len(near) == 2 * 2 * len(FR) and near.ratio.dropna().to_numpy() == pytest.approx(1.1)
 
 
+@pytest.mark.slow
 def test_a_rung_and_its_in_place_extension_are_one_point_on_the_axis(tmp_path):
     # crossover-k2e6-box40-full grew in place from crossover-k2e6-box40 (a copy of its results
     # directory, with a bed and speeds added): its points hold the other's pulls. Against the
@@ -120,6 +121,7 @@ def test_summary_splits_at_fr_4_and_counts_the_points_beyond_two_errors():
     assert high.ratio_min == pytest.approx(2.0) and high.n_beyond_2sigma == high.n_points
 
 
+@pytest.mark.slow
 def test_ladder_table_writes_the_box_axis(tmp_path):
     written = write_rungs(tmp_path, [("narrow", "12 d box", boxed(12)), ("wide", "20 d box", boxed(20, 1.5))])
     box = pd.read_csv(tmp_path / "box_axis.csv")
@@ -131,6 +133,7 @@ def test_ladder_table_writes_the_box_axis(tmp_path):
     assert pd.read_csv(tmp_path / "stiffness_axis.csv").empty and "contacts' stiffness" not in md
 
 
+@pytest.mark.slow
 def test_ladder_without_two_boxes_writes_no_figure(tmp_path):
     for name in ("box", "stiffness", "length"):
         (tmp_path / f"{name}_axis.png").write_bytes(b"stale")
@@ -161,6 +164,7 @@ def test_each_stiffness_is_compared_with_the_next_softer_one_in_the_same_box():
     assert set(box.kn) == {2e6} and box.ratio.dropna().to_numpy() == pytest.approx(2.0 / 1.3)
 
 
+@pytest.mark.slow
 def test_ladder_table_writes_the_stiffness_axis(tmp_path):
     written = write_rungs(tmp_path, [("soft", "K_n 2e6", boxed(20, kn=2e6)),
                                      ("stiff", "K_n 2e7", boxed(20, 0.7, kn=2e7))])
@@ -191,6 +195,7 @@ def test_each_pull_is_compared_with_the_next_shorter_one_and_the_other_axes_hold
     assert set(stiff.distance) == {12.0} and stiff.ratio.dropna().to_numpy() == pytest.approx(0.9)
 
 
+@pytest.mark.slow
 def test_ladder_table_writes_the_length_axis(tmp_path):
     written = write_rungs(tmp_path, [("short", "12 d pulls", boxed(20, kn=2e6, distance=12.0)),
                                      ("long", "20 d pulls", boxed(20, 1.1, kn=2e6, distance=20.0))])

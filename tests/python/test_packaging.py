@@ -9,6 +9,7 @@ import sys
 import sysconfig
 from pathlib import Path
 
+import pytest
 import tomllib
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -19,6 +20,7 @@ def test_pyproject_declares_the_analysis_command():
     assert scripts["granudrag-analysis"] == "analysis.cli:main"
 
 
+@pytest.mark.slow
 def test_python_m_analysis_offers_fit_report_predict():
     r = subprocess.run([sys.executable, "-m", "analysis", "--help"], capture_output=True, text=True,
                        timeout=120, cwd=ROOT)

@@ -6,8 +6,11 @@ from pathlib import Path
 
 import h5py
 import numpy as np
+import pytest
 
 from analysis.figures.headless import run_pvbatch
+
+pytestmark = pytest.mark.slow   # ParaView's renders (tools/test.sh --quick leaves slow tests out)
 
 ROOT = Path(__file__).resolve().parents[2]
 BINARY = Path(os.environ.get("GRANUDRAG", ROOT / "build" / "granudrag"))

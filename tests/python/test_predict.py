@@ -18,6 +18,7 @@ def run(*args):
                           cwd=ROOT, capture_output=True, text=True, timeout=60)
 
 
+@pytest.mark.slow
 def test_cli_predicts_synthetic_truth(report_dir):
     r = run("--D", "4", "--h", "45", "--mu", "0.5", "--V", "2",
             "--fits", str(report_dir / "fits.json"), "--json")
@@ -29,6 +30,7 @@ def test_cli_predicts_synthetic_truth(report_dir):
     assert out["warnings"] == [] and "warning" not in r.stderr
 
 
+@pytest.mark.slow
 def test_cli_warns_outside_fitted_range(report_dir):
     r = run("--D", "20", "--h", "200", "--mu", "0.5", "--V", "2",
             "--fits", str(report_dir / "fits.json"))
@@ -38,6 +40,7 @@ def test_cli_warns_outside_fitted_range(report_dir):
     assert "warning: h = 200 is outside the fitted range [10, 65]" in r.stderr
 
 
+@pytest.mark.slow
 def test_cli_rejects_bad_fit_file(tmp_path):
     bad = tmp_path / "fits.json"
     bad.write_text("[]")
@@ -45,6 +48,7 @@ def test_cli_rejects_bad_fit_file(tmp_path):
     assert r.returncode == 2 and "error:" in r.stderr and "not a granudrag fit file" in r.stderr
 
 
+@pytest.mark.slow
 def test_mu_interpolation_and_extrapolation(report_dir):
     laws = load_fits(report_dir / "fits.json").laws
     assert sorted(law.mu for law in laws) == [0.0, 0.5]

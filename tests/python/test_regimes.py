@@ -45,6 +45,7 @@ def test_crossovers_found_within_error_bars_frictional():
     assert np.median(errs, axis=0).max() < 0.2, errs
 
 
+@pytest.mark.slow
 def test_crossovers_found_within_error_bars_frictionless():
     # mu = 0: regime I is a0 + b0 Fr^c0 (Table I form), 1 % noise.
     z, errs = z_scores(0.0, 0.01, range(4))
@@ -52,6 +53,7 @@ def test_crossovers_found_within_error_bars_frictionless():
     assert np.median(errs, axis=0).max() < 0.2, errs
 
 
+@pytest.mark.slow
 def test_bootstrap_residuals_carry_the_full_noise():
     # The refits' noise must match the data's at every point, the first points
     # past each crossover included: uniformly rescaled residuals left those at
@@ -73,6 +75,7 @@ def test_bootstrap_residuals_carry_the_full_noise():
         assert np.all((var > 0.65) & (var < 1.35)), (mu, var.round(2))
 
 
+@pytest.mark.slow
 def test_crossover_errors_match_their_scatter():
     # Calibration: over 320 pull-table-like series (2 % noise, errors from the
     # measured drag) the RMS deviation of Fr1 and Fr2 from the truth, over
@@ -163,6 +166,7 @@ def test_falling_regime_is_a_violation():
     assert v == ["drag falls with Fr in regime II (b1 = -2, 4.0 standard errors below 0)"]
 
 
+@pytest.mark.slow
 def test_a_shared_bed_shift_is_in_the_levels_errors_not_in_the_crossovers():
     # Each synthetic series is pulled through one bed that scales every point by the same
     # 1 + 0.06 z (beds poured alike differ by ~5-6 % in drag), plus 1 % independent noise per

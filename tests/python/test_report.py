@@ -2,6 +2,7 @@
 import math
 
 import numpy as np
+import pytest
 import synth
 
 from analysis.core.result import Param
@@ -63,6 +64,7 @@ def test_falling_regime_ii_is_flagged_and_counted_apart():
     assert counts(rows)["inconclusive"] == 2 and counts(rows)["not reproduced"] == 0
 
 
+@pytest.mark.slow
 def test_report_has_every_figure_and_file(report_dir):
     md = (report_dir / "report.md").read_text()
     html = (report_dir / "report.html").read_text()
@@ -76,6 +78,7 @@ def test_report_has_every_figure_and_file(report_dir):
     assert (report_dir / "fits.json").is_file()
 
 
+@pytest.mark.slow
 def test_report_compares_with_paper_values(report_dir):
     md = (report_dir / "report.md").read_text()
     for needle in ("Fr_1 (μ = 0.5, D = 4)", "Fr_2 (Eq. 12 collapse, μ = 0.5)", "θ(Fr) Υ2 (Eq. 7)",
@@ -176,6 +179,7 @@ def test_a_rejected_model_is_reported_as_such_not_as_a_slope(table):
     assert Row("q", "1 ± 0.1", "1", "inconclusive", "s").shown() == "1 ± 0.1"
 
 
+@pytest.mark.slow
 def test_report_lists_the_goodness_of_every_fit(report_dir):
     md = (report_dir / "report.md").read_text()
     part = md[md.index("## Goodness of the fits"):]
