@@ -105,6 +105,7 @@ from .ladder_summary import (
     CLAIMS_END,
     evidence_figures,
     read_summary,
+    regime_cells,
     replace_claims,
     replace_marked,
     summary_markdown,
@@ -122,7 +123,7 @@ __all__ = [
     "AXES", "BOX", "STIFFNESS", "LENGTH", "AXIS_COLUMNS", "SUMMARY_COLUMNS", "axis_steps", "independent",
     "axis_summary", "box_axis", "stiffness_axis", "length_axis", "ladder_markdown",
     "read_ladder", "rung_run", "ladder_rows", "write_ladder", "ladder_summary", "CLAIMS_BEGIN", "CLAIMS_END",
-    "summary_rows", "summary_markdown", "evidence_figures",
+    "summary_rows", "summary_markdown", "evidence_figures", "regime_cells",
 ]
 
 LADDER_BEGIN, LADDER_END = "<!-- ladder:begin -->", "<!-- ladder:end -->"
@@ -265,6 +266,9 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     write_text_atomic(root / "ladder.md", md)
     written.append(root / "ladder.md")
     rows = summary_rows(table, summary, claims, len(rungs), knee)
+    for r in rows:
+        if r["letter"] == "a" and r["rung"] in tables:
+            r["measured"] += regime_cells(tables[r["rung"]], summary.get("a", {}))
     written += evidence_figures(root, rows, summary)
     claims_md = summary_markdown(rows) if rows else ""
     if claims_md:

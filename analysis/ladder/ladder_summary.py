@@ -18,7 +18,8 @@ figure follow that rung's files, so a newer rung moves the row by a change of `c
 The figure, evidence_<letter>.png (analysis.ladder.ladder_summary.evidence_figures): (a) the drag of the
 quoted series against Fr with the line, the quadratic and the paper's shape and their residuals
 (analysis.regime_tests.regime_figure, the figure `python -m analysis regime-tests` draws, a column per
-averaging: the steady drag and the paper's cumulative average); (b) θ against Fr with the rung's
+averaging: the steady drag and the paper's cumulative average over one box, whose verdicts on Fr 1-15
+the row quotes, regime_cells); (b) θ against Fr with the rung's
 Eq. 7 fit and the paper's, and the time-weighted θ (theta_present) with its own fit where the rung
 has it; (c) κ against Fr with the rung's line and Eq. 8; (d) and (e)
 the report's Figs. 13 and 17 drawn from the rung's table and fits; (f) α_μ + φ_μ against μ, both
@@ -114,6 +115,51 @@ def summary_rows(table, summary, claims, n_rungs, knee=None):
                     "reading": spec["reading"], "differs": spec["differs"], "next": spec["next"],
                     "figure": f"evidence_{letter}.png" if rung is not None else None})
     return out
+
+
+REGIME_RANGE = (1.0, 15.0)   # Fr: the paper's regimes II and III and the fast speeds the rungs pulled
+
+
+def regime_cells(table, spec):
+    """Claim (a)'s cells from the regime tests (analysis.regime_tests) of the series the row quotes
+    (system I, μ = 0.5, its D) on Fr 1-15, one per averaging the rung's table has (the steady drag;
+    the paper's cumulative average over one box): the quadratic's curvature and the paper's shape
+    from Fr₂ = 5 against one line, each with its calibrated verdict in short."""
+    from ..core.result import format_pm
+    from ..regime_tests.regime_tests import averagings, regime3_rows, series
+    found = [(k, g) for k, g in series(table) if str(k["system"]) == "I" and np.isclose(k["mu"], 0.5)]
+    want = _shown_D(spec)
+    found = [kg for kg in found if want is None or np.isclose(kg[0]["D"], want)] or found
+    if not found:
+        return []
+    keys, g = found[0]
+    beds = int(g.n_beds.min()) if "n_beds" in g.columns and g.n_beds.notna().all() else None
+    cells = []
+    for name, col, err in averagings(g):
+        rows = {r["test"]: r for r in regime3_rows(g.Fr, g[col], g[err], *REGIME_RANGE, beds=beds)}
+        quad, shape = rows["quadratic"], rows["paper_fr2_5"]
+        where = f"regime III, {name} drag (D = {keys['D']:g}, Fr {REGIME_RANGE[0]:g}–{REGIME_RANGE[1]:g})"
+        if "verdict" not in quad:
+            cells.append(f"{where}: not tested ({quad['note']})")
+            continue
+        cells.append(f"{where}: c = {format_pm(quad['coef_value'], quad['coef_err'])} ({_short_verdict(quad)}); "
+                     f"the paper's shape from Fr 5, Δχ² = {shape['delta_chi2']:+.1f} ({_short_verdict(shape)})")
+    return cells
+
+
+def _short_verdict(row):
+    """A regime test's verdict (analysis.regime_tests.regime_power.verdict) in a few words."""
+    v = row["verdict"]
+    if v.startswith("not shown: the shape fits worse"):
+        return f"not shown: it fits worse than one line, p = {row['p']:.2g}"
+    if " shown (" in v and not v.startswith("not shown"):
+        drop = ", its slope dropping at Fr₂" if "slope drops" in str(row.get("note", "")) else ""
+        return f"shown, p = {row['p']:.2g}{drop}"
+    if v.startswith("these data cannot tell"):
+        return f"these data cannot tell: power {row['power']:.2f}"
+    bound = "≥ " if "lower bound" in str(row.get("note", "")) else ""
+    size = f"the paper's size {{}} at {bound}{row['excluded_sigma']:.1f} σ, p = {row['p']:.2g}"
+    return size.format("disfavoured only" if v.startswith("not shown") else "excluded")
 
 
 def _knee_cells(knee):

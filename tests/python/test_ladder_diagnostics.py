@@ -164,3 +164,22 @@ def test_knee_at_five_tells_a_quadratic_rise_from_a_plateau():
 
 
 # --- the command line ------------------------------------------------------------
+
+
+def test_claim_a_quotes_the_regime_tests_under_each_averaging():
+    """The claim table's row (a) quotes the regime tests of the shown series on Fr 1-15, one cell per
+    averaging: a steady drag that is one line has the paper's size excluded, a cumulative average
+    of the paper's shape from Fr 5 has it shown; a table without the cumulative average, one cell."""
+    from test_regime_tests import _table, line, paper_shaped
+
+    from analysis.ladder.ladder_summary import regime_cells
+    df = _table().iloc[1:].reset_index(drop=True)
+    fr = df.Fr.to_numpy()
+    df["drag"], df["drag_err"] = line(fr, a=900.0), 10.0
+    df["drag_cumulative_box"], df["drag_cumulative_box_err"] = paper_shaped(fr, a=900.0, b2=30.0), 10.0
+    steady, cumulative = regime_cells(df, {"show": {"Fr_2 (μ = 0.5, D = 3)": "Fr₂"}})
+    assert steady.startswith("regime III, steady drag (D = 3, Fr 1–15): c = ")
+    assert "the paper's size excluded at" in steady and "shown" not in steady
+    assert cumulative.startswith("regime III, cumulative drag") and cumulative.count("(shown, p = ") == 2
+    only = regime_cells(df.drop(columns=["drag_cumulative_box", "drag_cumulative_box_err"]), {"show": {}})
+    assert len(only) == 1 and only[0].startswith("regime III, steady drag")
