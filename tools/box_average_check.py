@@ -25,6 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from analysis.runs.run_series import box_cumulative, read_series  # noqa: E402
+from analysis.runs.series_error import mean_error  # noqa: E402
 
 RUNG = ROOT / "results/reproduction/crossover-k2e6-box40-deep/pieces/pulls"
 
@@ -37,8 +38,8 @@ def run_files(paths):
 
 
 def check(path, length):
-    """(name, travel, box, measured, extrapolated, its error, z), or None when the pull is shorter
-    than the box or than 2 × length."""
+    """(name, travel, box, measured, extrapolated, its error, z, (first L d's steady drag over the
+    rest's minus 1, its error)), or None when the pull is shorter than the box or than 2 × length."""
     with h5py.File(path, "r") as f:
         t, drag_t, skip, speed = read_series(f, path)
         box = float(f["parameters/pour"].attrs["lx"])
@@ -48,7 +49,9 @@ def check(path, length):
     measured = box_cumulative(t, drag_t, skip, speed, box)[0]
     keep = int(np.searchsorted(t * speed, length * (1 + 1e-9), side="right"))
     value, err = box_cumulative(t[:keep], drag_t[:keep], min(skip, keep), speed, box)
-    return "/".join(Path(path).parts[-3:-1]), travel, box, measured, value, err, (value - measured) / err
+    first, rest = mean_error(drag_t[skip:keep]), mean_error(drag_t[keep:])
+    halves = ((first.mean - rest.mean) / rest.mean, math.hypot(first.error, rest.error) / rest.mean)
+    return "/".join(Path(path).parts[-3:-1]), travel, box, measured, value, err, (value - measured) / err, halves
 
 
 def main(argv=None):
@@ -63,12 +66,19 @@ def main(argv=None):
         print(f"no pull of a whole box length and at least {2 * args.length:g} d among the paths", file=sys.stderr)
         return 2
     print(f"{'pull':<34} {'box':>4} {'measured':>9} {'from ' + format(args.length, 'g') + ' d':>9} {'err':>6} {'z':>6}")
-    for name, _, box, measured, value, err, z in rows:
+    for name, _, box, measured, value, err, z, _ in rows:
         print(f"{name:<34} {box:4.0f} {measured:9.1f} {value:9.1f} {err:6.1f} {z:6.2f}")
-    z = np.array([r[-1] for r in rows])
+    z = np.array([r[-2] for r in rows])
     c2 = float(np.sum(z ** 2))
     print(f"{len(z)} pulls: mean z {z.mean():.2f} ± {1 / math.sqrt(len(z)):.2f}, chi2 {c2:.1f} for {len(z)} dof "
           f"(p = {chi2_dist.sf(c2, len(z)):.2g})")
+    rel = np.array([r[-1] for r in rows])
+    w = 1 / rel[:, 1] ** 2
+    mean, err = float(np.sum(w * rel[:, 0]) / np.sum(w)), float(1 / math.sqrt(np.sum(w)))
+    plain = (rel[:, 0].mean(), rel[:, 0].std(ddof=1) / math.sqrt(len(rel))) if len(rel) > 1 else (rel[0, 0], math.nan)
+    print(f"steady drag over the first {args.length:g} d over that of the rest, minus 1: weighted mean "
+          f"{100 * mean:+.2f} ± {100 * err:.2f} %, plain mean {100 * plain[0]:+.2f} ± {100 * plain[1]:.2f} %, "
+          f"{int(np.sum(rel[:, 0] > 0))} of {len(rel)} above")
     return 0
 
 
