@@ -27,8 +27,9 @@ at K_n = 2e6), and a drag curve whose fast speeds were pulled longer than its sl
 length changes. `box_cumulative` therefore gives the cumulative average at the paper's length (the
 table's `drag_cumulative_box`): over the first box length when the pull is that long, else the steady
 drag plus the start's excess spread over one box length, S + (C - S) L / L_box, which assumes the drag
-stays at its steady value past the pull's end (checked on 40 d pulls read over their first 20 d:
-results/reproduction/crossover-k2e6-box40-deep/README.md).
+stays at its steady value past the pull's end. Checked on 40 d pulls read over their first 20 d
+(tools/box_average_check.py): within their errors, but the drag relaxes along a pull (its second
+20 d read 2-3 % below its first), so the extrapolation reads about 1.5 % high.
 
 `first_travel` gives both over the first travel_max d of a pull (analysis.runs.runs.window_drag: a
 40 d pull's first 20 d against its whole). The error of kappa from the intruder coordination
