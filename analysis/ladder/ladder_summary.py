@@ -126,13 +126,11 @@ def regime_cells(table, spec):
     the paper's cumulative average over one box): the quadratic's curvature and the paper's shape
     from Fr₂ = 5 against one line, each with its calibrated verdict in short."""
     from ..core.result import format_pm
-    from ..regime_tests.regime_tests import averagings, regime3_rows, series
-    found = [(k, g) for k, g in series(table) if str(k["system"]) == "I" and np.isclose(k["mu"], 0.5)]
-    want = _shown_D(spec)
-    found = [kg for kg in found if want is None or np.isclose(kg[0]["D"], want)] or found
-    if not found:
+    from ..regime_tests.regime_tests import averagings, regime3_rows
+    found = _shown_series(table, spec)
+    if found is None:
         return []
-    keys, g = found[0]
+    keys, g = found
     beds = int(g.n_beds.min()) if "n_beds" in g.columns and g.n_beds.notna().all() else None
     cells = []
     for name, col, err in averagings(g):
@@ -148,18 +146,17 @@ def regime_cells(table, spec):
 
 
 def _short_verdict(row):
-    """A regime test's verdict (analysis.regime_tests.regime_power.verdict) in a few words."""
-    v = row["verdict"]
-    if v.startswith("not shown: the shape fits worse"):
-        return f"not shown: it fits worse than one line, p = {row['p']:.2g}"
-    if " shown (" in v and not v.startswith("not shown"):
+    """A regime test's verdict in a few words, by its kind (analysis.regime_tests.regime_power.outcome)."""
+    kind, p = row["outcome"], f"p = {row['p']:.2g}"
+    if kind == "neither":
+        return f"not shown: it fits worse than one line, {p}"
+    if kind == "shown":
         drop = ", its slope dropping at Fr₂" if "slope drops" in str(row.get("note", "")) else ""
-        return f"shown, p = {row['p']:.2g}{drop}"
-    if v.startswith("these data cannot tell"):
+        return f"shown, {p}{drop}"
+    if kind == "cannot tell":
         return f"these data cannot tell: power {row['power']:.2f}"
-    bound = "≥ " if "lower bound" in str(row.get("note", "")) else ""
-    size = f"the paper's size {{}} at {bound}{row['excluded_sigma']:.1f} σ, p = {row['p']:.2g}"
-    return size.format("disfavoured only" if v.startswith("not shown") else "excluded")
+    size = f"{'≥ ' if row['excluded_at_limit'] else ''}{row['excluded_sigma']:.1f} σ"
+    return f"the paper's size {'disfavoured only' if kind == 'disfavoured' else 'excluded'} at {size}, {p}"
 
 
 def _knee_cells(knee):
@@ -190,6 +187,16 @@ def summary_markdown(rows):
         out.append("| " + " | ".join([f"**({r['letter']})** {_cell(r['claim'])}", rung, measured, _cell(r["reading"]),
                                       _cell(r["differs"]), _cell(r["next"]), fig]) + " |")
     return "\n".join(out) + "\n"
+
+
+def _shown_series(table, spec):
+    """(keys, rows) of claim (a)'s series at a rung: system I, μ = 0.5, the D its row quotes (else
+    the first D); None when the table has none."""
+    from ..regime_tests.regime_tests import series
+    found = [(k, g) for k, g in series(table) if str(k["system"]) == "I" and np.isclose(k["mu"], 0.5)]
+    want = _shown_D(spec)
+    found = [kg for kg in found if want is None or np.isclose(kg[0]["D"], want)] or found
+    return found[0] if found else None
 
 
 def _shown_D(spec):
@@ -233,13 +240,10 @@ def _draw(letter, table, fits, tmp, spec, rung):
     kind = EVIDENCE.get(letter)
     if kind == "regime_tests":
         from ..regime_tests.regime_figure import draw_series
-        from ..regime_tests.regime_tests import series
-        found = [(k, g) for k, g in series(table) if str(k["system"]) == "I" and np.isclose(k["mu"], 0.5)]
-        want = _shown_D(spec)
-        found = [kg for kg in found if want is None or np.isclose(kg[0]["D"], want)] or found
-        if not found:
+        found = _shown_series(table, spec)
+        if found is None:
             return None
-        paths = draw_series(*found[0], tmp)
+        paths = draw_series(*found, tmp)
         return next(p for p in paths if p.suffix == ".png")
     if kind in ("theta", "kappa"):
         return _observable_figure(kind, table, fits, tmp, rung)

@@ -165,6 +165,19 @@ def _num(v, digits=2):
     return f"{v:.{digits}g}" if abs(v) < 10 ** digits else f"{v:.0f}"
 
 
+def outcome(cal, target=TARGET_POWER, fits_worse=False):
+    """The kind of verdict (verdict's branches, which it words): "shown", "neither" (p < LEVEL but
+    the shape fits worse than the line), "cannot tell" (power below target), "disfavoured" (the
+    paper's size below 1.64 σ away), "line preferred" (excluded, p ≥ LINE_PLAIN) or "between"."""
+    if cal.p < LEVEL:
+        return "neither" if fits_worse else "shown"
+    if cal.power < target:
+        return "cannot tell"
+    if cal.excluded_sigma[0] < norm.isf(LEVEL):
+        return "disfavoured"
+    return "line preferred" if cal.p >= LINE_PLAIN else "between"
+
+
 def verdict(shown, found, cal, alternative, beds=None, target=TARGET_POWER, fits_worse=False):
     """The verdict in words. shown: what a detection shows ("a quadratic from Fr ≈ 5"); found: the
     measured numbers ("Δχ² = -1.0"); alternative: the paper-sized alternative ("a quadratic of the
@@ -176,13 +189,13 @@ def verdict(shown, found, cal, alternative, beds=None, target=TARGET_POWER, fits
     data cannot tell (and how many more beds would); else the paper's size is excluded (at ≥ 1.64 σ;
     "a line preferred" only when the line is within about 1 σ, p ≥ LINE_PLAIN, else the data lie
     between the two) or only disfavoured."""
-    p = cal.p
-    if p < LEVEL and fits_worse:
+    p, kind = cal.p, outcome(cal, target, fits_worse)
+    if kind == "neither":
         return (f"not shown: the shape fits worse than one line ({found}), though better than lines "
                 f"usually do (p = {p:.2g}): the data are neither")
-    if p < LEVEL:
+    if kind == "shown":
         return f"{shown} shown ({found}, p = {p:.2g})"
-    if cal.power < target:
+    if kind == "cannot tell":
         k = cal.beds_for(target)
         now = f"{math.ceil(k * beds)} instead of {beds}; " if beds and math.isfinite(k) else ""
         more = (f"more than {MAX_BEDS:g}× as many beds would be needed" if not math.isfinite(k) else
@@ -191,10 +204,10 @@ def verdict(shown, found, cal, alternative, beds=None, target=TARGET_POWER, fits
                 f"at {LEVEL * 100:g} % false positives): {more}")
     n, limit = cal.excluded_sigma
     size = f"{'≥ ' if limit else ''}{n:.1f} σ"
-    if n < norm.isf(LEVEL):
+    if kind == "disfavoured":
         return (f"not shown ({found}, p = {p:.2g}); {alternative} disfavoured at {size} only, not excluded "
                 f"(power {cal.power:.2f})")
-    if p >= LINE_PLAIN:
+    if kind == "line preferred":
         return f"a line preferred ({found}, p = {p:.2g}); {alternative} excluded at {size} (power {cal.power:.2f})"
     return (f"between a line ({found}, p = {p:.2g}) and {alternative} (excluded at {size}, power "
             f"{cal.power:.2f}): weaker than the paper's")

@@ -32,7 +32,8 @@ with coef_value, coef_err; crossover (Fr₂, Fr₁) and its Δχ² ≤ 1 interva
 statistic (c/σ_c or -Δχ²), its p under the null, the 5 % threshold, power against the paper's size
 and against the best fit (power_best_fit), the false_positive_rate measured on fresh lines,
 beds_for_80 (the factor of beds for 80 % power: 1 when reached, inf beyond 128), excluded_sigma
-(the observation's distance below the paper's size), n_beds; verdict; note.
+(the observation's distance below the paper's size) and excluded_at_limit (no copy reached it: a
+lower bound), n_beds; outcome (the verdict's kind, regime_power.outcome); verdict; note.
 """
 import math
 from pathlib import Path
@@ -48,7 +49,7 @@ from .regime_fits import (
     profile_paper_shape,
     profile_plateau_line,
 )
-from .regime_power import N_SIM, Calibration, verdict
+from .regime_power import N_SIM, Calibration, outcome, verdict
 
 # (name, drag column, error column): the steady drag the table has always had, and the paper's
 # cumulative average (the whole pull, its start included) when the table has it.
@@ -66,7 +67,7 @@ GROUP = ["system", "D", "h", "mu", "kn"]   # h: a system II series' depth (NaN f
 COLUMNS = GROUP + ["averaging", "fr_low", "fr_high", "test", "n_points", "chi2", "dof", "delta_chi2", "coef",
                    "coef_value", "coef_err", "crossover", "crossover_lo", "crossover_hi", "statistic", "p",
                    "threshold", "power", "power_best_fit", "false_positive_rate", "beds_for_80",
-                   "excluded_sigma", "noise_scale", "n_beds", "verdict", "note"]
+                   "excluded_sigma", "excluded_at_limit", "noise_scale", "n_beds", "outcome", "verdict", "note"]
 MIN_SPEEDS = 5   # distinct speeds a range needs: the profiled shapes keep 2 on each side of Fr₂
 
 
@@ -103,7 +104,8 @@ def _calibrated(row, test, x, y, s, shown, found, alternative, n_sim, seed, beds
     n, at_limit = cal.excluded_sigma
     row.update(statistic=cal.observed, p=cal.p, threshold=cal.threshold, power=cal.power,
                power_best_fit=cal.power_best_fit, false_positive_rate=cal.false_positive_rate,
-               beds_for_80=cal.beds_for(), excluded_sigma=n,
+               beds_for_80=cal.beds_for(), excluded_sigma=n, excluded_at_limit=at_limit,
+               outcome=outcome(cal, fits_worse=row["delta_chi2"] > 0),
                verdict=verdict(shown, found, cal, alternative, beds, fits_worse=row["delta_chi2"] > 0))
     if at_limit:
         limit = "excluded_sigma a lower bound (no copy reached it)"
