@@ -118,7 +118,7 @@ SLEEPING_COST_DAMPED = 0.03
 # sleeps, and a sleeping grain costs STIFF_SLEEPING_COST (woken and put back to sleep more often),
 # both measured on D = 2, mu = 0.5, 30 d x 30 d damped beds at 2e6:
 #  active_region_30_stiff.yaml (Fr = 1, 7 d deep, 4 beds): shares 0.48 and 0.56 at R = 3 and 5 D
-#    against the table's 0.71 (0.68 and 0.79 of it); CPU per pull 1.8x less, c about 0 (short
+#    against the table's 0.71 (0.68 and 0.79 of it); CPU per pull 1.7x less, c about 0 (short
 #    pulls, 45 s against 75 s);
 #  active_region_30_stiff_deep.yaml (the yield pull, V = 0.1 over 2 d, 24 d deep, 3 beds): shares
 #    0.55 and 0.60 at 3 and 5 D against the table's 0.77 (0.71 and 0.78 of it); CPU per pull, each
