@@ -14,10 +14,16 @@ time-step studies' reference).
 import argparse
 import re
 import statistics as st
+import sys
 from collections import defaultdict
 from pathlib import Path
 
 import h5py
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from analysis.core.path_scheme import named, part  # noqa: E402
 
 REPORT = re.compile(r"energy of the grains (\S+) -> (\S+), work by the intruder (\S+), dissipated (\S+)")
 
@@ -45,12 +51,10 @@ def main():
         raise SystemExit(f"energy_overlap.py: no run.h5 under {a.results / 'pulls'}")
     rows = defaultdict(dict)   # (kn, system) -> {(the bed's other keys, speed): (residual, overlap)}
     for run in runs:
-        parts = run.relative_to(a.results / "pulls").parts
-        system = parts[0]
-        kn = next(p for p in parts if p.startswith("kn~"))
-        rest = tuple(p for p in parts[1:-1] if not p.startswith("kn~"))
-        rows[(kn, system)][rest] = read(run)
-    first = f"system~{a.reference}"
+        names = named(run.relative_to(a.results / "pulls"))
+        kn, system = part("kn", names.pop("kn")), part("system", names.pop("system"))
+        rows[(kn, system)][tuple(sorted(names.items()))] = read(run)
+    first = part("system", a.reference)
     if first not in {s for _, s in rows}:
         raise SystemExit(f"energy_overlap.py: no system {a.reference} under {a.results / 'pulls'} (--reference)")
     for kn, system in sorted(rows):
