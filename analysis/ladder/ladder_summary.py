@@ -126,12 +126,12 @@ def regime_cells(table, spec):
     the paper's cumulative average over one box): the quadratic's curvature and the paper's shape
     from Fr₂ = 5 against one line, each with its calibrated verdict in short."""
     from ..core.result import format_pm
-    from ..regime_tests.regime_tests import averagings, regime3_rows
+    from ..regime_tests.regime_tests import averagings, regime3_rows, series_beds
     found = _shown_series(table, spec)
     if found is None:
         return []
     keys, g = found
-    beds = int(g.n_beds.min()) if "n_beds" in g.columns and g.n_beds.notna().all() else None
+    beds = series_beds(g)
     cells = []
     for name, col, err in averagings(g):
         rows = {r["test"]: r for r in regime3_rows(g.Fr, g[col], g[err], *REGIME_RANGE, beds=beds)}

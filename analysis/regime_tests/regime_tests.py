@@ -214,15 +214,20 @@ def averagings(table, which="both"):
     return found
 
 
+def series_beds(g):
+    """A series' beds for the verdict's "N instead of n": its typical point's (a curve whose slowest
+    point has one bed so far is not a one-bed curve; the factor of beds does not depend on it);
+    None when the table does not count them."""
+    return int(round(g.n_beds.median())) if "n_beds" in g.columns and g.n_beds.notna().all() else None
+
+
 def regime_tests(table, *, ranges=RANGES, regime1_range=REGIME1_RANGE, n_sim=N_SIM, seed=0, averaging="both"):
     """Every test of every series and averaging of the table (DataFrame, COLUMNS); averaging as
     averagings' `which`."""
     rows = []
     chosen = averagings(table, averaging)
     for keys, g in series(table):
-        # The typical point's beds, for the verdict's "N instead of n" (a curve whose slowest point
-        # has one bed so far is not a one-bed curve); the factor itself does not depend on it.
-        beds = int(round(g.n_beds.median())) if "n_beds" in g.columns and g.n_beds.notna().all() else None
+        beds = series_beds(g)
         for name, col, err in chosen:
             cols = (g.Fr, g[col], g[err])
             out = [r for lo, hi in ranges for r in regime3_rows(*cols, lo, hi, n_sim=n_sim, seed=seed, beds=beds)]
