@@ -10,6 +10,7 @@ import numpy as np
 import pandas as pd
 
 from . import path_scheme
+from .bed_shift import bed_shift
 from .physics import CONTACT_RANGES, froude, in_contact_range
 from .point_errors import (  # noqa: F401  (re-exported: the point table's errors for fits)
     observable_errors,
@@ -377,6 +378,7 @@ def _combine_kind(runs, r2=None, prior=None):
     when the bed scatter dominates (s^2 > W), else the within-run dof combined (Satterthwaite,
     with the pooled or prior r2's dof for one bed);
     n_beds: k; plateau: every bed's error converged (plateau_engine: the engine's); seeds: the beds' seeds, ';'-joined;
+    drag_shift_r2 (drag_cumulative_box_shift_r2): the variance of a bed's shift its series shares (bed_shift);
     drag_cumulative (the cumulative average from t = 0; _box: over one box length) with its error as the
     drag's, drag_err_engine the engine's errors by the same rule; drag_bed_sd: the beds' standard deviation of the drag
     (NaN for one bed), drag_bed_sd_ratio (_engine): over the beds' mean drag_err (drag_err_engine);
@@ -419,19 +421,17 @@ def _combine_kind(runs, r2=None, prior=None):
     out["bed_scatter_dof"] = np.where(~rep & known, float(r2_dof), np.nan)
     study = BedScatterPrior.of(prior).source if single == "prior" else ""
     out["bed_scatter_study"] = np.where(~rep & (single == "prior"), study, "").astype(object)
-    if "seed" in runs:
-        texts = [[] for _ in k]
-        for c, v in zip(codes, runs.seed.to_numpy(float)):
-            texts[c].append(f"{v:g}")
-        out["seeds"] = [";".join(t) for t in texts]
-    else:
-        out["seeds"] = ""
+    texts = [[] for _ in k]
+    for c, v in zip(codes, runs.seed.to_numpy(float) if "seed" in runs else []):
+        texts[c].append(f"{v:g}")
+    out["seeds"] = [";".join(t) for t in texts]
     out["run"] = np.where(rep, out["_point"], out["run"].astype(str))
     for c in ("plateau", "plateau_engine"):
         if c in runs:
             out[c] = np.bincount(codes, ~runs[c].astype(bool).to_numpy()) == 0
     from .bed_spread import bed_spread
     bed_spread(out, runs, codes, k, r2 if np.isfinite(r2) and single != "none" else np.nan)
+    bed_shift(out, runs, codes)
     for c in [c for c in ("h", "n_contacts", "Z", "kappa", "theta", "theta_present") if c in runs]:
         out[c] = np.bincount(codes, runs[c].to_numpy(float)) / k
     for c in ("theta", "theta_present", "kappa"):     # each bed's error and the beds' scatter, as drag_err

@@ -125,6 +125,7 @@ def regime_cells(table, spec):
     (system I, μ = 0.5, its D) on Fr 1-15, one per averaging the rung's table has (the steady drag;
     the paper's cumulative average over one box): the quadratic's curvature and the paper's shape
     from Fr₂ = 5 against one line, each with its calibrated verdict in short."""
+    from ..core.bed_shift import covariance
     from ..core.result import format_pm
     from ..regime_tests.regime_tests import averagings, regime3_rows, series_beds
     found = _shown_series(table, spec)
@@ -134,7 +135,7 @@ def regime_cells(table, spec):
     beds = series_beds(g)
     cells = []
     for name, col, err in averagings(g):
-        rows = {r["test"]: r for r in regime3_rows(g.Fr, g[col], g[err], *REGIME_RANGE, beds=beds)}
+        rows = {r["test"]: r for r in regime3_rows(g.Fr, g[col], covariance(g, col, err), *REGIME_RANGE, beds=beds)}
         quad, shape = rows["quadratic"], rows["paper_fr2_5"]
         where = f"regime III, {name} drag (D = {keys['D']:g}, Fr {REGIME_RANGE[0]:g}–{REGIME_RANGE[1]:g})"
         if "verdict" not in quad:

@@ -1,10 +1,12 @@
 """The figure of claim (a) for each drag-vs-Fr series (analysis.regime_tests.regime_tests): the drag against Fr
 under each averaging (a column each) with the line, the quadratic and the paper's shape (Fr₂ = 5 and
 profiled) fitted on 1 ≤ Fr ≤ 15, and below, each point's residual in units of its error against
-each, where a curvature the line misses shows as a U. Points outside the fitted range are drawn
+each, where a curvature the line misses shows as a U (fitted with the tests' covariance, so a bed's
+shift can leave all residuals of one sign). Points outside the fitted range are drawn
 open and grey. Files: regime_tests_<series>.png, .pdf and .csv (what is drawn, figures_drawing)."""
 import numpy as np
 
+from ..core.bed_shift import covariance
 from ..figures.figures_drawing import FR_LABEL, _record, _save, _subplots
 from .regime_fits import (
     PAPER_FR2,
@@ -14,6 +16,7 @@ from .regime_fits import (
     paper_curve,
     paper_tangent_design,
     profile_paper_shape,
+    scale,
     wls,
 )
 from .regime_tests import RANGES, averagings, in_range, noise_scale, series
@@ -53,25 +56,26 @@ def draw_series(keys, g, outdir, fr_range=RANGES[-1], averaging="both"):
     for j, (name, col, err) in enumerate(avgs):
         top, bottom = axes[0, j], axes[1, j]
         fr, F, e = g.Fr.to_numpy(float), g[col].to_numpy(float), g[err].to_numpy(float)
-        x, y, s = in_range(fr, F, e, *fr_range)
+        x, y, C = in_range(fr, F, covariance(g, col, err), *fr_range)
         out = ~((fr >= fr_range[0] - 1e-9) & (fr <= fr_range[1] + 1e-9))
         top.errorbar(fr[out], F[out], yerr=e[out], fmt="o", mfc="none", color="0.6", ms=4, capsize=2)
         _record(top, f"{name}: outside the fit", fr[out], F[out], e[out])
         if len(np.unique(x)) < 5:
             top.set_title(f"{name}: too few speeds in {fr_range[0]:g}-{fr_range[1]:g}", fontsize=8)
             continue
-        s = s * noise_scale(x, y, s)
+        C = scale(C, noise_scale(x, y, C))   # the tests' errors, their bed shift included
+        s = np.sqrt(np.diag(C))
         top.errorbar(x, y, yerr=s, fmt="o", color="k", ms=4, capsize=2, label=f"{name} drag")
         _record(top, f"{name}: points", x, y, s)
         grid = np.linspace(x.min(), x.max(), 200)
-        for k, (model, curve) in enumerate(_curves(x, y, s).items()):
+        for k, (model, curve) in enumerate(_curves(x, y, C).items()):
             color, ls = next((c, st) for m, c, st in MODELS if m == model)
             top.plot(grid, curve(grid), color=color, ls=ls, lw=1, label=model)
             _record(top, f"{name}: {model}", grid, curve(grid), kind="curve")
             r = (y - curve(x)) / s
             bottom.plot(x + (k - 1.5) * 0.06, r, marker="o", ls="none", ms=3, color=color)
             _record(bottom, f"{name}: {model} residual / error", x, r)
-        sized = _paper_sized(x, y, s)
+        sized = _paper_sized(x, y, C)
         top.plot(grid, sized(grid), color="0.5", lw=0.8, ls="-.", label=PAPER_SIZED)
         _record(top, f"{name}: {PAPER_SIZED}", grid, sized(grid), kind="curve")
         for level in (-2, -1, 1, 2):

@@ -3,7 +3,8 @@ a + b Fr + c Fr², the paper's shape (a line up to Fr₂, then a' + b' Fr² join
 b Fr₂ - b' Fr₂²) with Fr₂ fixed or profiled, and regime I's plateau up to Fr₁ continued by a line.
 
 Every model is linear in its coefficients once its crossover is given, so each is a stack of design
-matrices, one per crossover on a grid (Family), fitted by weighted least squares to many copies of
+matrices, one per crossover on a grid (Family), fitted by generalized least squares (the errors a
+vector of standard errors or a covariance: a bed shifts all its speeds alike, analysis.core.bed_shift) to many copies of
 the curve at once: the same code fits the data and the thousands of synthetic copies the power
 calibration (analysis.regime_tests.regime_power) fits, so the statistic it calibrates is the one reported.
 
@@ -33,14 +34,39 @@ def _rows(y):
     return np.atleast_2d(np.asarray(y, float))
 
 
+def whitener(sigma):
+    """W with W C Wᵀ = 1 for a curve's errors: sigma the points' standard errors (C diagonal) or
+    their covariance C itself (n, n; the beds' shared shift, analysis.core.bed_shift)."""
+    s = np.asarray(sigma, float)
+    return np.diag(1 / s) if s.ndim == 1 else np.linalg.inv(np.linalg.cholesky(s))
+
+
+def draw(sigma, z):
+    """Noise of the curve's errors from standard normal draws z (copies, n)."""
+    s = np.asarray(sigma, float)
+    return s * z if s.ndim == 1 else z @ np.linalg.cholesky(s).T
+
+
+def shrink(sigma, beds):
+    """The errors with beds times as many beds: standard errors / √beds, a covariance / beds."""
+    s = np.asarray(sigma, float)
+    return s / math.sqrt(beds) if s.ndim == 1 else s / beds
+
+
+def scale(sigma, factor):
+    """The errors scaled up by factor (a covariance by factor²)."""
+    s = np.asarray(sigma, float)
+    return s * factor if s.ndim == 1 else s * factor ** 2
+
+
 def wls(X, y, sigma):
-    """Weighted least squares of y, shape (n,) or (copies, n), on the columns of X (n, p), weights
-    1/sigma²: coefficients (copies, p), their covariance (p, p) from the errors alone (not scaled by
-    χ²/dof) and χ² (copies,)."""
-    sigma = np.asarray(sigma, float)
-    Xw = np.asarray(X, float) / sigma[:, None]
+    """Generalized least squares of y, shape (n,) or (copies, n), on the columns of X (n, p), with
+    the errors sigma (whitener's: standard errors or a covariance): coefficients (copies, p), their
+    covariance (p, p) from the errors alone (not scaled by χ²/dof) and χ² (copies,)."""
+    W = whitener(sigma)
+    Xw = W @ np.asarray(X, float)
     pinv = np.linalg.pinv(Xw)
-    Y = _rows(y) / sigma
+    Y = _rows(y) @ W.T
     beta = Y @ pinv.T
     return beta, pinv @ pinv.T, np.sum((Y - beta @ Xw.T) ** 2, axis=1)
 
@@ -98,6 +124,7 @@ class Family:
 
     def __init__(self, x, sigma, designs, crossovers=None, fallback=None, breaks=None, expand=None):
         self.x, self.sigma = np.asarray(x, float), np.asarray(sigma, float)
+        self.W = whitener(self.sigma)
         self.designs = np.asarray(designs, float)
         if self.designs.ndim == 2:
             self.designs = self.designs[None]
@@ -107,7 +134,7 @@ class Family:
         self._fallback = None if fallback is None else self._factor(np.asarray(fallback, float))
 
     def _factor(self, designs):
-        Q, R = np.linalg.qr(designs / self.sigma[None, :, None])
+        Q, R = np.linalg.qr(np.matmul(self.W, designs))
         return Q, np.linalg.pinv(R).transpose(0, 2, 1)   # pinv: a degenerate design fits, minimum-norm
 
     @staticmethod
@@ -118,7 +145,7 @@ class Family:
 
     def fit_all(self, y):
         """Coefficients (G, copies, p) and χ² (G, copies) of every copy at every crossover."""
-        Yw = _rows(y) / self.sigma
+        Yw = _rows(y) @ self.W.T
         norm2 = np.sum(Yw * Yw, axis=1)
         beta, chi2 = self._fit(self._main, Yw, norm2)
         if self._fallback is not None:

@@ -28,12 +28,14 @@ from .regime_fits import (
     PaperShape,
     PlateauLine,
     Quadratic,
+    draw,
     fr1_grid,
     fr2_grid,
     line_design,
     paper_design,
     paper_tangent_design,
     plateau_design,
+    shrink,
     wls,
 )
 
@@ -114,14 +116,14 @@ class Calibration:
         self.null = line_design(self.x) @ beta[0]
         self.alt = paper_sized(test, self.x, self.F, self.sigma)
         self.observed = float(self.stat(self.F)[0])
-        self.null_sample = self.stat(self.null + self.sigma * self._z_null)
+        self.null_sample = self.stat(self.null + draw(self.sigma, self._z_null))
         self.threshold = float(np.quantile(self.null_sample, 1 - LEVEL))
         lines = rng.multivariate_normal(beta[0], cov, n_sim) @ line_design(self.x).T
-        self.false_positive_rate = float(np.mean(self.stat(lines + self.sigma * z_check) > self.threshold))
-        self.alt_sample = self.stat(self.alt + self.sigma * self._z_alt)
+        self.false_positive_rate = float(np.mean(self.stat(lines + draw(self.sigma, z_check)) > self.threshold))
+        self.alt_sample = self.stat(self.alt + draw(self.sigma, self._z_alt))
         self.power = float(np.mean(self.alt_sample > self.threshold))
         fitted = best_fit(test, self.x, self.F, self.sigma)
-        self.power_best_fit = float(np.mean(self.stat(fitted + self.sigma * self._z_alt) > self.threshold))
+        self.power_best_fit = float(np.mean(self.stat(fitted + draw(self.sigma, self._z_alt)) > self.threshold))
 
     @property
     def p(self):
@@ -138,9 +140,9 @@ class Calibration:
 
     def power_at(self, beds):
         """Power against the paper-sized alternative with the errors shrunk by √beds (same draws)."""
-        scale = self.sigma / math.sqrt(beds)
-        thr = np.quantile(self.stat(self.null + scale * self._z_null), 1 - LEVEL)
-        return float(np.mean(self.stat(self.alt + scale * self._z_alt) > thr))
+        scale = shrink(self.sigma, beds)
+        thr = np.quantile(self.stat(self.null + draw(scale, self._z_null)), 1 - LEVEL)
+        return float(np.mean(self.stat(self.alt + draw(scale, self._z_alt)) > thr))
 
     def beds_for(self, target=TARGET_POWER, max_beds=MAX_BEDS):
         """The factor of beds at which the power reaches target: doubled until it does, then

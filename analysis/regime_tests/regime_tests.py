@@ -16,9 +16,12 @@ preferred; the paper's size excluded at N σ" or "these data cannot tell; about 
 would", never "not seen" for what the data cannot tell apart. The fits: analysis.regime_tests.regime_fits.
 
 Errors: the averaging's own error column (drag_err: a point's error with its beds' scatter), as
-the issue that asked for these tests weighed them; scaled up by √(χ²/dof) of the quadratic when
-above 1 (scatter beyond the errors; the quadratic's, so that a curvature does not pass for noise),
-`noise_scale` in the table. Yield pulls are left out (their drag is F_Y, not a drag at speed).
+the issue that asked for these tests weighed them, with the covariance a bed's shift puts between
+the speeds pulled through it (analysis.core.bed_shift: every pull of a bed crosses the same grains)
+when the table records it (drag_shift_r2; a table made before it: the errors alone); scaled up by
+√(χ²/dof) of the quadratic when above 1 (scatter beyond the errors; the quadratic's, so that a
+curvature does not pass for noise), `noise_scale` in the table. Yield pulls are left out (their
+drag is F_Y, not a drag at speed).
 
 Averagings (AVERAGINGS; `averaging` "both", "steady" or "cumulative", the command's --averaging): the
 steady drag (column drag) and the paper's cumulative average from t = 0 over one box length, its pull
@@ -41,6 +44,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..core.bed_shift import covariance
 from ..core.table import is_yield, write_csv, write_text_atomic
 from .regime_fits import (
     fit_line,
@@ -48,6 +52,7 @@ from .regime_fits import (
     fit_quadratic,
     profile_paper_shape,
     profile_plateau_line,
+    scale,
 )
 from .regime_power import N_SIM, Calibration, outcome, verdict
 
@@ -86,11 +91,14 @@ def _pm(v, e):
 
 
 def in_range(fr, F, err, lo, hi):
-    """The points with lo ≤ Fr ≤ hi, a finite drag and a positive error, sorted by Fr."""
+    """The points with lo ≤ Fr ≤ hi, a finite drag and a positive error, sorted by Fr: (Fr, drag,
+    their covariance); err the points' standard errors or their covariance (bed_shift.covariance)."""
     fr, F, err = (np.asarray(v, float) for v in (fr, F, err))
-    m = (fr >= lo - 1e-9) & (fr <= hi + 1e-9) & np.isfinite(F) & np.isfinite(err) & (err > 0)
-    order = np.argsort(fr[m], kind="stable")
-    return fr[m][order], F[m][order], err[m][order]
+    var = err ** 2 if err.ndim == 1 else np.diag(err)
+    m = (fr >= lo - 1e-9) & (fr <= hi + 1e-9) & np.isfinite(F) & np.isfinite(var) & (var > 0)
+    idx = np.flatnonzero(m)[np.argsort(fr[m], kind="stable")]
+    cov = np.diag(var[idx]) if err.ndim == 1 else err[np.ix_(idx, idx)]
+    return fr[idx], F[idx], cov
 
 
 def noise_scale(x, y, s):
@@ -120,9 +128,9 @@ def regime3_rows(fr, F, err, lo, hi, *, n_sim=N_SIM, seed=0, beds=None):
     if len(np.unique(x)) < MIN_SPEEDS:
         return [{**base, "test": t, "note": f"{len(np.unique(x))} speeds in {lo:g}-{hi:g}: needs {MIN_SPEEDS}"}
                 for t in ("line", "quadratic", "paper_fr2_5", "paper_fr2_free")]
-    scale = noise_scale(x, y, s)
-    s = s * scale
-    base["noise_scale"] = scale
+    factor = noise_scale(x, y, s)
+    s = scale(s, factor)
+    base["noise_scale"] = factor
     line, quad = fit_line(x, y, s), fit_quadratic(x, y, s)
     fixed, free = fit_paper_shape(x, y, s), profile_paper_shape(x, y, s)
     rows = [{**base, "test": "line", "chi2": line["chi2"], "dof": line["dof"], "coef": "b", "coef_value": line["b"],
@@ -175,11 +183,11 @@ def regime1_row(fr, F, err, lo, hi, *, n_sim=N_SIM, seed=0, beds=None):
     base = {"fr_low": lo, "fr_high": hi, "test": "regime1", "n_points": len(x), "n_beds": beds}
     if len(np.unique(x)) < 4:
         return {**base, "note": f"{len(np.unique(x))} speeds in {lo:g}-{hi:g}: needs 4"}
-    scale = noise_scale(x, y, s)
-    s = s * scale
+    factor = noise_scale(x, y, s)
+    s = scale(s, factor)
     line, fit = fit_line(x, y, s), profile_plateau_line(x, y, s)
     d = fit["chi2"] - line["chi2"]
-    row = {**base, "noise_scale": scale, "chi2": fit["chi2"], "dof": fit["dof"], "delta_chi2": d, "coef": "b",
+    row = {**base, "noise_scale": factor, "chi2": fit["chi2"], "dof": fit["dof"], "delta_chi2": d, "coef": "b",
            "coef_value": fit["b"], "crossover": fit["Fr1"], "crossover_lo": fit["Fr1_lo"],
            "crossover_hi": fit["Fr1_hi"],
            "note": ("the Fr₁ interval reaches the profiled grid's end (open; at the slowest speed the plateau is "
@@ -229,7 +237,7 @@ def regime_tests(table, *, ranges=RANGES, regime1_range=REGIME1_RANGE, n_sim=N_S
     for keys, g in series(table):
         beds = series_beds(g)
         for name, col, err in chosen:
-            cols = (g.Fr, g[col], g[err])
+            cols = (g.Fr, g[col], covariance(g, col, err))
             out = [r for lo, hi in ranges for r in regime3_rows(*cols, lo, hi, n_sim=n_sim, seed=seed, beds=beds)]
             out.append(regime1_row(*cols, *regime1_range, n_sim=n_sim, seed=seed, beds=beds))
             rows += [{**keys, "averaging": name, **r} for r in out]

@@ -1,0 +1,130 @@
+"""A bed's shift: the part of a pull's drag that every speed pulled through the same bed shares.
+
+Every pull of one bed starts at the same place and crosses the same grains, so the drag's
+fluctuation along that path (the packing the intruder meets) is not independent from one speed
+to the next: a bed that reads high at one speed reads high at the others. In the box40-deep rung
+(3 beds, 13 speeds) the beds' mean relative deviations are +2.5, -2.1 and -1.0 % over 40 d with a
+pull's error of 3.4 % (permutation p < 0.001), and once they are taken out the beds' residuals
+have χ² 14 for 24 dof: about half of a pull's error is its bed's. The point errors (combine_beds)
+are right for each point alone; between points the shift is a covariance. A line, a quadratic and
+the paper's shapes each absorb a common relative shift (they are closed under scaling), so fits
+whose errors leave it out read curves smoother than their errors (χ²/dof 0.6) and tests of a
+curve's shape lose power.
+
+The estimate, per series (the points pulled through the same beds) and drag column, on the points
+pulled through all of its beds (k beds, n points): the relative deviations z = y / ȳ - 1 of each
+pull from its point's mean, less each bed's mean deviation, leave the part no two speeds share; its
+mean square over (k - 1)(n - 1) dof, v, is a pull's independent relative variance. A point's whole
+variance is its pooled_variance (its pulls' errors, the beds' excess pooled), so σ_β² = mean(k
+var / ȳ²) - v, held at 0. The independent part, which a curve's shape is judged against, is then
+v: measured on (k - 1)(n - 1) dof (24 in the rung), where σ_β² itself, like anything the beds
+share, rests on k - 1. The shared part is pinned on the pulls' errors, which the beds' scatter at
+each speed checks (the rung: χ² 21.6 for 22 dof). Mutation tried: σ_β² from pairs of speeds'
+products of deviations alone (unbiased, no pull error): on three beds it scatters by about 100 %
+from study to study, and the lines' χ²/dof then averaged 1.25 with a median of 0.77 on synthetic
+studies whose truth gives 1 (tests/python/test_bed_shift.py).
+"""
+import numpy as np
+
+from .point_errors import pooled_drag_err
+
+# (drag column, its error column, the point table's column of its series' σ_β²)
+SHIFT_COLUMNS = (("drag", "drag_err", "drag_shift_r2"),
+                 ("drag_cumulative_box", "drag_cumulative_box_err", "drag_cumulative_box_shift_r2"))
+SHARED_CAP = 0.9   # the shared part of a point's variance at most this much of its error²
+
+
+def shift_r2(values, variances):
+    """σ_β² of one series from values (points, beds), a point's drag through each bed, and the
+    points' variances (pooled_variance), on the points pulled through every bed; NaN with fewer
+    than two beds or two such points."""
+    Y, var = np.asarray(values, float), np.asarray(variances, float)
+    full = np.all(np.isfinite(Y), axis=1) & np.isfinite(var)
+    Y, var = Y[full], var[full]
+    n, k = Y.shape
+    if n < 2 or k < 2:
+        return np.nan
+    m = Y.mean(axis=1)
+    z = Y / m[:, None] - 1
+    r = z - z.mean(axis=0)[None, :]          # each bed's mean deviation out; z's rows sum to 0
+    v = float(np.sum(r * r)) / ((k - 1) * (n - 1))
+    return max(0.0, float(np.mean(k * var / m ** 2)) - v)
+
+
+def bed_shift(out, runs, codes):
+    """combine_beds's columns of each point's series' σ_β² (SHIFT_COLUMNS; runs with its _series
+    and a seed per bed, codes each run's point in out), and the split of a point's error into its
+    pulls' and the beds' excess (_err_within, _err_between, _var_excess, as the drag's) for the
+    columns that lack it."""
+    if "seed" not in runs:
+        return
+    series = runs.groupby(codes)["_series"].first().to_numpy()
+    k = np.bincount(codes)
+    for col, err, name in SHIFT_COLUMNS:
+        if col not in runs or err not in runs:
+            continue
+        if f"{col}_err_within" not in out:
+            y, e = runs[col].to_numpy(float), runs[err].to_numpy(float)
+            m = np.bincount(codes, y) / k
+            with np.errstate(invalid="ignore", divide="ignore"):
+                s2 = np.where(k >= 2, np.bincount(codes, (y - m[codes]) ** 2) / (k - 1), np.nan)
+            W = np.bincount(codes, e ** 2) / k
+            out[f"{col}_err_within"] = np.sqrt(W / k)
+            out[f"{col}_err_between"] = np.sqrt(np.maximum(0.0, np.nan_to_num(s2) - W) / k)
+            out[f"{col}_var_excess"] = np.where(k >= 2, (s2 - W) / k, np.nan)
+        out[name] = np.nan
+        for s in np.unique(series):
+            mine = np.flatnonzero(series == s)
+            part = runs.assign(_code=codes)[np.isin(codes, mine)]
+            Y = part.pivot_table(index="_code", columns="seed", values=col, aggfunc="mean").reindex(mine)
+            out.loc[mine, name] = shift_r2(Y.to_numpy(float), pooled_variance(out.loc[mine], col, err))
+
+
+def bed_sets(points):
+    """Each point's beds (the table's `seeds`, ';'-joined) as sets; one unnamed bed per row
+    without them."""
+    if "seeds" not in points.columns:
+        return [{f"row {i}"} for i in range(len(points))]
+    return [set(filter(None, str(s).split(";"))) or {f"row {i}"} for i, s in enumerate(points["seeds"])]
+
+
+def pooled_variance(points, column, err_column):
+    """Each point's variance with its pulls' errors and the beds' excess over them pooled across
+    the points (point_errors.pooled_drag_err on this column): the diagonal a covariance needs. A
+    point's own max(s², W) / k is right on average but, with 3 beds, 1.37 times its variance, and
+    that inflation falls wholly on the independent part once the shared part is set apart."""
+    split = [f"{column}_err_within", f"{column}_err_between", f"{column}_var_excess"]
+    if not set(split + ["n_beds"]) <= set(points.columns):
+        return points[err_column].to_numpy(float) ** 2
+    as_drag = points[[column, err_column, "n_beds"] + split].set_axis(
+        ["drag", "drag_err", "n_beds", "drag_err_within", "drag_err_between", "drag_var_excess"], axis=1)
+    return np.asarray(pooled_drag_err(as_drag), float) ** 2
+
+
+def covariance(points, column, err_column):
+    """The covariance of the points' `column` (in their order): each point's pooled_variance on the
+    diagonal and, between two points, σ_β² y_i y_j n_ij / (k_i k_j) (n_ij the beds they share, k
+    their beds), σ_β² their series' (SHIFT_COLUMNS; held so that no point's shared part passes
+    SHARED_CAP of its variance). Each point's error² alone when the table has no σ_β² (made before
+    it, one bed a point, no pair)."""
+    y = points[column].to_numpy(float)
+    name = next((n for c, ec, n in SHIFT_COLUMNS if c == column), None)
+    if name is None or name not in points.columns or not np.isfinite(points[name].to_numpy(float)).any():
+        return np.diag(points[err_column].to_numpy(float) ** 2)
+    v = pooled_variance(points, column, err_column)
+    e = np.sqrt(v)
+    C = np.diag(v)
+    r2 = points[name].to_numpy(float)
+    beds = bed_sets(points)
+    k = np.array([len(b) for b in beds], float)
+    ok = np.isfinite(r2) & np.isfinite(y) & np.isfinite(e) & (e > 0)
+    if not ok.any() or not np.nanmax(np.where(ok, r2, np.nan)) > 0:
+        return C
+    r2 = float(np.nanmedian(r2[ok]))   # one value per series: the points of one series carry it alike
+    r2 = min(r2, SHARED_CAP * float(np.min((k * e ** 2 / y ** 2)[ok])))
+    n = np.array([[len(a & b) for b in beds] for a in beds], float)
+    S = r2 * np.outer(y / k, y / k) * n
+    S[~ok, :] = 0.0
+    S[:, ~ok] = 0.0
+    np.fill_diagonal(S, 0.0)
+    return C + S

@@ -1,0 +1,156 @@
+"""A bed's shift shared by every speed pulled through it (analysis.core.bed_shift) and the regime
+tests' generalized least squares on it: the estimator against synthetic studies whose shift is
+known, the covariance against its formula, the fits against an independent solver, and a test
+that fails when the fits are made blind to the shift (their χ²/dof then falls to the independent
+part's share, as the box40-deep rung's lines read 0.6)."""
+import numpy as np
+import pandas as pd
+import pytest
+
+from analysis.core.bed_shift import SHARED_CAP, covariance, shift_r2
+from analysis.core.table import combine_beds
+from analysis.regime_tests.regime_fits import fit_line, fit_quadratic, wls
+from analysis.regime_tests.regime_power import Calibration
+
+FR = np.array([0.5, 0.75, 1.0, 1.5, 2.0, 3.0])
+SHIFT, OWN = 0.025, 0.02   # a bed's relative shift and a pull's own relative noise (the rung's size)
+
+
+def study(rng, fr=FR, beds=3, shift=SHIFT, own=OWN, curve=lambda f: 1300 + 120 * f):
+    """(points, drags) of one synthetic study: drags (speeds, beds) of a curve times (1 + the bed's
+    shift) times (1 + each pull's own noise)."""
+    beta = shift * rng.standard_normal(beds)
+    y = curve(fr)[:, None] * (1 + beta[None, :]) * (1 + own * rng.standard_normal((len(fr), beds)))
+    return y
+
+
+def with_var(Y, shift=SHIFT):
+    """(drags, the points' variances) as the table gives them: each pull's true relative variance,
+    shift² + OWN², over k beds."""
+    return Y, (shift ** 2 + OWN ** 2) * Y.mean(axis=1) ** 2 / Y.shape[1]
+
+
+def test_the_shift_estimate_is_unbiased():
+    # 400 studies of 13 speeds and 3 beds: the mean of σ_β² within 10 % of the truth (the point
+    # variances are exact here, and the independent part rests on 24 dof). Mutation tried: the
+    # residual's dof k (n - 1) instead of (k - 1)(n - 1) reads about 1.2 times the truth.
+    rng = np.random.default_rng(7)
+    fr = np.linspace(1, 15, 13)
+    est = [shift_r2(*with_var(study(rng, fr))) for _ in range(400)]
+    assert np.mean(est) == pytest.approx(SHIFT ** 2, rel=0.1)
+    none = [shift_r2(*with_var(study(rng, fr, shift=0.0), 0.0)) for _ in range(400)]
+    assert np.mean(none) < 0.15 * SHIFT ** 2     # no shift: near 0 (held at 0, so a little above)
+
+
+def test_the_shift_is_read_on_the_points_pulled_through_every_bed():
+    Y = np.array([[1.0, np.nan, 1.1], [2.0, 2.4, 2.2], [3.0, 3.3, 3.1], [4.0, 4.1, 4.5]])
+    var = np.array([1e-3, 4e-3, 9e-3, 16e-3])
+    full = Y[1:]
+    z = full / full.mean(axis=1)[:, None] - 1
+    r = z - z.mean(axis=0)
+    want = np.mean(3 * var[1:] / full.mean(axis=1) ** 2) - np.sum(r * r) / (2 * 2)
+    assert shift_r2(Y, var) == pytest.approx(max(0.0, want))
+    assert np.isnan(shift_r2(np.array([[1.0, np.nan], [np.nan, 2.0]]), [1.0, 1.0]))
+
+
+def points(y, err, seeds, r2):
+    return pd.DataFrame({"Fr": np.arange(len(y), dtype=float), "drag": y, "drag_err": err,
+                         "seeds": seeds, "drag_shift_r2": r2})
+
+
+def test_the_covariance_is_the_formula_and_held_below_each_points_variance():
+    p = points([100.0, 200.0, 300.0], [5.0, 8.0, 30.0], ["1;3", "1;2;3", "2"], 1e-3)
+    C = covariance(p, "drag", "drag_err")   # no split of the errors: each point's own on the diagonal
+    assert np.diag(C) == pytest.approx([25.0, 64.0, 900.0])
+    assert C[0, 1] == pytest.approx(1e-3 * 100 * 200 * 2 / (2 * 3))
+    assert C[1, 2] == pytest.approx(1e-3 * 200 * 300 * 1 / (3 * 1))
+    assert C[0, 2] == 0.0                         # no bed in common
+    assert np.all(np.linalg.eigvalsh(C) > 0)
+    big = covariance(p.assign(drag_shift_r2=1.0), "drag", "drag_err")   # a shift larger than the errors allow
+    held = SHARED_CAP * min(2 * 25 / 100 ** 2, 3 * 64 / 200 ** 2, 1 * 900 / 300 ** 2)
+    assert big[0, 1] == pytest.approx(held * 100 * 200 * 2 / 6)
+    assert np.all(np.linalg.eigvalsh(big) > 0)
+    # A table made before the shift, or a series without one: the errors alone
+    assert np.array_equal(covariance(p.drop(columns="drag_shift_r2"), "drag", "drag_err"), np.diag([25.0, 64, 900]))
+    assert np.array_equal(covariance(p.assign(drag_shift_r2=np.nan), "drag", "drag_err"), np.diag([25.0, 64, 900]))
+
+
+def test_the_fits_are_generalized_least_squares():
+    # Against numpy's solution of the whitened problem, and a covariance that is diagonal gives
+    # the standard errors' fit.
+    rng = np.random.default_rng(3)
+    x = FR
+    y = 1300 + 120 * x + 10 * rng.standard_normal(len(x))
+    A = rng.standard_normal((len(x), len(x)))
+    C = A @ A.T + np.eye(len(x)) * 50
+    X = np.column_stack([np.ones_like(x), x, x * x])
+    Ci = np.linalg.inv(C)
+    beta = np.linalg.solve(X.T @ Ci @ X, X.T @ Ci @ y)
+    r = y - X @ beta
+    q = fit_quadratic(x, y, C)
+    assert [q["a"], q["b"], q["c"]] == pytest.approx(beta, rel=1e-8)
+    assert q["chi2"] == pytest.approx(r @ Ci @ r, rel=1e-8)
+    assert q["c_err"] == pytest.approx(np.sqrt(np.linalg.inv(X.T @ Ci @ X)[2, 2]), rel=1e-8)
+    s = 5 + rng.random(len(x))
+    assert fit_line(x, y, np.diag(s ** 2))["chi2"] == pytest.approx(fit_line(x, y, s)["chi2"], rel=1e-10)
+    assert wls(X, y, np.diag(s ** 2))[1] == pytest.approx(wls(X, y, s)[1], rel=1e-10)
+
+
+def table_of(rng, fr=FR, curve=lambda f: 1300 + 120 * f, beds=3):
+    """combine_beds's point table of one synthetic study in the workflow's layout (a pull's own
+    error its true one, sqrt(shift² + own²) of its drag: the shift is in a pull's error too, as in
+    a pull's time series)."""
+    y = study(rng, fr, beds, curve=curve)
+    rows = [{"system": "I", "D": 3.0, "mu": 0.5, "kn": 2e6, "gamman": 3154.8, "V": f, "Fr": f,
+             "drag": y[i, b], "drag_err": np.hypot(SHIFT, OWN) * curve(f), "drag_dof": 10.0,
+             "run": f"pulls/system~I/D~3/seed~{b + 1}/Fr~{f:g}", "seed": float(b + 1)}
+            for i, f in enumerate(fr) for b in range(beds)]
+    return combine_beds(pd.DataFrame(rows))
+
+
+def test_the_tests_see_the_scatter_the_errors_promise_only_with_the_shift():
+    # 300 studies of a line with the rung's shift: the line's χ²/dof averages 1 with the table's
+    # covariance, and the independent part's share, OWN²/(SHIFT² + OWN²) = 0.39, when the fit is
+    # blind to the shift (its errors alone).
+    rng = np.random.default_rng(11)
+    with_shift, blind = [], []
+    for _ in range(300):
+        t = table_of(rng)
+        x, y = t.Fr.to_numpy(float), t.drag.to_numpy(float)
+        with_shift.append(fit_line(x, y, covariance(t, "drag", "drag_err"))["chi2"] / (len(x) - 2))
+        blind.append(fit_line(x, y, t.drag_err.to_numpy(float))["chi2"] / (len(x) - 2))
+    assert np.mean(with_shift) == pytest.approx(1.0, abs=0.15)
+    assert np.mean(blind) < 0.6
+
+
+def test_the_shift_gives_regime_one_its_power():
+    # A plateau to Fr 1 then a line, with the rung's shift: the calibrated power against a plateau
+    # of the paper's size is higher with the covariance than with the errors alone, whose copies
+    # carry noise the real curve does not have between its speeds.
+    rng = np.random.default_rng(5)
+    t = table_of(rng, curve=lambda f: 1400 + 150 * np.maximum(f - 1, 0))
+    x, y = t.Fr.to_numpy(float), t.drag.to_numpy(float)
+    C = covariance(t, "drag", "drag_err")
+    cal = Calibration("regime1", x, y, C, n_sim=600)
+    blind = Calibration("regime1", x, y, t.drag_err.to_numpy(float), n_sim=600)
+    assert cal.power > blind.power + 0.1
+    assert 0.02 < cal.false_positive_rate < 0.09
+
+
+def test_the_regime_tests_take_the_tables_shift():
+    # Wiring: regime_tests reads the table's covariance (Δχ² as the fit on it gives), and a table
+    # made before the shift reads its errors alone. Mutation tried: regime_tests passing g[err]:
+    # its regime I Δχ² is then the blind one.
+    from analysis.regime_tests.regime_fits import profile_plateau_line
+    from analysis.regime_tests.regime_tests import regime_tests
+    rng = np.random.default_rng(2)
+    t = table_of(rng, curve=lambda f: 1400 + 150 * np.maximum(f - 1, 0)).assign(h=np.nan)
+    x, y = t.Fr.to_numpy(float), t.drag.to_numpy(float)
+    steady = lambda tab: regime_tests(tab, n_sim=100, averaging="steady").set_index("test").loc["regime1"]
+    C = covariance(t, "drag", "drag_err")
+    want = profile_plateau_line(x, y, C)["chi2"] - fit_line(x, y, C)["chi2"]
+    assert steady(t).delta_chi2 == pytest.approx(want, rel=1e-6)
+    s = t.drag_err.to_numpy(float)
+    blind = profile_plateau_line(x, y, s)["chi2"] - fit_line(x, y, s)["chi2"]
+    assert steady(t.drop(columns="drag_shift_r2")).delta_chi2 == pytest.approx(blind, rel=1e-6)
+    assert abs(want - blind) > 0.1
