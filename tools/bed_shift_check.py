@@ -19,9 +19,10 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tools"))
 
+from equal_length_table import RUNG, equal_length  # noqa: E402
+
 from analysis.core.table import is_yield, mark_yield  # noqa: E402
 from analysis.runs.runs import load_runs  # noqa: E402
-from equal_length_table import RUNG, equal_length  # noqa: E402
 
 
 def pair_statistic(Z):
@@ -49,8 +50,9 @@ def check(runs, column, err_column, permutations, rng):
     print("  each bed's mean deviation: " + ", ".join(
         f"seed {s:g} {100 * o:+.2f} %" for s, o in zip(offset.index, offset)))
     print(f"  pair statistic {observed:.3f}, permutation p {(1 + np.sum(null >= observed)) / (permutations + 1):.4f}")
+    out = float(((resid / erel) ** 2).to_numpy().sum())
     print(f"  beds' residuals about the points' means: chi2 {float((Z ** 2).sum()):.1f} for {(k - 1) * n} dof; "
-          f"with each bed's deviation out: {float(((resid / erel) ** 2).to_numpy().sum()):.1f} for {(k - 1) * (n - 1)} dof")
+          f"with each bed's deviation out: {out:.1f} for {(k - 1) * (n - 1)} dof")
 
 
 def main(argv=None):
