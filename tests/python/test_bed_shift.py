@@ -24,33 +24,26 @@ def study(rng, fr=FR, beds=3, shift=SHIFT, own=OWN, curve=lambda f: 1300 + 120 *
     return y
 
 
-def with_var(Y, shift=SHIFT):
-    """(drags, the points' variances) as the table gives them: each pull's true relative variance,
-    shift² + OWN², over k beds."""
-    return Y, (shift ** 2 + OWN ** 2) * Y.mean(axis=1) ** 2 / Y.shape[1]
-
-
-def test_the_shift_estimate_is_unbiased():
-    # 400 studies of 13 speeds and 3 beds: the mean of σ_β² within 10 % of the truth (the point
-    # variances are exact here, and the independent part rests on 24 dof). Mutation tried: the
-    # residual's dof k (n - 1) instead of (k - 1)(n - 1) reads about 1.2 times the truth.
+def test_the_shift_estimate_is_unbiased_and_uses_no_pulls_error():
+    # 400 studies of 13 speeds and 3 beds: the mean of σ_β² within 20 % of the truth (its estimate
+    # rests on about two dof, so one study's scatters by about 100 %; the mean's by 5 %). Mutation
+    # tried: dividing by k instead of k - 1 reads 0.67 of the truth.
     rng = np.random.default_rng(7)
     fr = np.linspace(1, 15, 13)
-    est = [shift_r2(*with_var(study(rng, fr))) for _ in range(400)]
-    assert np.mean(est) == pytest.approx(SHIFT ** 2, rel=0.1)
-    none = [shift_r2(*with_var(study(rng, fr, shift=0.0), 0.0)) for _ in range(400)]
+    est = [shift_r2(study(rng, fr)) for _ in range(400)]
+    assert np.mean(est) == pytest.approx(SHIFT ** 2, rel=0.2)
+    none = [shift_r2(study(rng, fr, shift=0.0)) for _ in range(400)]
     assert np.mean(none) < 0.15 * SHIFT ** 2     # no shift: near 0 (held at 0, so a little above)
 
 
-def test_the_shift_is_read_on_the_points_pulled_through_every_bed():
-    Y = np.array([[1.0, np.nan, 1.1], [2.0, 2.4, 2.2], [3.0, 3.3, 3.1], [4.0, 4.1, 4.5]])
-    var = np.array([1e-3, 4e-3, 9e-3, 16e-3])
-    full = Y[1:]
-    z = full / full.mean(axis=1)[:, None] - 1
-    r = z - z.mean(axis=0)
-    want = np.mean(3 * var[1:] / full.mean(axis=1) ** 2) - np.sum(r * r) / (2 * 2)
-    assert shift_r2(Y, var) == pytest.approx(max(0.0, want))
-    assert np.isnan(shift_r2(np.array([[1.0, np.nan], [np.nan, 2.0]]), [1.0, 1.0]))
+def test_a_point_with_fewer_beds_shares_only_the_ones_it_has():
+    Y = np.array([[1.0, np.nan, 1.1], [2.0, 2.4, 2.2], [3.0, 3.3, np.nan]])
+    # pairs sharing two beds: (0, 1) over beds 0 and 2; (1, 2) over beds 0 and 1; (0, 2) share one
+    r = lambda v: v / v.mean() - 1
+    want = (np.sum(r(np.array([1.0, 1.1])) * r(np.array([2.0, 2.2])))
+            + np.sum(r(np.array([2.0, 2.4])) * r(np.array([3.0, 3.3])))) / 2
+    assert shift_r2(Y) == pytest.approx(max(0.0, want))
+    assert np.isnan(shift_r2(np.array([[1.0, np.nan], [np.nan, 2.0]])))
 
 
 def points(y, err, seeds, r2):
@@ -109,18 +102,20 @@ def table_of(rng, fr=FR, curve=lambda f: 1300 + 120 * f, beds=3):
 
 
 def test_the_tests_see_the_scatter_the_errors_promise_only_with_the_shift():
-    # 300 studies of a line with the rung's shift: the line's χ²/dof averages 1 with the table's
-    # covariance, and the independent part's share, OWN²/(SHIFT² + OWN²) = 0.39, when the fit is
-    # blind to the shift (its errors alone).
+    # 300 studies of a line over the rung's 14 speeds with its shift: the line's χ²/dof averages
+    # about 0.75 with the table's covariance (1 would need σ_β² exactly; estimated on three beds it
+    # is often low, median 0.6 of the truth) and the independent part's share, OWN²/(SHIFT² + OWN²)
+    # = 0.39, when the fit is blind to the shift (its errors alone): 0.34 measured.
     rng = np.random.default_rng(11)
+    fr = np.array([0.5, 0.75, 1, 1.5, 2, 3, 4, 5, 6, 7, 8, 10, 12, 15.0])
     with_shift, blind = [], []
     for _ in range(300):
-        t = table_of(rng)
+        t = table_of(rng, fr)
         x, y = t.Fr.to_numpy(float), t.drag.to_numpy(float)
         with_shift.append(fit_line(x, y, covariance(t, "drag", "drag_err"))["chi2"] / (len(x) - 2))
         blind.append(fit_line(x, y, t.drag_err.to_numpy(float))["chi2"] / (len(x) - 2))
-    assert np.mean(with_shift) == pytest.approx(1.0, abs=0.15)
-    assert np.mean(blind) < 0.6
+    assert 0.62 < np.mean(with_shift) < 1.1
+    assert np.mean(blind) < 0.45
 
 
 def test_the_shift_gives_regime_one_its_power():
@@ -128,9 +123,9 @@ def test_the_shift_gives_regime_one_its_power():
     # of the paper's size is higher with the covariance than with the errors alone, whose copies
     # carry noise the real curve does not have between its speeds.
     rng = np.random.default_rng(5)
-    t = table_of(rng, curve=lambda f: 1400 + 150 * np.maximum(f - 1, 0))
+    t = table_of(rng, curve=lambda f: 1400 + 150 * np.maximum(f - 1, 0)).assign(drag_shift_r2=SHIFT ** 2)
     x, y = t.Fr.to_numpy(float), t.drag.to_numpy(float)
-    C = covariance(t, "drag", "drag_err")
+    C = covariance(t, "drag", "drag_err")   # the shift known: its estimate is tested above
     cal = Calibration("regime1", x, y, C, n_sim=600)
     blind = Calibration("regime1", x, y, t.drag_err.to_numpy(float), n_sim=600)
     assert cal.power > blind.power + 0.1
