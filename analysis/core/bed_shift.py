@@ -25,6 +25,7 @@ so the shift moves weight between points but never shrinks a point's error.
 """
 import numpy as np
 
+from .bed_spread import _moments
 from .point_errors import pooled_drag_err
 
 # (drag column, its error column, the point table's column of its series' σ_β²)
@@ -65,11 +66,7 @@ def bed_shift(out, runs, codes):
         if col not in runs or err not in runs:
             continue
         if f"{col}_err_within" not in out:
-            y, e = runs[col].to_numpy(float), runs[err].to_numpy(float)
-            m = np.bincount(codes, y) / k
-            with np.errstate(invalid="ignore", divide="ignore"):
-                s2 = np.where(k >= 2, np.bincount(codes, (y - m[codes]) ** 2) / (k - 1), np.nan)
-            W = np.bincount(codes, e ** 2) / k
+            _, s2, W = _moments(codes, k, runs[col].to_numpy(float), runs[err].to_numpy(float))
             out[f"{col}_err_within"] = np.sqrt(W / k)
             out[f"{col}_err_between"] = np.sqrt(np.maximum(0.0, np.nan_to_num(s2) - W) / k)
             out[f"{col}_var_excess"] = np.where(k >= 2, (s2 - W) / k, np.nan)
