@@ -4,9 +4,10 @@ b Fr₂ - b' Fr₂²) with Fr₂ fixed or profiled, and regime I's plateau up to
 
 Every model is linear in its coefficients once its crossover is given, so each is a stack of design
 matrices, one per crossover on a grid (Family), fitted by generalized least squares (the errors a
-vector of standard errors or a covariance: a bed shifts all its speeds alike, analysis.core.bed_shift) to many copies of
-the curve at once: the same code fits the data and the thousands of synthetic copies the power
-calibration (analysis.regime_tests.regime_power) fits, so the statistic it calibrates is the one reported.
+vector of standard errors or a covariance: a bed shifts all its speeds alike,
+analysis.core.bed_shift) to many copies of the curve at once: the same code fits the data and the
+thousands of synthetic copies the power calibration (analysis.regime_tests.regime_power) fits, so
+the statistic it calibrates is the one reported.
 
 The paper's shape is held to its own meaning: regime III rises at least as much as regime II's line
 over the fitted range, b' (Fr_end² - Fr₂²) ≥ b (Fr_end - Fr₂), Fr_end the range's last speed.

@@ -1,9 +1,10 @@
 """What a regime test can see on a given curve: its detection threshold, false-positive rate and
 power, calibrated on synthetic copies of the curve, and the verdict in words that follows.
 
-A copy is a mean curve plus Gaussian noise of the curve's own errors on its own Fr points. The
-threshold of a statistic (larger: more evidence for the alternative) is the 95th percentile over
-copies of the null, the best-fit line, so 5 % of lines pass it. The actual false-positive rate is
+A copy is a mean curve plus Gaussian noise of the curve's own errors on its own Fr points (drawn
+from their covariance when they have one: regime_fits.draw). The threshold of a statistic
+(larger: more evidence for the alternative) is the 95th percentile over copies of the null, the
+best-fit line, so 5 % of lines pass it. The actual false-positive rate is
 measured apart, on fresh copies of lines drawn from that fit's covariance (the true line is not
 the fitted one: the paper shape's Δχ² is not invariant to the line's slope). Power is the fraction
 of copies of the alternative that pass the threshold.
