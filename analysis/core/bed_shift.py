@@ -71,11 +71,10 @@ def bed_shift(out, runs, codes):
             out[f"{col}_err_between"] = np.sqrt(np.maximum(0.0, np.nan_to_num(s2) - W) / k)
             out[f"{col}_var_excess"] = np.where(k >= 2, (s2 - W) / k, np.nan)
         out[name] = np.nan
+        Y = runs.assign(_code=codes).pivot_table(index="_code", columns="seed", values=col, aggfunc="mean")
         for s in np.unique(series):
             mine = np.flatnonzero(series == s)
-            part = runs.assign(_code=codes)[np.isin(codes, mine)]
-            Y = part.pivot_table(index="_code", columns="seed", values=col, aggfunc="mean").reindex(mine)
-            out.loc[mine, name] = shift_r2(Y.to_numpy(float))
+            out.loc[mine, name] = shift_r2(Y.reindex(mine).to_numpy(float))
 
 
 def bed_sets(points):
