@@ -98,6 +98,23 @@ def pooled_variance(points, column, err_column):
     return np.asarray(pooled_drag_err(as_drag), float) ** 2
 
 
+def _shift_column(points, column):
+    """The points' column of σ_β² for `column` (SHIFT_COLUMNS) when it holds a value, else None."""
+    name = next((n for c, ec, n in SHIFT_COLUMNS if c == column), None)
+    if name is None or name not in points.columns or not np.isfinite(points[name].to_numpy(float)).any():
+        return None
+    return name
+
+
+def curve_errors(points, column="drag", err_column="drag_err"):
+    """What a fit of a curve through the points weighs them by: their covariance when the table
+    knows their series' σ_β², else each point's pooled error (pooled_variance), as the fits weighed
+    them before the shift was measured (a table made before it reads as it did)."""
+    if _shift_column(points, column) is None:
+        return np.sqrt(pooled_variance(points, column, err_column))
+    return covariance(points, column, err_column)
+
+
 def covariance(points, column, err_column):
     """The covariance of the points' `column` (in their order): each point's pooled_variance on the
     diagonal and, between two points, σ_β² y_i y_j n_ij / (k_i k_j) (n_ij the beds they share, k
@@ -105,8 +122,8 @@ def covariance(points, column, err_column):
     SHARED_CAP of its variance). Each point's error² alone when the table has no σ_β² (made before
     it, one bed a point, no pair)."""
     y = points[column].to_numpy(float)
-    name = next((n for c, ec, n in SHIFT_COLUMNS if c == column), None)
-    if name is None or name not in points.columns or not np.isfinite(points[name].to_numpy(float)).any():
+    name = _shift_column(points, column)
+    if name is None:
         return np.diag(points[err_column].to_numpy(float) ** 2)
     v = pooled_variance(points, column, err_column)
     e = np.sqrt(v)

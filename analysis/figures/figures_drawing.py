@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.ticker import FormatStrFormatter
 
+from ..core.bed_shift import curve_errors
 from ..core.table import is_yield, pooled_drag_err, reference_params, select, write_csv
 from ..fits.fits import evaluate, fit_regimes
 from ..fits.goodness import chi2_far_out
@@ -183,7 +184,7 @@ def _regime_fits(rows, by, mu, fits):
         if key not in fits:
             g = g[~is_yield(g)]      # fitted to the pulls at speed, weighted as the report's
             try:
-                fits[key] = fit_regimes(g.Fr, g.drag, pooled_drag_err(g), n_boot=0,
+                fits[key] = fit_regimes(g.Fr, g.drag, curve_errors(g), n_boot=0,
                                         regime1="power" if mu == 0 else "constant")
             except ValueError:
                 fits[key] = None

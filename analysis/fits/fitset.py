@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 
 from ..core import paper
+from ..core.bed_shift import curve_errors
 from ..core.result import N_BOOT
 from ..core.table import (
     bed_labels,
@@ -151,7 +152,7 @@ def run_fits(df, n_boot=N_BOOT, seed=0, options=None):
                 # The paper fits the drag-vs-Fr data (Figs. 5, 10, 16); the yield pull is
                 # reported beside the fit, not in it (at mu = 0 it alone would fix a'').
                 fit = _try(r, f"regimes at mu={mu:g}, {by}={key:g}", fit_regimes, moving.Fr,
-                           moving.drag, pooled_drag_err(moving), regime1="power" if mu == 0 else "constant",
+                           moving.drag, curve_errors(moving), regime1="power" if mu == 0 else "constant",
                            n_boot=n_boot, seed=seed, bed_scatter=bed_scatter,
                            beds=int(moving["n_beds"].min()) if "n_beds" in moving.columns else 1,
                            noise=moving["drag_err_within"] if "drag_err_within" in moving.columns else None)

@@ -98,14 +98,16 @@ def runs_test(x, residuals, groups=None):
 def goodness(x, y, model, n_params, sigma=None, groups=None):
     """The goodness of a fit (module docstring) as a dict for a Fit's meta: x, y the fitted
     points, model the fitted curve at x, n_params the fitted parameters, sigma the per-point
-    errors it was weighted by (None: unweighted), groups the series each point belongs to
-    (runs are counted within a series; None: one series)."""
+    errors it was weighted by (None: unweighted) or their covariance (n, n: χ² = rᵀ C⁻¹ r),
+    groups the series each point belongs to (runs are counted within a series; None: one
+    series)."""
     x, y, model = (np.asarray(v, float) for v in (x, y, model))
     resid = y - model
     dof = len(x) - int(n_params)
     out = {"n_points": int(len(x)), "dof": int(dof), "chi2": None, "chi2_dof": None, "chi2_p": None}
     if sigma is not None and dof > 0:
-        chi2 = float(np.sum((resid / np.asarray(sigma, float)) ** 2))
+        s = np.asarray(sigma, float)
+        chi2 = float(resid @ np.linalg.solve(s, resid) if s.ndim == 2 else np.sum((resid / s) ** 2))
         out.update(chi2=chi2, chi2_dof=chi2 / dof, chi2_p=float(stats.chi2.sf(chi2, dof)))
     runs, expected, p, smallest = runs_test(x, resid, groups)
     # Testable when the fewest runs these signs allow would be significant.

@@ -104,7 +104,9 @@ def fit_regimes(Fr, drag, sigma=None, *, regime1="constant", continuous=True,
     a2, b2, Fr1, Fr2), each with a bootstrap standard error (NaN if n_boot=0).
 
     sigma: per-point standard errors of the drag, used as weights 1/sigma^2
-    when all are finite and positive; otherwise the points weigh equally.
+    when all are finite and positive; otherwise the points weigh equally. Or their covariance
+    (n, n: the beds' shared shift, analysis.core.bed_shift.curve_errors), fitted by generalized
+    least squares.
     bed_scatter, beds: the relative between-bed scatter and the beds each point averages
     (module docstring); 0: the points' errors are independent.
     noise: each point's own error, independent of the others' (the within-run part of a point
@@ -181,6 +183,16 @@ def profile_fr2(Fr, drag, sigma=None, fr2_values=None, *, regime1="constant", co
     return rows
 
 
+def whiten(w, a):
+    """a (a vector of the points, or matrices with the points along axis -2) in the frame where
+    the points' errors are independent and of unit size: times √w for weights w (n,), W @ a for
+    a covariance's whitener W (n, n; W C Wᵀ = 1)."""
+    w = np.asarray(w, float)
+    if w.ndim == 2:
+        return w @ a
+    return a * np.sqrt(w) if np.ndim(a) == 1 else a * np.sqrt(w)[:, None]
+
+
 class RegimeFitter:
     """One variant of the model (power-law regime I or not, continuous or not)
     and its profile least-squares search."""
@@ -192,22 +204,26 @@ class RegimeFitter:
         self.power, self.continuous, self.grid = regime1 == "power", continuous, grid
         self.min_points = dict(MIN_POINTS)
         self.weighted = False   # set by prepare: the points had usable errors
+        self.sigma = None       # set by prepare: those errors (standard errors or a covariance)
         self.scaled = False     # set by noise_scale: the points' errors scaled up by chi^2/dof
 
     def prepare(self, Fr, drag, sigma=None):
-        """Finite points sorted by Fr, with weights; raise if too few."""
+        """Finite points sorted by Fr, with their weights w (whiten's: 1/sigma², or the whitener
+        of a covariance); raise if too few."""
         x, y = np.array(Fr, float), np.asarray(drag, float)
         ok = np.isfinite(x) & np.isfinite(y)
         x[ok] = nominal_froude(x[ok])
+        order = np.argsort(x[ok], kind="stable")
+        self._order = np.flatnonzero(ok)[order]   # the input rows, in fitting order
+        x, y = x[ok][order], y[ok][order]
         w = np.ones_like(x)
         if sigma is not None:
             s = np.asarray(sigma, float)
-            if np.all(np.isfinite(s[ok]) & (s[ok] > 0)):
-                w = 1.0 / s ** 2
-                self.weighted = True
-        order = np.argsort(x[ok], kind="stable")
-        self._order = np.flatnonzero(ok)[order]   # the input rows, in fitting order
-        x, y, w = x[ok][order], y[ok][order], w[ok][order]
+            s = s[np.ix_(self._order, self._order)] if s.ndim == 2 else s[self._order]
+            var = np.diagonal(s) if s.ndim == 2 else s ** 2
+            if np.all(np.isfinite(s)) and np.all(var > 0):
+                w = np.linalg.inv(np.linalg.cholesky(s)) if s.ndim == 2 else 1.0 / var
+                self.weighted, self.sigma = True, s
         need = self.min_total()
         if len(x) < need:
             raise ValueError(f"three-regime fit needs at least {need} points, got {len(x)}")
@@ -261,7 +277,7 @@ class RegimeFitter:
             cols.append(dc0[:, None])
         if self.continuous:
             cols.append(np.column_stack([x >= f1, x >= f2]).astype(float))
-        J = np.hstack(cols) * np.sqrt(w)[:, None]
+        J = whiten(w, np.hstack(cols))
         norm = np.linalg.norm(J, axis=0)
         J = J[:, norm > 0] / norm[norm > 0]
         u, sv, _ = np.linalg.svd(J, full_matrices=False)
@@ -298,7 +314,7 @@ class RegimeFitter:
                          "violations": violations(best, errs),
                          **({} if y is None else {"goodness": goodness(
                              x, y, regime_curve(x, **best), self.n_free(x, best),
-                             1.0 / np.sqrt(w) if self.weighted else None, groups)})},
+                             self.sigma, groups)})},
                    replicates=arr)
 
     def at_bounds(self, x, y, w, best):
@@ -408,8 +424,7 @@ class RegimeFitter:
         return np.stack(cols, axis=-1)
 
     def _solve(self, x, y, w, c):
-        X = self._design(x, c) * np.sqrt(w)[None, :, None]
-        yw = y * np.sqrt(w)
+        X, yw = whiten(w, self._design(x, c)), whiten(w, y)
         if len(c) == 1:
             beta = np.linalg.lstsq(X[0], yw, rcond=None)[0][None, :]
         else:

@@ -149,3 +149,30 @@ def test_the_regime_tests_take_the_tables_shift():
     blind = profile_plateau_line(x, y, s)["chi2"] - fit_line(x, y, s)["chi2"]
     assert steady(t.drop(columns="drag_shift_r2")).delta_chi2 == pytest.approx(blind, rel=1e-6)
     assert abs(want - blind) > 0.1
+
+
+def test_the_three_regime_fit_takes_the_tables_shift():
+    # Wiring: fitset.run_fits fits the drag curve on the table's covariance (its χ² is rᵀ C⁻¹ r of
+    # the fitted curve), and a table made before the shift on the pooled errors, as before.
+    # Mutation tried: run_fits passing pooled_drag_err again: the first assertion fails.
+    from analysis.core.physics import froude_speed
+    from analysis.core.point_errors import pooled_drag_err
+    from analysis.fits.fitset import run_fits
+    from analysis.fits.regimes import regime_curve
+    fr = np.array([0.25, 0.5, 0.75, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0])
+    t = table_of(np.random.default_rng(3), fr=fr, curve=lambda f: 1300 + 150 * np.maximum(f - 0.8, 0) + 4 * f ** 2)
+    t = t.assign(h=14.0, yield_pull=False, n_contacts=np.nan, theta=np.nan, Z=np.nan, kappa=np.nan,
+                 V=froude_speed(t.Fr, 3.0))
+    t = t.sort_values("Fr").reset_index(drop=True)
+
+    def chi2(tab, errors):
+        fit = run_fits(tab, n_boot=0).regimes[("D", 0.5, 3.0)]
+        r = tab.drag.to_numpy(float) - regime_curve(tab.Fr.to_numpy(float), **{k: fit[k].value for k in fit.params})
+        C = np.asarray(errors, float)
+        want = r @ np.linalg.solve(C, r) if C.ndim == 2 else np.sum((r / C) ** 2)
+        return fit.meta["goodness"]["chi2"], want
+
+    got, want = chi2(t, covariance(t, "drag", "drag_err"))
+    assert got == pytest.approx(want, rel=1e-6)
+    got, want = chi2(t.drop(columns="drag_shift_r2"), pooled_drag_err(t))
+    assert got == pytest.approx(want, rel=1e-6)

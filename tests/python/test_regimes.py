@@ -215,3 +215,53 @@ def test_fr2_profile_excludes_a_far_crossover_and_keeps_the_true_one():
     assert abs(rows[fit["Fr2"].value]) < 0.05
     assert rows[5.0] < 3.84
     assert rows[8.0] > 3.84
+
+
+def _shared_covariance(s, y, r2):
+    """Independent errors s plus one shared relative shift of variance r2 (a bed's)."""
+    return np.diag(s ** 2) + r2 * np.outer(y, y) * (1 - np.eye(len(y)))
+
+
+def test_covariance_that_is_diagonal_fits_as_the_weights_do():
+    # A diagonal covariance is the weights 1/s²: the same crossovers, coefficients and χ².
+    y, s = noisy(0.5, 0.03, 4)
+    a = fit_regimes(FR, y, s, n_boot=0)
+    b = fit_regimes(FR, y, np.diag(s ** 2), n_boot=0)
+    for k in a.params:
+        assert b[k].value == pytest.approx(a[k].value, rel=1e-9), k
+    assert b.meta["goodness"]["chi2"] == pytest.approx(a.meta["goodness"]["chi2"], rel=1e-9)
+
+
+def test_covariance_fits_by_generalized_least_squares():
+    # With the crossovers held where the fit put them, the coefficients are numpy's GLS on the
+    # same design, and the fit's χ² is rᵀ C⁻¹ r of its residuals (the input in shuffled order:
+    # the covariance follows its points).
+    y, s = noisy(0.5, 0.03, 5)
+    C = _shared_covariance(s, y, 0.02 ** 2)
+    order = np.random.default_rng(0).permutation(len(FR))
+    fit = fit_regimes(FR[order], y[order], C[np.ix_(order, order)], n_boot=0)
+    fitter = RegimeFitter()
+    X = fitter._design(FR, np.array([[fit["Fr1"].value, fit["Fr2"].value, 1.0]]))[0]
+    Ci = np.linalg.inv(C)
+    beta = np.linalg.solve(X.T @ Ci @ X, X.T @ Ci @ y)
+    model = X @ beta
+    assert regime_curve(FR, **{k: fit[k].value for k in fit.params}) == pytest.approx(model, rel=1e-7)
+    r = y - model
+    assert fit.meta["goodness"]["chi2"] == pytest.approx(float(r @ Ci @ r), rel=1e-7)
+
+
+def test_shared_shift_left_out_of_the_errors_reads_a_smoother_curve():
+    # Points that share a bed's relative shift: blind to it (the diagonal alone), the fit's χ²/dof
+    # sits well below 1, as the box40-deep rung's did; with the covariance it is about 1. The
+    # test fails if the covariance's off-diagonal part is dropped.
+    rng = np.random.default_rng(7)
+    truth = regime_curve(FR, **synth.G_params(0.5))
+    s, r2 = 0.015 * truth, 0.02 ** 2
+    C = np.diag(s ** 2) + r2 * np.outer(truth, truth)
+    blind, seen = [], []
+    for _ in range(40):
+        y = truth * (1 + 0.02 * rng.standard_normal()) + s * rng.standard_normal(len(FR))
+        blind.append(fit_regimes(FR, y, np.sqrt(np.diag(C)), n_boot=0).meta["goodness"]["chi2_dof"])
+        seen.append(fit_regimes(FR, y, C, n_boot=0).meta["goodness"]["chi2_dof"])
+    assert np.mean(blind) < 0.6
+    assert 0.75 < np.mean(seen) < 1.3
