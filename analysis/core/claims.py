@@ -15,7 +15,7 @@ OTHER = "other"     # a report row no claim names (a row the report gained later
 
 def claim_of(quantity):
     """The claim letter of a report row, from its quantity text (analysis/report/report.py)."""
-    for prefix, letter in (("Fr_1 (", "a"), ("Fr_2 (", "a"), ("θ(Fr)", "b"), ("κ(Fr)", "c"),
+    for prefix, letter in (("Fr_1 (", "a"), ("Fr_2 (", "a"), ("θ(Fr)", "b"), ("θ_present(Fr)", "b"), ("κ(Fr)", "c"),
                            ("φ_0", "d"), ("F_Y saturating", "d"), ("α_0", "e"), ("α_μ + φ_μ", "f"),
                            ("Table I", "g")):
         if quantity.startswith(prefix):

@@ -100,6 +100,9 @@ def test_eq7_fit_of_theta_present_recovers_its_truth_beside_theta(tmp_path):
     quantities = [row.quantity for row in comparisons(back, t)]
     assert sum(q.startswith("θ(Fr) Υ") for q in quantities) == 3
     assert sum(q.startswith("θ_present(Fr) Υ") and "time-weighted" in q for q in quantities) == 3
+    # ... both claim (b)'s, so the ladder's table by claim carries them
+    from analysis.core.claims import claim_of
+    assert {claim_of(q) for q in quantities if q.startswith(("θ(Fr)", "θ_present(Fr)"))} == {"b"}
     # Fig. 6: a panel for each, the time-weighted one with its own fit
     fig06_theta(t, tmp_path, fit=back.theta, fit_present=back.theta_present)
     drawn = pd.read_csv(tmp_path / "fig06_theta_vs_Fr.csv")
