@@ -220,9 +220,9 @@ class RegimeFitter:
         if sigma is not None:
             s = np.asarray(sigma, float)
             s = s[np.ix_(self._order, self._order)] if s.ndim == 2 else s[self._order]
-            var = np.diagonal(s) if s.ndim == 2 else s ** 2
-            if np.all(np.isfinite(s)) and np.all(var > 0):
-                w = np.linalg.inv(np.linalg.cholesky(s)) if s.ndim == 2 else 1.0 / var
+            positive = np.diagonal(s) if s.ndim == 2 else s    # variances, or standard errors
+            if np.all(np.isfinite(s)) and np.all(positive > 0):
+                w = np.linalg.inv(np.linalg.cholesky(s)) if s.ndim == 2 else 1.0 / s ** 2
                 self.weighted, self.sigma = True, s
         need = self.min_total()
         if len(x) < need:
