@@ -13,6 +13,7 @@ every name here is a subpackage or module, and that the rooms import each other 
     figures  one function per paper figure (PNG + PDF), and what they share
     regime_tests  claim (a) tested: a line, a quadratic and the paper's shape, with their power
     report   Markdown/HTML report with fitted-vs-published table and its verdicts
+    deep_law  claims (d)-(f) on deep intruders and on every depth: alpha_mu, collapse, sum rule
     validation  validation studies against their reference protocol, pooled over studies
     ladder   the reproduction ladder (collect, claims, diagnostics, report)
 and at the top, the commands that drive them:

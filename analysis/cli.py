@@ -9,6 +9,8 @@
     python -m analysis ladder collect --config config/ladder/X.yaml --results results/ladder/X
                                       --wall-seconds 1234 --cores 2 [--started ISO] [--out DIR]
     python -m analysis ladder table results/reproduction [--n-boot 100] [--seed 0]
+    python -m analysis regime-tests TABLE.csv --out DIR
+    python -m analysis deep-law TABLE.csv --out DIR [--h-min 45] [--phi fits.json]
 
 `fit` does what the workflow's `fits` rule does, on any table with the columns of
 results/table.csv (analysis.core.table.COLUMNS); the file it writes is described in
@@ -20,7 +22,10 @@ runs with the reference protocol (analysis.validation.validation), or finds how 
 one study's comparison tables over several studies (analysis.validation.validation_pool). `ladder`
 keeps the reproduction ladder (analysis.ladder.ladder): `collect` copies a finished study's small
 files into a rung directory (default results/reproduction/<config stem>), `table` writes the
-claims-by-rungs table, its figures and README section. Errors go to standard error with exit
+claims-by-rungs table, its figures and README section. `regime-tests` tests claim (a) with
+calibrated power (analysis.regime_tests); `deep-law` reads claims (d)-(f) on deep intruders and on
+every depth apart, the sum rule with phi_mu from another study's fit file (analysis.deep_law).
+Errors go to standard error with exit
 status 2; outputs are written under a temporary name and renamed when complete.
 """
 import argparse
@@ -142,6 +147,32 @@ def _regime_tests(args):
     return 0
 
 
+def _deep_law(args):
+    import pandas as pd
+
+    from .core.table import load_csv
+    from .deep_law.deep_law import write_deep_law
+    from .deep_law.deep_law_figure import draw
+    from .fits.fit_file import load_fits
+
+    df = load_csv(args.table)
+    phi = None
+    if args.phi:
+        phi = load_fits(args.phi).tables.get("phi")
+        if phi is None or not len(phi):
+            raise ValueError(f"{args.phi}: its fit file has no phi table (phi_mu needs system I yield pulls at "
+                             f"several D); give --phi the fits.json of a study that has them")
+        phi = phi.apply(lambda c: pd.to_numeric(c, errors="coerce"))   # JSON nulls -> NaN
+    table, path = write_deep_law(df, args.out, h_min=args.h_min, speeds=args.alpha_speeds, phi=phi)
+    draw(df, args.out, h_min=args.h_min, speeds=args.alpha_speeds)
+    for r in table.itertuples():
+        what = (f"{r.value:.3f} ± {r.err:.3f}" if r.value == r.value
+                else f"chi2 {r.chi2:.1f} for {r.n} points, p {r.p:.2g}")
+        print(f"D={r.D:g} mu={r.mu:g} {r.quantity} [{r.depths}]: {what} {r.verdict}".rstrip())
+    print(path)
+    return 0
+
+
 def _predict(argv):
     from .predict import main as predict_main
 
@@ -150,7 +181,8 @@ def _predict(argv):
 
 def parser():
     ap = argparse.ArgumentParser(prog="python -m analysis", description=__doc__.split("\n")[0])
-    sub = ap.add_subparsers(dest="command", required=True, metavar="{fit,report,predict,validate,pool,ladder}")
+    sub = ap.add_subparsers(dest="command", required=True,
+                            metavar="{fit,report,predict,validate,pool,ladder,regime-tests,deep-law}")
     f = sub.add_parser("fit", help="every fit of the report -> fits.json")
     f.add_argument("table", help="pull table (CSV with the columns of results/table.csv)")
     f.add_argument("--output", required=True, help="fit file to write (JSON, analysis/README.md)")
@@ -196,6 +228,15 @@ def parser():
     rt.add_argument("--averaging", choices=("both", "steady", "cumulative"), default="both",
                     help="the drag tested: steady (column drag), the paper's cumulative average from t = 0 "
                          "over one box length (drag_cumulative_box), or both (default: each the table has)")
+    dl = sub.add_parser("deep-law", help="claims (d)-(f) on deep intruders and on every depth: deep_law.csv, figures")
+    dl.add_argument("table", help="pull table (CSV) with system II pulls at several depths")
+    dl.add_argument("--out", required=True, help="directory of deep_law.csv, deep_law.md and the figures")
+    dl.add_argument("--h-min", type=_non_negative(float, "--h-min"), default=45.0,
+                    help="the deep intruders: h >= this [d] (paper: 45)")
+    dl.add_argument("--phi", help="fits.json of a study with phi_mu at the same contact law (system I yield "
+                                  "pulls at several D), for the sum rule alpha_mu + phi_mu")
+    dl.add_argument("--alpha-speeds", type=_speeds, default=ALPHA_SPEEDS,
+                    help="speeds alpha_mu is averaged over (default 0.5,1,2,4,6)")
     return ap
 
 
@@ -227,7 +268,7 @@ def main(argv=None):
 
     try:
         commands = {"fit": _fit, "report": _report, "validate": _validate, "pool": _pool, "ladder": _ladder,
-                    "regime-tests": _regime_tests}
+                    "regime-tests": _regime_tests, "deep-law": _deep_law}
         return commands[args.command](args)
     except (TableError, FitFileError, ValueError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)

@@ -1,7 +1,7 @@
 """The analysis package's layout: one room (subpackage) per concern, each saying its job in one
 line, the commands at the top, and imports in one direction only.
 
-    core  <-  runs, fits  <-  figures  <-  regime_tests, report  <-  validation, ladder  <-  commands
+    core  <-  runs, fits  <-  figures  <-  regime_tests, report  <-  deep_law  <-  validation, ladder  <-  commands
 
 Imports are read with ast, relative and absolute ones, deferred ones (inside a function) too:
 a cycle makes the import order matter and hides which room owns a concept.
