@@ -148,21 +148,15 @@ def _regime_tests(args):
 
 
 def _deep_law(args):
-    import pandas as pd
-
     from .core.table import load_csv
-    from .deep_law.deep_law import write_deep_law
+    from .deep_law.deep_law import phi_from_fits, write_deep_law
     from .deep_law.deep_law_figure import draw
-    from .fits.fit_file import load_fits
 
     df = load_csv(args.table)
-    phi = None
-    if args.phi:
-        phi = load_fits(args.phi).tables.get("phi")
-        if phi is None or not len(phi):
-            raise ValueError(f"{args.phi}: its fit file has no phi table (phi_mu needs system I yield pulls at "
-                             f"several D); give --phi the fits.json of a study that has them")
-        phi = phi.apply(lambda c: pd.to_numeric(c, errors="coerce"))   # JSON nulls -> NaN
+    phi = phi_from_fits(args.phi) if args.phi else None
+    if args.phi and phi is None:
+        raise ValueError(f"{args.phi}: its fit file has no phi table (phi_mu needs system I yield pulls at "
+                         f"several D); give --phi the fits.json of a study that has them")
     table, path = write_deep_law(df, args.out, h_min=args.h_min, speeds=args.alpha_speeds, phi=phi)
     draw(df, args.out, h_min=args.h_min, speeds=args.alpha_speeds)
     for r in table.itertuples():

@@ -287,6 +287,17 @@ def _shallow_rows(key, yld, moving, h_min, speeds):
     return out
 
 
+def phi_from_fits(path):
+    """The phi_mu table of a fit file (fits.fit_phi's columns, its JSON nulls as NaN); None when it
+    has none. FitFileError for a file that is not a fit file."""
+    from ..fits.fit_file import load_fits
+
+    phi = load_fits(path).tables.get("phi")
+    if phi is None or not len(phi):
+        return None
+    return phi.apply(lambda c: pd.to_numeric(c, errors="coerce"))
+
+
 def summary_markdown(table, h_min):
     """The table in words: one line per quantity and depth range."""
     lines = [f"# The depth law on deep intruders (h >= {h_min:g} d) and on every depth", "",

@@ -51,6 +51,7 @@ def collect(config, results_dir, out_dir, *, wall_seconds, cores, started=None):
             (out / name).unlink(missing_ok=True)       # never keep an older study's copy
     notes += write_kappa_shells(results, out / "kappa_shells.csv")
     notes += write_startup(results, out / "startup.csv")
+    notes += write_depth_law(config, out)
     hours, source, jobs = core_hours(results, threads=_config_threads(config))
     info = {"rung": config.stem, "config": str(config), "results": str(results),
             "wall_seconds": float(wall_seconds), "cores": int(cores), "started": started,
@@ -174,6 +175,31 @@ def commit(repo=None):
 def _git(repo, *args):
     return subprocess.run(["git", "-C", str(repo), *args], capture_output=True, text=True, check=True,
                           timeout=60).stdout
+
+
+def write_depth_law(config, out):
+    """deep_law.csv, deep_law.md and a figure per series in the rung directory `out` (its table.csv
+    copied in), when the study pulled system II at two or more depths: the depth law read on the
+    deep intruders (h >= the config's report.h_min, else the paper's 45 d) and on every depth
+    (analysis.deep_law), phi_mu from the rung's own fits.json when it has one. Notes."""
+    from ..core import paper
+    from ..core.table import load_csv
+    from ..deep_law.deep_law import phi_from_fits, write_deep_law
+    from ..deep_law.deep_law_figure import draw
+    from ..fits.fit_file import FitFileError
+
+    df = load_csv(out / "table.csv")
+    deep = df[df.system == "II"] if "system" in df.columns else df.iloc[:0]
+    if deep.h.round(3).nunique() < 2:
+        return []
+    h_min = float((_read_config(config).get("report") or {}).get("h_min") or paper.DEEP_H)
+    try:
+        phi = phi_from_fits(out / "fits.json")
+    except FitFileError:
+        phi = None
+    table, _ = write_deep_law(df, out, h_min=h_min, phi=phi)
+    draw(df, out, h_min=h_min)
+    return [f"deep_law.csv: the depth law on h >= {h_min:g} d and on every depth ({len(table)} rows)"]
 
 
 def write_kappa_shells(results, path):

@@ -142,3 +142,26 @@ def test_the_command_writes_its_table_and_figure(tmp_path):
     assert (tmp_path / "out" / "deep_law_D4_mu0.5_kn2e+04.png").stat().st_size > 10_000
     assert main(["deep-law", str(tmp_path / "table.csv"), "--out", str(tmp_path / "o2"),
                  "--phi", str(tmp_path / "missing.json")]) == 2
+
+
+@pytest.mark.slow
+def test_collecting_a_rung_with_depths_writes_its_depth_law(tmp_path):
+    """ladder collect reads the depth law into the rung when the study pulled system II at
+    several depths, at the config's report.h_min, and notes it in run.json."""
+    from analysis.core.physics import froude
+    from analysis.core.table import write_csv
+    from analysis.ladder.ladder_collect import collect
+
+    res = tmp_path / "results"
+    (res / "report").mkdir(parents=True)
+    t = runs(np.random.default_rng(17))
+    t["Fr"] = froude(t.V, t.D)
+    write_csv(combine_beds(t), res / "table.csv")
+    (res / "report" / "fits.json").write_text('{"format": "granudrag-fits"}\n')   # no phi in it
+    config = tmp_path / "deep.yaml"
+    config.write_text(f"results: {res}\nthreads: 1\nreport: {{h_min: 50}}\n")
+    info = collect(config, res, tmp_path / "rung", wall_seconds=1, cores=1)
+    law = pd.read_csv(tmp_path / "rung" / "deep_law.csv")
+    assert set(law.depths) == {"h >= 50", "all", "h < 50"}
+    assert not law.quantity.str.startswith("sum").any()
+    assert any(n.startswith("deep_law.csv") for n in info["notes"])
