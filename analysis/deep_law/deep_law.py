@@ -21,13 +21,19 @@ Errors, in log space: each point's within-run error independent, and its beds' s
 (the between-bed variance pooled over every depth of the series and kind, point_errors) fully
 correlated between the speeds pulled through the same beds (bed_labels), as alpha_drag counts
 them. A bed that reads high reads high at every speed, which looks like a depth leaving the power
-law; counting all of the between-bed variance as shared is the lenient side for the collapse and
-shallow tests (analysis.core.bed_shift measured about half of it shared at box40-deep). That
-pooled variance rests on few degrees of freedom (two beds at each of five depths: 5), so every
-error here carries an effective dof (Satterthwaite's, `nu`): exponents are judged by Student's t
-at nu, and chi^2 tests by F(n, nu), conservative where the within-run part dominates. With the
-chi^2 law instead, two beds per depth made 5 % tests reject a true law 11-14 % of the time and
-the exponents' z an RMS of 1.2-1.5 (tests/python/test_deep_law.py).
+law. Counting all of the between-bed variance as shared is the lenient side for the shallow test
+(its departures move every speed of a depth together) but not for the collapse: speed-to-speed
+differences cancel a shared shift, so if a bed's shift is only partly shared (analysis.core
+.bed_shift measured about half at box40-deep) the collapse's chi^2 overstates how far the speeds
+disagree, and it may reject a true law more often than its size says. That pooled variance
+rests on few degrees of freedom (two beds at each depth), so an exponent is judged by Student's t
+at the beds' dof of its own rows (`nu_alpha`), and a chi^2 test by F(n, nu), nu Satterthwaite's,
+conservative where the within-run part dominates. With the chi^2 law instead, two beds per depth
+made 5 % tests reject a true law 11-14 % of the time and the exponents' z an RMS of 1.2-1.5
+(tests/python/test_deep_law.py). Rows are refused by name where a drag or its error is not a
+positive number. The `dof` column is the error's dof for exponents and sums (nu_alpha, or the
+sum's Welch-Satterthwaite), and the F test's denominator nu for the shallow rows; `n` is the
+points (for a sum, phi's).
 """
 import math
 from dataclasses import dataclass
@@ -88,10 +94,13 @@ def effective_dof(bed, nu_bed, total=None):
     None): nu_bed, not inflated by the within-run part, which is in every pair of beds' scatter
     too (Satterthwaite's nu_bed (total / bed)^2 gave 95 % intervals that held the truth 91 % of the
     time on synthetic rungs of two beds at five depths). For a chi^2 test of several points,
-    Satterthwaite's (at nu_bed itself, F(n, 3) could not see a 25 % shallow excess)."""
-    if not bed > 0 or nu_bed <= 0:
+    Satterthwaite's (at nu_bed itself, F(n, 3) could not see a 25 % shallow excess), inf when the
+    beds add nothing."""
+    if nu_bed <= 0:
         return math.inf
-    return float(nu_bed) if total is None else float(nu_bed) * (total / bed) ** 2
+    if total is None:
+        return float(nu_bed)   # also when the pooled bed part came out nil: that too is an estimate
+    return math.inf if not bed > 0 else float(nu_bed) * (total / bed) ** 2
 
 
 def log_covariance(rows, pool=None):
@@ -131,6 +140,8 @@ def fit_depth_law(y, C, group, h, CB=None, nu_bed=math.inf):
     keys = sorted(set(group.tolist()))
     fit = DepthFit(keys, None, None, math.nan, len(y) - len(keys) - 1)
     X = fit.design(group, h)
+    if np.linalg.matrix_rank(X) < X.shape[1]:   # no group spans two depths: alpha not identified
+        return None
     W = np.linalg.inv(np.linalg.cholesky(C))   # whitener: W C W' = 1
     Xw, yw = W @ X, W @ y
     fit.beta = np.linalg.lstsq(Xw, yw, rcond=None)[0]
@@ -156,13 +167,15 @@ def departures(fit, y, C, group, h):
 
 
 def speed_groups(rows, speeds=ALPHA_SPEEDS, match=SPEED_MATCH):
-    """Each row's target speed among `speeds` (alpha_drag's matching), NaN when none is near."""
+    """Each row's target speed: the nearest of `speeds` within `match` (relative, as alpha_drag
+    matches), NaN when none is. Table speeds that share a target share its G_V."""
     V = rows.V.to_numpy(float)
-    out = np.full(len(V), np.nan)
-    for target in speeds:
-        near = np.abs(V / target - 1.0) <= match
-        out[near & np.isnan(out)] = target
-    return out
+    targets = np.asarray(speeds, float)
+    if not len(V) or not len(targets):
+        return np.full(len(V), np.nan)
+    rel = np.abs(V[:, None] / targets[None, :] - 1.0)
+    best = np.argmin(rel, axis=1)
+    return np.where(rel[np.arange(len(V)), best] <= match, targets[best], np.nan)
 
 
 def _row(key, quantity, depths, h, n, value=math.nan, err=math.nan, chi2=math.nan, dof=math.nan,
@@ -193,8 +206,11 @@ def _sum_row(key, label, alpha, nu, phi, depths, h):
         return None
     f = hit.iloc[0]
     parts = ((alpha.err ** 2, nu), (float(f.phi_err) ** 2, component_dof(f, phi)))
-    den = sum(v * v / n for v, n in parts if math.isfinite(n))
-    dof = math.inf if den == 0 else sum(v for v, _ in parts) ** 2 / den
+    if any(n < 1 for _, n in parts):       # a part fitted on as many points as parameters
+        dof = min(n for _, n in parts)
+    else:
+        den = sum(v * v / n for v, n in parts if math.isfinite(n))
+        dof = math.inf if den == 0 else sum(v for v, _ in parts) ** 2 / den
     total = Param(alpha.value + float(f.phi), math.hypot(alpha.err, float(f.phi_err)))
     word, why = verdict(total, paper.SUM_RULE, dof=None if math.isinf(dof) else dof)
     if dof < MIN_DOF:
@@ -220,6 +236,13 @@ def read_deep_law(df, h_min=paper.DEEP_H, speeds=ALPHA_SPEEDS, phi=None, system=
     if rows.empty:
         raise ValueError(f"the table has no system {system} pulls: the depth law needs pulls at several "
                          f"depths h (config: a sweep of system {system} with a list under `depth`)")
+    bad = ~(rows.drag > 0) | ~(rows.drag_err > 0)
+    if "drag_err_within" in rows.columns:
+        bad |= ~(rows.drag_err_within >= 0)
+    if bad.any():
+        raise ValueError(f"{int(bad.sum())} system {system} row(s) have no positive drag or error "
+                         f"(h = {', '.join(f'{h:.3g}' for h in rows.h[bad][:5])}): the depth law is read in "
+                         f"log space with each point's error; leave those pulls out of the table")
     out = []
     for key, g in rows.groupby(SERIES):
         yld, moving = g[is_yield(g)], g[~is_yield(g)]
@@ -249,8 +272,9 @@ def read_deep_law(df, h_min=paper.DEEP_H, speeds=ALPHA_SPEEDS, phi=None, system=
                                      f"dof: the collapse's alpha's"))
                 if cut is not None:
                     out.append(_sum_row(key, "sum_drag", mean, m_fit.nu_alpha, phi, depths, hs))
-            word = ("" if not m_fit.dof > 0 else "one alpha does not fit every speed" if m_fit.p < 0.05
-                    else "one alpha fits every speed")
+            # The chi^2 is the whole model's: one alpha for every speed and a power law in h.
+            word = ("" if not m_fit.dof > 0 else "G_V h^alpha rejected (one alpha, one power law)" if m_fit.p < 0.05
+                    else "not told apart from one alpha for every speed")
             out.append(_row(key, "collapse", depths, hs, len(hs), m_fit.alpha.value, m_fit.alpha.err,
                             m_fit.chi2, m_fit.nu_alpha, m_fit.p, word,
                             note=f"one alpha for {len(m_fit.keys)} speeds (Fig. 19 at one D): chi^2 {m_fit.chi2:.1f} "
@@ -309,8 +333,8 @@ def summary_markdown(table, h_min):
         lines.append(f"| {r.D:g} | {r.mu:g} | {r.kn:.3g} | {r.quantity} | {r.depths} ({r.h_lo:.3g}-{r.h_hi:.3g} d) | "
                      f"{value} | {'' if not math.isfinite(r.dof) else f'{r.dof:.3g}'} | "
                      f"{'' if not math.isfinite(r.p) else f'{r.p:.3g}'} | {r.verdict} | {r.note} |")
-    lines += ["", "Errors count each point's beds' scatter as shared by every speed pulled through them "
-              "(the lenient side for the collapse and the shallow test)."]
+    lines += ["", "Errors count each point's beds' scatter as shared by every speed pulled through them: the "
+              "lenient side for the shallow test, the strict side for the collapse (analysis.deep_law.deep_law)."]
     return "\n".join(lines) + "\n"
 
 
