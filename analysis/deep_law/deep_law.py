@@ -52,6 +52,8 @@ from ..report.verdicts import MIN_DOF, component_dof, verdict
 SERIES = ["D", "mu", "kn", "gamman"]
 COLUMNS = SERIES + ["quantity", "depths", "h_lo", "h_hi", "n", "value", "err", "chi2", "dof", "p",
                     "verdict", "note"]
+# The quantities of a deep_law.csv row, in the order the table lists them.
+QUANTITIES = ("alpha_yield", "sum_yield", "alpha_drag", "sum_drag", "collapse", "shallow_yield", "shallow_drag")
 
 
 @dataclass
@@ -336,6 +338,20 @@ def summary_markdown(table, h_min):
     lines += ["", "Errors count each point's beds' scatter as shared by every speed pulled through them: the "
               "lenient side for the shallow test, the strict side for the collapse (analysis.deep_law.deep_law)."]
     return "\n".join(lines) + "\n"
+
+
+def load_deep_law(path):
+    """A deep_law.csv as write_deep_law wrote it; a clear error when it is not one."""
+    try:
+        table = pd.read_csv(path)
+    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: not a readable deep_law.csv ({exc}); write it again: "
+                         "granudrag-analysis deep-law TABLE --out DIR") from None
+    missing = sorted(set(COLUMNS) - set(table.columns))
+    if missing:
+        raise ValueError(f"{path}: not a deep_law.csv (no column {', '.join(missing)}); write it again: "
+                         "granudrag-analysis deep-law TABLE --out DIR")
+    return table
 
 
 def write_deep_law(df, out_dir, h_min=paper.DEEP_H, speeds=ALPHA_SPEEDS, phi=None):

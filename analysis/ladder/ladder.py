@@ -103,6 +103,7 @@ from .ladder_report import _axis_figure, _claim_figures, _fr2_figure, _kappa_fig
 from .ladder_summary import (
     CLAIMS_BEGIN,
     CLAIMS_END,
+    deep_cells,
     evidence_figures,
     read_summary,
     regime_cells,
@@ -123,7 +124,7 @@ __all__ = [
     "AXES", "BOX", "STIFFNESS", "LENGTH", "AXIS_COLUMNS", "SUMMARY_COLUMNS", "axis_steps", "independent",
     "axis_summary", "box_axis", "stiffness_axis", "length_axis", "ladder_markdown",
     "read_ladder", "rung_run", "ladder_rows", "write_ladder", "ladder_summary", "CLAIMS_BEGIN", "CLAIMS_END",
-    "summary_rows", "summary_markdown", "evidence_figures", "regime_cells",
+    "summary_rows", "summary_markdown", "evidence_figures", "regime_cells", "deep_cells",
 ]
 
 LADDER_BEGIN, LADDER_END = "<!-- ladder:begin -->", "<!-- ladder:end -->"
@@ -269,6 +270,7 @@ def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
     for r in rows:
         if r["letter"] == "a" and r["rung"] in tables:
             r["measured"] += regime_cells(tables[r["rung"]], summary.get("a", {}))
+        r["measured"] += deep_cells(root, summary.get(r["letter"], {}))
     written += evidence_figures(root, rows, summary)
     claims_md = summary_markdown(rows) if rows else ""
     if claims_md:

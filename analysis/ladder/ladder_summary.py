@@ -9,6 +9,10 @@ ladder.yaml says, per claim (`summary: {letter: {...}}`):
     reading   the verdict in words (no numbers: those come from the rung's files)
     differs   what still differs from the paper at that rung (K_n, box, depth, pull, pour)
     next      the one next run and its price (estimate_cost.py)
+    deep      optional: {rung: a rung of system II depths, show: {deep-law quantity: short name}}:
+              the row adds that rung's depth-law verdicts (its deep_law.csv, analysis.deep_law;
+              written by `ladder collect`), each with the depth range it holds for, beside the
+              top rung's (deep_cells)
 
 The "top rung" of a claim, and of each of its quantities in ladder.md's "Verdict at the top
 rung", is the first rung of `closest` that has been run and measures it; rungs not in the list
@@ -37,7 +41,7 @@ import numpy as np
 from ..core import paper
 from .ladder_claims import NOT_RUN, LadderError, cell_verdict
 
-FIELDS = ("closest", "show", "reading", "differs", "next")
+FIELDS = ("closest", "show", "reading", "differs", "next", "deep")
 EVIDENCE = {"a": "regime_tests", "b": "theta", "c": "kappa", "d": "fig13_yield_vs_D", "e": "fig17_yield_vs_h",
             "f": "sum_rule", "g": "table1"}
 CLAIMS_BEGIN, CLAIMS_END = "<!-- claims:begin -->", "<!-- claims:end -->"
@@ -64,8 +68,57 @@ def read_summary(doc, names, path="ladder.yaml"):
             raise LadderError(f"{path}: summary.{letter}.closest names rungs not listed: {', '.join(unknown)}")
         show = entry.get("show") or {}
         show = {str(q): str(q) for q in show} if isinstance(show, list) else {str(k): str(v) for k, v in show.items()}
-        out[str(letter)] = {"closest": closest, "show": show, **{k: str(entry.get(k) or "") for k in FIELDS[2:]}}
+        out[str(letter)] = {"closest": closest, "show": show, **{k: str(entry.get(k) or "") for k in FIELDS[2:5]},
+                            "deep": _deep_spec(entry.get("deep"), names, f"{path}: summary.{letter}.deep")}
     return out
+
+
+def _deep_spec(entry, names, where):
+    """{rung, show} of a claim's `deep` entry (None without one); the rung must be listed and each
+    shown quantity one that analysis.deep_law writes."""
+    from ..deep_law.deep_law import QUANTITIES
+    if entry is None:
+        return None
+    if not isinstance(entry, dict) or set(entry) != {"rung", "show"} or not isinstance(entry["show"], dict):
+        raise LadderError(f"{where} takes {{rung: <a listed rung>, show: {{<deep-law quantity>: <short name>}}}}")
+    if str(entry["rung"]) not in names:
+        raise LadderError(f"{where}.rung names a rung not listed: {entry['rung']}")
+    unknown = [str(q) for q in entry["show"] if str(q) not in QUANTITIES]
+    if unknown:
+        raise LadderError(f"{where}.show names no depth-law quantity: {', '.join(unknown)} "
+                          f"(the quantities: {', '.join(QUANTITIES)})")
+    return {"rung": str(entry["rung"]), "show": {str(k): str(v) for k, v in entry["show"].items()}}
+
+
+def deep_cells(root, spec):
+    """The cells a claim's `deep` entry adds: each shown quantity of the rung's deep_law.csv, a cell
+    per depth set it was read on ("h >= 45", "all", "h < 45"), its value (or p) and verdict, and
+    the paper's number for the sum rule. Nothing when the rung has no deep_law.csv yet."""
+    from ..core.result import format_pm
+    from ..deep_law.deep_law import load_deep_law
+    deep = (spec or {}).get("deep")
+    path = Path(root) / deep["rung"] / "deep_law.csv" if deep else None
+    if path is None or not path.is_file():
+        return []
+    try:
+        table = load_deep_law(path)
+    except ValueError as exc:
+        raise LadderError(str(exc)) from None
+    cells = []
+    for quantity, short in deep["show"].items():
+        for r in table[table.quantity == quantity].itertuples():
+            where = _depth_words(r.depths, r.h_lo, r.h_hi)
+            value = format_pm(r.value, r.err) if np.isfinite(r.value) else f"p = {r.p:.2g}"
+            paper_says = f" (paper ≈ {paper.SUM_RULE:g})" if quantity.startswith("sum_") else ""
+            verdict = f" — {r.verdict}" if isinstance(r.verdict, str) and r.verdict else ""
+            cells.append(f"{short}, {where}, `{deep['rung']}`: {value}{paper_says}{verdict}")
+    return cells
+
+
+def _depth_words(depths, lo, hi):
+    """"h ≥ 45 d (45-65 d)" of a deep-law row's depth set and the measured depths it spans."""
+    words = {"all": "every depth"}.get(depths, depths.replace(">=", "≥") + " d")
+    return f"{words} ({lo:.3g}-{hi:.3g} d)"
 
 
 def rank(summary, letter, rung, order, n_rungs):

@@ -263,7 +263,21 @@ SUMMARY = """summary:
     reading: the paper's line
     differs: the box
     next: none
+    deep:
+      rung: rung-a
+      show: {sum_yield: "μ = 0.5, α from F_Y", shallow_drag: shallow drag}
 """
+
+
+def deep_law_csv(path):
+    """A deep_law.csv as analysis.deep_law writes it: a sum rule on the deep depths, a shallow test."""
+    rows = [dict(D=4, mu=0.5, kn=2e4, gamman=199.05, quantity="sum_yield", depths="h >= 45", h_lo=45.03,
+                 h_hi=64.96, n=3, value=2.8016, err=0.28599, chi2=np.nan, dof=2.76, p=np.nan,
+                 verdict="reproduced within error bars", note="alpha + phi"),
+            dict(D=4, mu=0.5, kn=2e4, gamman=199.05, quantity="shallow_drag", depths="h < 45", h_lo=10.02,
+                 h_hi=40.3, n=15, value=np.nan, err=np.nan, chi2=51.8, dof=15, p=6.1e-6,
+                 verdict="leaves the deep law", note="departures")]
+    pd.DataFrame(rows).to_csv(path, index=False)
 
 
 @pytest.mark.slow
@@ -276,6 +290,7 @@ def test_the_claim_table_quotes_the_rung_closest_to_the_papers_conditions(tmp_pa
         "  - {name: rung-c, label: 'K_n 2e7'}\nclaims:\n  c: 'kappa line'\n" + SUMMARY)
     make_rung(tmp_path, "rung-a", (0.887, 0.185), seed=1)
     make_rung(tmp_path, "rung-b", (0.948, -0.020), seed=2)
+    deep_law_csv(tmp_path / "rung-a" / "deep_law.csv")
     readme = f"# The ladder\n\n{CLAIMS_BEGIN}\nold claims\n{CLAIMS_END}\n\n{LADDER_BEGIN}\nold\n{LADDER_END}\n"
     (tmp_path / "README.md").write_text(readme)
     (tmp_path / "evidence_g.png").write_bytes(b"stale")
@@ -289,6 +304,9 @@ def test_the_claim_table_quotes_the_rung_closest_to_the_papers_conditions(tmp_pa
     assert "| a crossover near 5 | K_n | rung-c, 1 core-hour |" in a
     assert "the slope past Fr 5 over the slope below (D = 3, Fr 1–10): " in a
     assert "| `rung-a` | κ slope: " in c and "(paper 0.185) — reproduced within error bars<br>κ intercept: " in c
+    # (c)'s `deep` entry adds the depth law's verdicts, each with the depths it holds for.
+    assert ("<br>μ = 0.5, α from F_Y, h ≥ 45 d (45-65 d), `rung-a`: 2.80 ± 0.29 (paper ≈ 3) — reproduced within "
+            "error bars<br>shallow drag, h < 45 d (10-40.3 d), `rung-a`: p = 6.1e-06 — leaves the deep law |") in c
     assert '<a href="evidence_c.png"><img src="evidence_c.png" width="260" alt="claim (c) at rung-a"></a> |' in c
     for letter in "ac":
         png = tmp_path / f"evidence_{letter}.png"
@@ -303,6 +321,29 @@ def test_the_claim_table_quotes_the_rung_closest_to_the_papers_conditions(tmp_pa
     (tmp_path / "ladder.yaml").write_text("rungs: [{name: rung-a}]\nsummary: {c: {closest: [rung-z]}}\n")
     with pytest.raises(LadderError, match="summary.c.closest names rungs not listed: rung-z"):
         write_ladder(tmp_path, n_boot=5)
+
+
+def test_a_claims_deep_entry_is_refused_by_name_when_wrong_and_quiet_before_its_rung_is_read(tmp_path):
+    from analysis.ladder.ladder_summary import deep_cells, read_summary
+    names = ["rung-a", "rung-deep"]
+    good = {"f": {"closest": ["rung-a"], "deep": {"rung": "rung-deep", "show": {"sum_yield": "sum"}}}}
+    spec = read_summary({"summary": good}, names)["f"]
+    assert spec["deep"] == {"rung": "rung-deep", "show": {"sum_yield": "sum"}}
+    assert deep_cells(tmp_path, spec) == []                       # no deep_law.csv yet: no cells
+    (tmp_path / "rung-deep").mkdir()
+    deep_law_csv(tmp_path / "rung-deep" / "deep_law.csv")
+    assert deep_cells(tmp_path, spec) == ["sum, h ≥ 45 d (45-65 d), `rung-deep`: 2.80 ± 0.29 (paper ≈ 3) — "
+                                          "reproduced within error bars"]
+    assert deep_cells(tmp_path, read_summary({"summary": {"f": {}}}, names)["f"]) == []
+    for deep, message in (
+            ({"rung": "rung-z", "show": {"sum_yield": "s"}}, "summary.f.deep.rung names a rung not listed: rung-z"),
+            ({"rung": "rung-deep", "show": {"alpha": "s"}}, "summary.f.deep.show names no depth-law quantity: alpha"),
+            ({"rung": "rung-deep"}, r"summary.f.deep takes \{rung")):
+        with pytest.raises(LadderError, match=message):
+            read_summary({"summary": {"f": {"deep": deep}}}, names)
+    (tmp_path / "rung-deep" / "deep_law.csv").write_text("D,mu\n4,0.5\n")
+    with pytest.raises(LadderError, match="not a deep_law.csv .no column"):
+        deep_cells(tmp_path, spec)
 
 
 def test_readme_without_markers_is_left_alone(tmp_path):
