@@ -7,6 +7,9 @@ it holds for. Per system II series (D, mu, K_n, gamma_n):
                 (Fig. 18a; analysis.fits.alpha_drag, its error with the beds' correlations)
   collapse      F(h, V) = G_V h^alpha, one alpha for every speed: Fig. 19's collapse at one D (F/h^alpha
                 against Fr on one curve), its chi^2 and p the collapse's goodness
+  alpha_by_speed  an alpha per speed against one (nested: delta chi^2 on speeds - 1 dof): whether
+                the exponent depends on the speed, apart from a bend in h that the collapse's
+                whole-model chi^2 also sees
   sum_yield, sum_drag   alpha + phi_mu on the deep depths, phi_mu from a system I study at the same
                 contact law (its fit file's phi table), with the sum's degrees of freedom (Welch-
                 Satterthwaite over alpha's nu and phi's, report.verdicts.component_dof) and the
@@ -32,7 +35,7 @@ conservative where the within-run part dominates. With the chi^2 law instead, tw
 made 5 % tests reject a true law 11-14 % of the time and the exponents' z an RMS of 1.2-1.5
 (tests/python/test_deep_law.py). Rows are refused by name where a drag or its error is not a
 positive number. The `dof` column is the error's dof for exponents and sums (nu_alpha, or the
-sum's Welch-Satterthwaite), and the F test's denominator nu for the shallow rows; `n` is the
+sum's Welch-Satterthwaite), and the F test's denominator nu for the shallow and alpha_by_speed rows; `n` is the
 points (for a sum, phi's).
 """
 import math
@@ -53,7 +56,8 @@ SERIES = ["D", "mu", "kn", "gamman"]
 COLUMNS = SERIES + ["quantity", "depths", "h_lo", "h_hi", "n", "value", "err", "chi2", "dof", "p",
                     "verdict", "note"]
 # The quantities of a deep_law.csv row, in the order the table lists them.
-QUANTITIES = ("alpha_yield", "sum_yield", "alpha_drag", "sum_drag", "collapse", "shallow_yield", "shallow_drag")
+QUANTITIES = ("alpha_yield", "sum_yield", "alpha_drag", "sum_drag", "collapse", "alpha_by_speed", "shallow_yield",
+              "shallow_drag")
 
 
 @dataclass
@@ -155,6 +159,43 @@ def fit_depth_law(y, C, group, h, CB=None, nu_bed=math.inf):
         fit.nu_alpha = effective_dof(float(g @ CB @ g), nu_bed)
         fit.nu = effective_dof(float(np.trace(CB)), nu_bed, float(np.trace(C)))
     return fit
+
+
+def speed_alphas(y, C, group, h):
+    """ln F = ln G_k + alpha_k ln h, an exponent per group k, by the same GLS as fit_depth_law:
+    ({k: Param(alpha_k)}, chi^2); None unless every group spans two depths."""
+    group, h = np.asarray(group), np.asarray(h, float)
+    keys = sorted(set(group.tolist()))
+    on = [(group == k).astype(float) for k in keys]
+    X = np.column_stack(on + [g * np.log(h) for g in on])
+    if len(y) == 0 or np.linalg.matrix_rank(X) < X.shape[1]:
+        return None
+    W = np.linalg.inv(np.linalg.cholesky(C))
+    Xw, yw = W @ X, W @ y
+    beta = np.linalg.lstsq(Xw, yw, rcond=None)[0]
+    cov = np.linalg.inv(Xw.T @ Xw)
+    r = yw - Xw @ beta
+    n = len(keys)
+    return {k: Param(float(beta[n + i]), float(math.sqrt(cov[n + i, n + i]))) for i, k in enumerate(keys)}, float(r @ r)
+
+
+def _speed_alpha_row(key, depths, hs, m_fit, y, C, group, h):
+    """Does alpha depend on the speed? One alpha for every speed (the collapse's fit, m_fit)
+    against an alpha per speed, nested: delta chi^2 on (speeds - 1) dof, p by F(speeds - 1, nu) at
+    the collapse's points' nu. It isolates the speed dependence from the collapse's whole-model
+    chi^2 (which also sees a bend in h); on two depths the free fit is exact and the two coincide."""
+    free = speed_alphas(y, C, group, h)
+    if free is None or len(free[0]) < 2:
+        return None
+    alphas, chi2_free = free
+    q = len(alphas) - 1
+    delta = max(m_fit.chi2 - chi2_free, 0.0)
+    p = chi2_p(delta, q, m_fit.nu)
+    each = ", ".join(f"V {k:g}: {a}" for k, a in alphas.items())
+    return _row(key, "alpha_by_speed", depths, hs, len(hs), chi2=delta, dof=m_fit.nu, p=p,
+                verdict_text="alpha depends on the speed" if p < 0.05 else "not told apart from one alpha",
+                note=f"an alpha per speed ({each}) against one: delta chi^2 {delta:.1f} for {q} dof, "
+                     f"p by F({q}, {m_fit.nu:.3g})")
 
 
 def departures(fit, y, C, group, h):
@@ -281,6 +322,9 @@ def read_deep_law(df, h_min=paper.DEEP_H, speeds=ALPHA_SPEEDS, phi=None, system=
                             m_fit.chi2, m_fit.nu_alpha, m_fit.p, word,
                             note=f"one alpha for {len(m_fit.keys)} speeds (Fig. 19 at one D): chi^2 {m_fit.chi2:.1f} "
                                  f"for {m_fit.dof} dof, p by F({m_fit.dof}, {m_fit.nu:.3g})"))
+            at = (moving.h >= (cut or -1)).to_numpy()
+            y, C, _, _ = log_covariance(moving[at], moving)
+            out.append(_speed_alpha_row(key, depths, hs, m_fit, y, C, group[at], moving.h.to_numpy(float)[at]))
         out += _shallow_rows(key, yld, moving, h_min, speeds)
     return pd.DataFrame([r for r in out if r is not None], columns=COLUMNS)
 
