@@ -255,7 +255,10 @@ def _sum_row(key, label, alpha, nu, phi, depths, h):
         den = sum(v * v / n for v, n in parts if math.isfinite(n))
         dof = math.inf if den == 0 else sum(v for v, _ in parts) ** 2 / den
     total = Param(alpha.value + float(f.phi), math.hypot(alpha.err, float(f.phi_err)))
-    word, why = verdict(total, paper.SUM_RULE, dof=None if math.isinf(dof) else dof)
+    # A phi_mu whose own fit the data reject (fits.goodness) carries no verdict into the sum.
+    rejected = (f"model rejected (the phi_mu fit: chi^2/dof {float(f.chi2_dof):.2g})"
+                if "rejected" in f and float(f.rejected or 0) > 0 else "")
+    word, why = verdict(total, paper.SUM_RULE, dof=None if math.isinf(dof) else dof, rejected=rejected)
     if dof < MIN_DOF:
         why += "; the test cannot fail here"
     return _row(key, label, depths, h, int(f.n), total.value, total.err, dof=dof, verdict_text=word,

@@ -124,9 +124,9 @@ def test_alpha_by_speed_sees_the_speed_not_a_bend_in_depth():
     assert bent / n >= 0.7 and speed / n <= 0.12, (bent / n, speed / n)
 
 
-def _phi(err, chi2_dof, n=3):
+def _phi(err, chi2_dof, n=3, rejected=0.0):
     return pd.DataFrame([dict(mu=0.5, kn=KN, gamman=GN, phi=3.0 - ALPHA, phi_err=err, f=1.0, f_err=0.1, n=n,
-                              D_min=1, D_max=3, chi2_dof=chi2_dof, trend_p=math.nan, rejected=0.0)])
+                              D_min=1, D_max=3, chi2_dof=chi2_dof, trend_p=math.nan, rejected=rejected)])
 
 
 def test_the_sum_rule_says_when_it_cannot_fail():
@@ -146,6 +146,11 @@ def test_the_sum_rule_says_when_it_cannot_fail():
     r = read(np.random.default_rng(14), phi=_phi(0.2, math.nan, n=2))     # phi through two points
     s = r[("sum_yield", "h >= 45")]
     assert s.verdict == "inconclusive", s
+    # The same phi as the reproduced one, but its own fit rejected by its data: no verdict.
+    r = read(np.random.default_rng(14), phi=_phi(0.05, 4.0, n=6, rejected=1.0))
+    for q in ("sum_yield", "sum_drag"):
+        s = r[(q, "h >= 45")]
+        assert s.verdict == "inconclusive" and "the data reject the model: the phi_mu fit" in s.note, s
 
 
 def test_a_table_without_system_II_is_refused_by_name():
