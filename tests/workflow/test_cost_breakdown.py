@@ -27,9 +27,10 @@ CONFIG = {
 
 def by_hand(beds, pulls):
     """Core-hours of the given beds and pulls (D, Fr or V, distance), from the cost formulas: a pour
-    to its limit (no ke_threshold given), a pull's particle-steps and its grains' start and time."""
+    to its limit (no ke_threshold given) at a bed's step cost, a pull's particle-steps and its grains'
+    start and time."""
     dt = physics.default_dt(2e4)
-    steps = beds * 800 * 10 / dt
+    steps = beds * 800 * 10 / dt * study.cost.POUR_STEP_COST
     for D, speed, distance in pulls:
         V = physics.froude_speed(speed[1], D) if speed[0] == "Fr" else speed[1]
         steps += 800 * distance / (V * dt)
@@ -58,7 +59,7 @@ def test_the_whole_study_is_no_more_than_its_sweeps():
     config = copy.deepcopy(CONFIG)
     plan = study.plan(config)
     s = study.summary(plan)
-    whole = core_hours(s["bed_particle_steps"] + s["pull_work"], config)
+    whole = core_hours(s["bed_work"] + s["pull_work"], config)
     assert whole == pytest.approx(s["core_hours"], rel=1e-12)
     parts = sum(ch for _, _, _, ch in by_sweep(config))
     assert parts > whole          # beds shared by the sweeps count in each

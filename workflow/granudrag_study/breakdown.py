@@ -6,7 +6,7 @@ its sweeps ask for it; a run that feeds several figures counts in each, so the f
 add up to more than the study's.
 """
 
-from .cost import expected_bed_cost, expected_column_cost, pull_work
+from .cost import bed_work, column_work, pull_work
 from .plan import plan
 
 
@@ -16,11 +16,11 @@ def core_hours(particle_steps, config):
 
 
 def _runs(config, sweeps):
-    """(beds, pulls, work) of the config restricted to `sweeps`: the beds' particle-steps (placed
-    beds' columns in them) and the pulls' work (cost.pull_work)."""
+    """(beds, pulls, work) of the config restricted to `sweeps`: the beds' work (cost.bed_work, placed
+    beds' columns in them) and the pulls' (cost.pull_work)."""
     sub = plan(dict(config, sweeps=sweeps))
-    steps = sum(expected_bed_cost(b, config) for b in sub.beds.values())
-    steps += sum(expected_column_cost(b, config) for b in sub.columns.values())
+    steps = sum(bed_work(b, config) for b in sub.beds.values())
+    steps += sum(column_work(b, config) for b in sub.columns.values())
     steps += sum(pull_work(p, config) for p in sub.pulls.values())
     return len(sub.beds), len(sub.pulls), steps
 

@@ -98,6 +98,12 @@ DAMPED_STOP = (                                   # (grains per d^2, ((mu, settl
     (93.75, ((0.1, 42.0), (0.5, 40.0))),
 )
 DAMPED_STOP_MEASURED = {"settle_damping": 1.0, "ke_threshold": 1e-7}
+# DAMPED_STOP's times are at K_n = 2e5; a softer bed settles longer: the 10 damped pours of
+# config/ladder/scaling-k2e4-deep.yaml (K_n = 2e4, 93.75 grains per d^2, mu = 0.5, settle_damping 1,
+# 1e-7; their beds' settle_time, 2026-12-03/04) stopped after 45.5-53.5, 48.6 on average, against
+# DAMPED_STOP's 40.0 there: DAMPED_SOFT_FACTOR at K_n <= DAMPED_SOFT_KN, linear in log K_n up to
+# 1 at 2e5, 1 above (stiffer beds not measured damped).
+DAMPED_SOFT_KN, DAMPED_SOFT_FACTOR = 2e4, 48.6 / 40.0
 
 
 def _between(points, x):
@@ -121,7 +127,9 @@ def expected_settle_time(bed, config):
     if not damped or threshold < DAMPED_STOP_MEASURED["ke_threshold"] or mu < DAMPED_STOP[0][1][0][0]:
         return limit
     at_depths = [(n, _between(points, mu)) for n, points in DAMPED_STOP]
-    return min(limit, _between(at_depths, density))
+    softer = _between(((math.log10(DAMPED_SOFT_KN), DAMPED_SOFT_FACTOR), (math.log10(2e5), 1.0)),
+                      math.log10(float(bed.value("kn"))))
+    return min(limit, softer * _between(at_depths, density))
 
 
 def expected_column_cost(bed, config):
@@ -162,6 +170,19 @@ def expected_place_time(bed, config):
         if threshold >= lowest and (damped or not needs_damping):
             return min(limit, max(least, time))
     return limit
+
+
+# What a bed's (a pour's, a column's, a placement's) particle-step costs, in a pull's: its grains
+# fall and rearrange, the neighbour lists rebuilt far more often than in a pull's bed at rest. From
+# the per-job benchmarks of the two rungs recorded in pieces (results/reproduction/<rung>/pieces/
+# benchmarks/), each priced at the rate its own pulls of over a minute ran at under the CPU model
+# below (2026-12-04): the 3 undamped pours of crossover-k2e6-box40-deep (70,000 grains, K_n = 2e6,
+# settled at 26-30 as priced; beside other work) cost 2.08-2.44 of a pull's step, 2.25 on average;
+# the 10 damped pours of scaling-k2e4-deep (84,375 grains, K_n = 2e4, their measured settling time,
+# DAMPED_SOFT_FACTOR) 1.63-2.40, 2.11 on average. The recorded rungs' totals hardly constrain it
+# (pours are 8-32 % of each rung's particle-steps: a factor 1 to 2 fits them alike, within
+# 0.89-1.16, the machines' rates moving).
+POUR_STEP_COST = 2.1
 
 
 def expected_bed_cost(bed, config):
@@ -208,20 +229,41 @@ def expected_pull_cost(pull, config):
 # equivalents per grain (reading the bed, building the lists, ten checkpoints and the snapshots
 # written, the run file's end) and PULL_TIME_STEPS per grain per unit of simulated time (a sample
 # every sample_interval; the lists rebuilt as the bed moves), at the rate of its steps; a pour's
-# step costs a pull's (UNDAMPED_SETTLE_PER_DENSITY above). Fitted, with that constant and the two
-# machines' rates (LADDER_MACHINES), to the CPU seconds of the reproduction ladder's 15 recorded
-# rungs (results/reproduction/*/run.json: 5 parameters, 15 data) by `/usr/bin/python3
-# workflow/scripts/estimate_cost.py --fit-recorded` (granudrag_study.recorded; 2026-12-02). Alone,
-# particle-steps priced the 12 d boxes 1.3-1.8x too high and the 30-40 d boxes 1.2x too low.
-PULL_START_STEPS = 12170.0
-PULL_TIME_STEPS = 1037.0
+# step costs POUR_STEP_COST of a pull's (above). Fitted, with the three machines' rates
+# (LADDER_MACHINES), to the CPU seconds of the reproduction ladder's 16 recorded rungs
+# (results/reproduction/*/run.json: 5 parameters, 16 data) by `/usr/bin/python3
+# workflow/scripts/estimate_cost.py --fit-recorded` (granudrag_study.recorded; 2026-12-04, with
+# POUR_STEP_COST 2.1; 2026-12-02's fit, pours at a pull's step and 2 machines: 12,170 and 1,037).
+# Alone, at the configs' throughput, particle-steps priced the 12 d boxes 1.3-3x too high and the
+# 30-40 d boxes 1.2-1.6x too low: mostly the machines; the rungs' totals constrain these two
+# constants loosely (their fitted values moved 30-80 % with POUR_STEP_COST, the ratios 1 %).
+PULL_START_STEPS = 8793.0
+PULL_TIME_STEPS = 1847.0
 
-# The machines the recorded rungs ran on: the throughput (a pull's step rate, particle-steps per
-# second of one 1-thread job) of each, from the date a rung started. Both were 2-core virtual
-# machines reporting "Intel(R) Xeon(R) Processor"; the second, from 2026-11-29 (2 MiB L2, 260 MiB
-# L3), runs 1.63x slower per core in the fit, as docs/log/benchmark.md found on the 7.7k bench's loop
-# (86-119 ns per particle-step there against 65 on the first). Fitted as above.
-LADDER_MACHINES = (("2026-11-25", 1.982e7), ("2026-11-29", 1.246e7))
+# The machines the recorded rungs ran on (run.json's machine.cpu and start): the throughput (a
+# pull's step rate, particle-steps per second of one 1-thread job) of each, the last entry whose CPU
+# name is in the record's and whose date is on or before its start. The first two were 2-core
+# virtual machines reporting "Intel(R) Xeon(R) Processor"; the second, from 2026-11-29 (2 MiB L2,
+# 260 MiB L3), runs 1.5x slower per core in the fit, as docs/log/benchmark.md found on the 7.7k
+# bench's loop (86-119 ns per particle-step there against 65 on the first); the third reported
+# "AMD EPYC" (crossover-k2e6-box40-deep, the only rung on it: its rate is that rung's own). Fitted as
+# above.
+LADDER_MACHINES = (
+    ("Intel", "2026-11-25", 2.439e7),
+    ("Intel", "2026-11-29", 1.637e7),
+    ("AMD EPYC", "2026-11-25", 1.310e7),
+)
+
+
+def bed_work(bed, config):
+    """Pull-step equivalents of a bed job's CPU: its expected particle-steps (expected_bed_cost)
+    at POUR_STEP_COST."""
+    return POUR_STEP_COST * expected_bed_cost(bed, config)
+
+
+def column_work(bed, config):
+    """Pull-step equivalents of a placed bed's column's pour: expected_column_cost at POUR_STEP_COST."""
+    return POUR_STEP_COST * expected_column_cost(bed, config)
 
 
 def pull_time(pull, config):
@@ -292,10 +334,11 @@ def bed_retries(plan_):
 
 def summary(plan_):
     """Numbers of jobs and estimated particle-steps and core-hours: the expected cost of the beds
-    (placed beds' columns included) and pulls, the core-hours of the pulls' work (pull_work, the
-    CPU model) rather than their particle-steps; the beds' upper bound (every pour and placement to
-    its max_settle_time) as bed_particle_steps_bound, the pulls' whole cost (without the active
-    region's saving) as pull_particle_steps_whole."""
+    (placed beds' columns included) and pulls, the core-hours of the beds' and pulls' work (bed_work
+    at POUR_STEP_COST, pull_work: the CPU model) rather than their particle-steps; the beds' upper
+    bound (every pour and placement to its max_settle_time) as bed_particle_steps_bound (bed_work_bound
+    at POUR_STEP_COST), the pulls' whole cost (without the active region's saving) as
+    pull_particle_steps_whole."""
     config = plan_.config
     bed_ps = sum(expected_bed_cost(b, config) for b in plan_.beds.values())
     bound = sum(bed_cost(b, config) for b in plan_.beds.values())
@@ -305,13 +348,15 @@ def summary(plan_):
     work = sum(pull_work(p, config) for p in plan_.pulls.values())
     whole = sum(pull_cost(p, config) for p in plan_.pulls.values())
     threads = int(config["threads"])
-    core_h = (bed_ps + work) / float(config["throughput"]) * threads / 3600.0
+    core_h = (POUR_STEP_COST * bed_ps + work) / float(config["throughput"]) * threads / 3600.0
     return {
         "beds": len(plan_.beds),
         "columns": len(plan_.columns),
         "pulls": len(plan_.pulls),
         "bed_particle_steps": bed_ps,
         "bed_particle_steps_bound": bound,
+        "bed_work": POUR_STEP_COST * bed_ps,
+        "bed_work_bound": POUR_STEP_COST * bound,
         "pull_particle_steps": pull_ps,
         "pull_particle_steps_whole": whole,
         "pull_work": work,

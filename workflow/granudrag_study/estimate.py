@@ -2,7 +2,7 @@
 
     /usr/bin/python3 -m granudrag_study.estimate config/paper.yaml [--throughput PS] [--cores N] [--by-sweep]
         [--by-figure] [--measure [--grains G] [--binary build/granudrag]]
-    /usr/bin/python3 -m granudrag_study.estimate --check-recorded   # against the recorded rungs
+    /usr/bin/python3 -m granudrag_study.estimate --check-recorded [--markdown [--leave-one-out]]
     /usr/bin/python3 -m granudrag_study.estimate --fit-recorded     # refit the CPU model
 
 Cost model (granudrag_study.cost): a pull costs grains x travel / (V dt)
@@ -141,8 +141,8 @@ def _use_measured_shares(path):
     region_cost.ASLEEP_SHARE = region_cost.ASLEEP_SHARE_DAMPED = shares   # whichever pour the beds had
 
 
-def _recorded(check_dir, fit_dir):
-    """--check-recorded and --fit-recorded (granudrag_study.recorded)."""
+def _recorded(check_dir, fit_dir, markdown=False, loo=False):
+    """--check-recorded (--markdown, --leave-one-out) and --fit-recorded (granudrag_study.recorded)."""
     from . import recorded
 
     root = Path(check_dir or fit_dir)
@@ -154,7 +154,11 @@ def _recorded(check_dir, fit_dir):
         print(f"  measured / estimate {min(ratios.values()):.2f}-{max(ratios.values()):.2f}")
         if not check_dir:
             return 0
-    recorded.print_check(recorded.check(root), sys.stdout)
+    rows = recorded.check(root)
+    if markdown:
+        recorded.print_markdown(rows, sys.stdout, recorded.leave_one_out(root) if loo else None)
+    else:
+        recorded.print_check(rows, sys.stdout)
     return 0
 
 
@@ -167,6 +171,12 @@ def main(argv=None):
     ap.add_argument("--fit-recorded", nargs="?", const=str(RECORDED), metavar="DIR",
                     help="fit the CPU model's constants to the rungs recorded in DIR and print them (scipy; "
                          "about a minute)")
+    ap.add_argument("--markdown", action="store_true",
+                    help="with --check-recorded: a markdown table, with each rung's engine and the estimate "
+                         "before the CPU model (particle-steps at the config's throughput)")
+    ap.add_argument("--leave-one-out", action="store_true",
+                    help="with --check-recorded --markdown: a column of each rung's ratio predicted by the "
+                         "fit to the others (scipy; about a minute)")
     ap.add_argument("--throughput", type=float, help="particle-steps/s of one job (default: the config's)")
     ap.add_argument("--cores", type=_positive_int, default=len(os.sched_getaffinity(0)) or 1,
                     help="cores for the wall-time estimate (default: this machine's)")
@@ -193,7 +203,7 @@ def main(argv=None):
     ap.add_argument("--binary", help="granudrag for --measure (default: the config's `granudrag`)")
     args = ap.parse_args(argv)
     if args.check_recorded or args.fit_recorded:
-        return _recorded(args.check_recorded, args.fit_recorded)
+        return _recorded(args.check_recorded, args.fit_recorded, args.markdown, args.leave_one_out)
     if not args.config:
         ap.error("give a study config (or --check-recorded)")
     try:
@@ -242,8 +252,8 @@ def main(argv=None):
         plan = study.plan(config)
     s = study.summary(plan)
     tp, threads = float(config["throughput"]), s["threads"]
-    total = s["bed_particle_steps"] + s["pull_work"]
-    bound = s["bed_particle_steps_bound"] + s["pull_work"]
+    total = s["bed_work"] + s["pull_work"]
+    bound = s["bed_work_bound"] + s["pull_work"]
     parallel, wall, squeezed = wall_seconds(total, tp, threads, args.cores)
     wall_bound = wall_seconds(bound, tp, threads, args.cores)[1]
     columns = f"{s['columns']} columns + " if s["columns"] else ""
@@ -255,10 +265,11 @@ def main(argv=None):
     print(f"  particle-steps: beds {s['bed_particle_steps']:.3g} expected (<= {s['bed_particle_steps_bound']:.3g}), "
           f"pulls {s['pull_particle_steps']:.3g}")
     print(f"  throughput {tp:.3g} particle-steps/s per job on {threads} thread(s) ({how})")
-    print(f"  cost: {s['core_hours']:.3g} core-hours (beds {core_hours(s['bed_particle_steps'], config):.3g}, "
+    print(f"  cost: {s['core_hours']:.3g} core-hours (beds {core_hours(s['bed_work'], config):.3g}, "
           f"pulls {core_hours(s['pull_work'], config):.3g}, of which their particle-steps "
           f"{core_hours(s['pull_particle_steps'], config):.3g}); at most {core_hours(bound, config):.3g} if "
-          f"every pour runs to its max_settle_time (beds {core_hours(s['bed_particle_steps_bound'], config):.3g})")
+          f"every pour runs to its max_settle_time (beds {core_hours(s['bed_work_bound'], config):.3g}; a bed's "
+          f"particle-step costs {study.POUR_STEP_COST:g} of a pull's, cost.py POUR_STEP_COST)")
     if s["bed_particle_steps"] < s["bed_particle_steps_bound"]:
         print("  pours: undamped pours to 1e-6 and damped frictional ones are expected to stop at the "
               "kinetic-energy threshold early (measured settling times: workflow/granudrag_study/cost.py, "

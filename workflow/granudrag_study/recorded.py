@@ -2,10 +2,11 @@
 
 Each rung recorded under results/reproduction/<rung>/ holds the config it ran (config.yaml) and
 its run.json: the CPU seconds of its simulation jobs as Snakemake's benchmark files recorded them
-(core_hours, from cpu_time) and when it started, which names the machine (cost.LADDER_MACHINES).
-The estimate of a rung is its config's jobs priced by the CPU model (cost.pull_work, the pours'
-expected particle-steps) at that machine's throughput, the config's own `throughput` set aside: it
-was measured once for every rung, on the first machine.
+(core_hours, from cpu_time), the CPU it ran on and when it started, which name the machine
+(cost.LADDER_MACHINES), and the engine commits its jobs ran. The estimate of a rung is its config's
+jobs priced by the CPU model (cost.pull_work, cost.bed_work) at that machine's throughput, the
+config's own `throughput` set aside (it was measured once, on one machine); the check also prints
+what particle-steps alone at the config's `throughput` priced (the estimate before the CPU model).
 
 Snakemake's benchmark undercounts a job's CPU: it samples the job's processes every 0.5 s for
 the first 15 s, then every 30 s, and keeps the last sample (snakemake/benchmark.py,
@@ -15,6 +16,7 @@ sample: t - 15 s of a job of t = 15-45 s, 15 s on average of a longer one (a 12 
 (recorded_seconds) and prints both.
 
     /usr/bin/python3 workflow/scripts/estimate_cost.py --check-recorded   # the table
+    /usr/bin/python3 workflow/scripts/estimate_cost.py --check-recorded --markdown   # for the docs
     /usr/bin/python3 workflow/scripts/estimate_cost.py --fit-recorded     # refit the constants
 """
 
@@ -35,7 +37,7 @@ RECORDED = Path("results/reproduction")
 SAMPLED_DENSELY, SAMPLE_GAP = 15.0, 30.0
 
 # The constants --fit-recorded fits, with the scale each is fitted in.
-FITTED = ("PULL_START_STEPS", "PULL_TIME_STEPS", "machine 1", "machine 2")
+FITTED = ("PULL_START_STEPS", "PULL_TIME_STEPS", "machine 1", "machine 2", "machine 3")
 
 
 def lost_to_sampling(seconds):
@@ -45,15 +47,22 @@ def lost_to_sampling(seconds):
     return min(seconds - SAMPLED_DENSELY, SAMPLE_GAP / 2)
 
 
-def machine_throughput(started, machines=None):
-    """The throughput of the recorded machine a rung started on (an ISO date)."""
-    rate = None
-    for since, throughput in machines or cost.LADDER_MACHINES:
-        if started[:10] >= since:
-            rate = throughput
-    if rate is None:
-        raise ValueError(f"a rung started {started}, before every recorded machine")
-    return rate
+def machine_index(started, cpu="Intel(R) Xeon(R) Processor", machines=None):
+    """Which of cost.LADDER_MACHINES a rung ran on: the last whose CPU name is in `cpu` (run.json's
+    machine.cpu) and whose date is on or before `started` (an ISO date)."""
+    found = None
+    for i, (name, since, _) in enumerate(machines or cost.LADDER_MACHINES):
+        if name in cpu and started[:10] >= since:
+            found = i
+    if found is None:
+        raise ValueError(f"a rung started {started} on {cpu!r}: no recorded machine matches")
+    return found
+
+
+def machine_throughput(started, cpu="Intel(R) Xeon(R) Processor", machines=None):
+    """The throughput of the recorded machine a rung ran on (machine_index)."""
+    machines = machines or cost.LADDER_MACHINES
+    return machines[machine_index(started, cpu, machines)][2]
 
 
 def job_seconds(config, throughput, p=None):
@@ -61,8 +70,8 @@ def job_seconds(config, throughput, p=None):
     threads."""
     p = p or plan(config)
     threads = int(config.get("threads", 1))
-    work = {f"beds/{k}": cost.expected_bed_cost(b, config) for k, b in p.beds.items()}
-    work.update({f"columns/{k}": cost.expected_column_cost(b, config) for k, b in p.columns.items()})
+    work = {f"beds/{k}": cost.bed_work(b, config) for k, b in p.beds.items()}
+    work.update({f"columns/{k}": cost.column_work(b, config) for k, b in p.columns.items()})
     work.update({f"pulls/{k}": cost.pull_work(q, config) for k, q in p.pulls.items()})
     return {job: w / throughput * threads for job, w in work.items()}
 
@@ -84,18 +93,29 @@ def recorded_rungs(root=RECORDED):
 
 def check_rung(rung_dir, run, machines=None):
     """A recorded rung's estimate against its measurement: a dict of core-hours (estimate: the
-    CPU model; recorded_estimate: less the benchmark's sampling loss; measured: run.json's) and
-    ratio = measured / recorded_estimate."""
+    CPU model; recorded_estimate: less the benchmark's sampling loss; measured: run.json's),
+    ratio = measured / recorded_estimate, steps_ratio = measured / the particle-steps alone at the
+    config's throughput (the estimate before the CPU model), the machine (its index in
+    LADDER_MACHINES) and the engine commits that ran the jobs."""
     config, p = _load(Path(rung_dir))
-    throughput = machine_throughput(run.get("started") or run["date"], machines)
+    started, cpu = run.get("started") or run["date"], (run.get("machine") or {}).get("cpu", "Intel")
+    machines = machines or cost.LADDER_MACHINES
+    machine = machine_index(started, cpu, machines)
+    throughput = machines[machine][2]
     seconds = job_seconds(config, throughput, p)
+    steps = sum(cost.expected_bed_cost(b, config) for b in p.beds.values())
+    steps += sum(cost.expected_column_cost(b, config) for b in p.columns.values())
+    steps += sum(cost.expected_pull_cost(q, config) for q in p.pulls.values())
+    steps_hours = steps / float(config["throughput"]) * int(config["threads"]) / 3600
     estimate = sum(seconds.values())
     recorded = sum(t - min(t, lost_to_sampling(t)) for t in seconds.values())
     at_config = estimate * throughput / float(config["throughput"])
     measured = float(run["core_hours"]) * 3600.0
     return {"rung": rung_dir.name, "throughput": throughput, "jobs": len(seconds), "recorded_jobs": run["jobs"],
             "at_config": at_config / 3600, "estimate": estimate / 3600, "recorded_estimate": recorded / 3600,
-            "measured": measured / 3600, "ratio": measured / recorded}
+            "measured": measured / 3600, "ratio": measured / recorded, "machine": machine,
+            "steps_at_config": steps_hours, "steps_ratio": measured / 3600 / steps_hours,
+            "engines": dict(run.get("engine_commits") or {})}
 
 
 def check(root=RECORDED, machines=None):
@@ -127,7 +147,7 @@ def constants(values):
     try:
         for n, v in zip(names, values[:2]):
             setattr(cost, n, v)
-        cost.LADDER_MACHINES = tuple((since, rate) for (since, _), rate in zip(saved[-1], values[2:]))
+        cost.LADDER_MACHINES = tuple((cpu, since, rate) for (cpu, since, _), rate in zip(saved[-1], values[2:]))
         yield
     finally:
         for n, v in zip(names, saved[:2]):
@@ -144,8 +164,8 @@ def fit(root=RECORDED, leave_out=None, minimax=True):
     from scipy.optimize import least_squares, minimize
 
     rungs = [r for r in recorded_rungs(root) if r[0] != leave_out]
-    start = [cost.PULL_START_STEPS, cost.PULL_TIME_STEPS, *(rate for _, rate in cost.LADDER_MACHINES)]
-    scale = np.array([1e3, 1e2, 1e7, 1e7])
+    start = [cost.PULL_START_STEPS, cost.PULL_TIME_STEPS, *(rate for _, _, rate in cost.LADDER_MACHINES)]
+    scale = np.array([1e3, 1e2, *[1e7] * len(cost.LADDER_MACHINES)])
 
     def residuals(x):
         with constants(list(np.abs(x) * scale)):
@@ -161,8 +181,13 @@ def fit(root=RECORDED, leave_out=None, minimax=True):
 
 
 def leave_one_out(root=RECORDED):
-    """{rung: its ratio predicted by the least-squares fit to the other rungs} (a few seconds each)."""
-    return {name: fit(root, leave_out=name, minimax=False)[1][name] for name, _, _ in recorded_rungs(root)}
+    """{rung: its ratio predicted by the least-squares fit to the other rungs} (a few seconds each);
+    None for a rung alone on its machine (its rate is then not fitted: nothing predicts it)."""
+    rungs = recorded_rungs(root)
+    machine = {name: check_rung(d, run)["machine"] for name, d, run in rungs}
+    alone = {m for m in machine.values() if list(machine.values()).count(m) == 1}
+    return {name: None if machine[name] in alone else fit(root, leave_out=name, minimax=False)[1][name]
+            for name, _, _ in rungs}
 
 
 def print_check(rows, out):
@@ -174,3 +199,30 @@ def print_check(rows, out):
     worst = max(rows, key=lambda r: abs(math.log(r["ratio"])))
     print(f"core-hours; {len(rows)} rungs, measured / estimate {min(r['ratio'] for r in rows):.2f}-"
           f"{max(r['ratio'] for r in rows):.2f} (farthest: {worst['rung']})", file=out)
+
+
+def engines_text(engines):
+    """A rung's engine commits as text: the commit, or the commits with their jobs, most first."""
+    if len(engines) == 1:
+        return next(iter(engines))
+    return ", ".join(f"{c} ({n})" for c, n in sorted(engines.items(), key=lambda kv: -kv[1]))
+
+
+def print_markdown(rows, out, loo=None):
+    """The check as a markdown table (the docs' table): per rung its machine, engine(s), the
+    estimate before the CPU model (particle-steps at the config's throughput) and the CPU model's,
+    the measured core-hours and both ratios; loo: leave_one_out's predictions, a column."""
+    head = ("| rung | machine | engine (jobs) | particle-steps at the config's throughput | measured / that "
+            "| CPU model (less sampling) | measured | measured / CPU model |")
+    if loo is not None:
+        head += " left out of the fit |"
+    print(head, file=out)
+    print("|" + "---|" * (head.count("|") - 1), file=out)
+    for r in rows:
+        line = (f"| {r['rung']} | {r['machine'] + 1} | {engines_text(r['engines'])} | {r['steps_at_config']:.3f} | "
+                f"{r['steps_ratio']:.2f} | {r['estimate']:.3f} ({r['recorded_estimate']:.3f}) | {r['measured']:.3f} | "
+                f"**{r['ratio']:.2f}** |")
+        if loo is not None:
+            pred = loo.get(r["rung"])
+            line += f" {pred:.2f} |" if pred is not None else " (alone on its machine) |"
+        print(line, file=out)
