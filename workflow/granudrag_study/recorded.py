@@ -205,7 +205,9 @@ def engines_text(engines):
     """A rung's engine commits as text: the commit, or the commits with their jobs, most first."""
     if len(engines) == 1:
         return next(iter(engines))
-    return ", ".join(f"{c} ({n})" for c, n in sorted(engines.items(), key=lambda kv: -kv[1]))
+    ranked = sorted(engines.items(), key=lambda kv: -kv[1])
+    text = ", ".join(f"{c} ({n})" for c, n in ranked[:3])
+    return text + (f", {len(ranked) - 3} more ({sum(n for _, n in ranked[3:])})" if len(ranked) > 3 else "")
 
 
 def print_markdown(rows, out, loo=None):
