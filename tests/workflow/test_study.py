@@ -232,6 +232,7 @@ def test_costs_use_the_engine_time_step_and_froude_speed():
 
 def test_a_damped_frictional_pour_is_expected_to_stop_at_its_measured_settling_time():
     config = copy.deepcopy(BASE)
+    config["defaults"]["kn"] = 2e5                     # DAMPED_STOP's stiffness (softer: below)
     sysc = config["systems"]["I"]
     plan = study.plan(config)
     frictional = next(b for b in plan.beds.values() if b.value("mu") == 0.5)
@@ -264,6 +265,9 @@ def test_a_damped_frictional_pour_is_expected_to_stop_at_its_measured_settling_t
         study.bed_cost(frictional, config) * 28.0 / 140)
     s = study.summary(study.plan(config))
     assert s["bed_particle_steps"] < s["bed_particle_steps_bound"]
+    config["defaults"]["kn"] = 2e4                     # a softer bed settles longer (DAMPED_SOFT_FACTOR)
+    soft = next(b for b in study.plan(config).beds.values() if b.value("mu") == 0.5)
+    assert study.expected_settle_time(soft, config) == pytest.approx(28.0 * study.cost.DAMPED_SOFT_FACTOR)
 
 
 def test_estimate_cost_prints_jobs_and_core_hours():
