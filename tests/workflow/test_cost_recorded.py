@@ -34,11 +34,12 @@ def test_the_benchmark_loses_what_a_job_used_after_its_last_sample():
 
 
 def test_a_rung_is_priced_at_the_machine_it_ran_on():
-    (_, _, rate1), (_, _, rate2), (_, _, rate3) = cost.LADDER_MACHINES
+    (_, _, rate1), (_, _, rate2), (_, _, rate3), (_, _, rate4) = cost.LADDER_MACHINES
     intel = "Intel(R) Xeon(R) Processor"
     assert recorded.machine_throughput("2026-11-25T20:33:54Z", intel) == rate1
     assert recorded.machine_throughput("2026-11-30T14:03:46Z", intel) == rate2
     assert recorded.machine_throughput("2026-12-02", "AMD EPYC") == rate3     # by its CPU, not its date
+    assert recorded.machine_throughput("2026-12-04T10:00:00Z", intel) == rate4
     assert rate2 < rate1
     with pytest.raises(ValueError):
         recorded.machine_throughput("2026-11-01", intel)

@@ -37,7 +37,7 @@ RECORDED = Path("results/reproduction")
 SAMPLED_DENSELY, SAMPLE_GAP = 15.0, 30.0
 
 # The constants --fit-recorded fits, with the scale each is fitted in.
-FITTED = ("PULL_START_STEPS", "PULL_TIME_STEPS", "machine 1", "machine 2", "machine 3")
+FITTED = ("PULL_START_STEPS", "PULL_TIME_STEPS", *(f"machine {i + 1}" for i in range(len(cost.LADDER_MACHINES))))
 
 
 def lost_to_sampling(seconds):
