@@ -27,7 +27,7 @@ SHELL_COLUMNS = ["system", "D", "h", "mu", "kn", "Fr", "V", "seed", "n_contacts"
 
 # --- collect ---------------------------------------------------------------
 
-def collect(config, results_dir, out_dir, *, wall_seconds, cores, started=None):
+def collect(config, results_dir, out_dir, *, wall_seconds, cores, started=None, phi=None):
     """Copy a finished study's small result files into out_dir (a rung directory) and write
     its run.json. Returns run.json's content. Every file is written under a temporary name and
     renamed; run.json comes last, so an interrupted collect leaves a rung that reads "not run"."""
@@ -51,7 +51,7 @@ def collect(config, results_dir, out_dir, *, wall_seconds, cores, started=None):
             (out / name).unlink(missing_ok=True)       # never keep an older study's copy
     notes += write_kappa_shells(results, out / "kappa_shells.csv")
     notes += write_startup(results, out / "startup.csv")
-    notes += write_depth_law(config, out)
+    notes += write_depth_law(config, out, phi)
     hours, source, jobs = core_hours(results, threads=_config_threads(config))
     info = {"rung": config.stem, "config": str(config), "results": str(results),
             "wall_seconds": float(wall_seconds), "cores": int(cores), "started": started,
@@ -177,11 +177,13 @@ def _git(repo, *args):
                           timeout=60).stdout
 
 
-def write_depth_law(config, out):
+def write_depth_law(config, out, phi_fits=None):
     """deep_law.csv, deep_law.md and a figure per series in the rung directory `out` (its table.csv
     copied in), when the study pulled system II at two or more depths: the depth law read on the
     deep intruders (h >= the config's report.h_min, else the paper's 45 d) and on every depth
-    (analysis.deep_law), phi_mu from the rung's own fits.json when it has one. Notes."""
+    (analysis.deep_law), phi_mu for the sum rule from the fit file `phi_fits` (another rung's:
+    a study of system II depths at one D has no phi of its own), else from the rung's own
+    fits.json when it has one. Notes, naming where phi came from."""
     from ..core import paper
     from ..core.table import load_csv
     from ..deep_law.deep_law import phi_from_fits, write_deep_law
@@ -193,13 +195,24 @@ def write_depth_law(config, out):
     if deep.h.round(3).nunique() < 2:
         return []
     h_min = float((_read_config(config).get("report") or {}).get("h_min") or paper.DEEP_H)
-    try:
-        phi = phi_from_fits(out / "fits.json")
-    except FitFileError:
-        phi = None
+    if phi_fits is not None:
+        try:
+            phi = phi_from_fits(phi_fits)
+        except (FitFileError, OSError) as exc:
+            raise LadderError(f"--phi {phi_fits}: not a readable fit file ({exc}); give a rung's fits.json") from None
+        if phi is None:
+            raise LadderError(f"--phi {phi_fits}: the fit file has no phi_mu table (a study with yield pulls "
+                              "at several D has one)")
+        source = f"phi_mu from {phi_fits}"
+    else:
+        try:
+            phi = phi_from_fits(out / "fits.json")
+        except FitFileError:
+            phi = None
+        source = "phi_mu from the rung's own fits.json" if phi is not None else "no phi_mu: no sum rule"
     table, _ = write_deep_law(df, out, h_min=h_min, phi=phi)
     draw(df, out, h_min=h_min)
-    return [f"deep_law.csv: the depth law on h >= {h_min:g} d and on every depth ({len(table)} rows)"]
+    return [f"deep_law.csv: the depth law on h >= {h_min:g} d and on every depth ({len(table)} rows; {source})"]
 
 
 def write_kappa_shells(results, path):

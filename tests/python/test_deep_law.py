@@ -2,6 +2,7 @@
 system II tables with a known law, the beds' shared shift and each pull's own noise, as the
 deep rung pulls them (depths 10-65 d, the paper's five speeds and the yield pull, two beds)."""
 import math
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -208,4 +209,13 @@ def test_collecting_a_rung_with_depths_writes_its_depth_law(tmp_path):
     law = pd.read_csv(tmp_path / "rung" / "deep_law.csv")
     assert set(law.depths) == {"h >= 50", "all", "h < 50"}
     assert not law.quantity.str.startswith("sum").any()
-    assert any(n.startswith("deep_law.csv") for n in info["notes"])
+    assert any(n.startswith("deep_law.csv") and "no phi_mu" in n for n in info["notes"])
+    # phi from another rung's fit file (scaling-k2e4-box20's, at this contact law): the sum rule.
+    box20 = Path(__file__).resolve().parents[2] / "results/reproduction/scaling-k2e4-box20/fits.json"
+    info = collect(config, res, tmp_path / "rung2", wall_seconds=1, cores=1, phi=box20)
+    law = pd.read_csv(tmp_path / "rung2" / "deep_law.csv")
+    assert {"sum_yield", "sum_drag"} <= set(law.quantity)
+    assert any(n.startswith("deep_law.csv") and f"phi_mu from {box20}" in n for n in info["notes"])
+    from analysis.ladder.ladder_claims import LadderError
+    with pytest.raises(LadderError, match="--phi .*missing.json: not a readable fit file"):
+        collect(config, res, tmp_path / "rung3", wall_seconds=1, cores=1, phi=tmp_path / "missing.json")
