@@ -39,7 +39,8 @@ def test_a_rung_is_priced_at_the_machine_it_ran_on():
     assert recorded.machine_throughput("2026-11-25T20:33:54Z", intel) == rate1
     assert recorded.machine_throughput("2026-11-30T14:03:46Z", intel) == rate2
     assert recorded.machine_throughput("2026-12-02", "AMD EPYC") == rate3     # by its CPU, not its date
-    assert recorded.machine_throughput("2026-12-04T10:00:00Z", intel) == rate4
+    assert recorded.machine_throughput("2026-12-04T10:00:00Z", "AMD EPYC") == rate4   # the later AMD host
+    assert recorded.machine_throughput("2026-12-04T10:00:00Z", intel) == rate2
     assert rate2 < rate1
     with pytest.raises(ValueError):
         recorded.machine_throughput("2026-11-01", intel)
@@ -48,6 +49,7 @@ def test_a_rung_is_priced_at_the_machine_it_ran_on():
     rows = {r["rung"]: r for r in recorded.check(RECORDED)}
     assert rows["crossover-k2e6-box40-deep"]["machine"] == 2
     assert rows["crossover-k2e6-box12"]["machine"] == 0 and rows["crossover-k2e6-box40"]["machine"] == 1
+    assert rows["scaling-k2e4-deep"]["machine"] == 3
 
 
 def test_particle_steps_alone_at_the_configs_throughput_were_off_by_up_to_3x():

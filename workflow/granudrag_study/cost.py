@@ -247,14 +247,15 @@ PULL_TIME_STEPS = 1847.0
 # 260 MiB L3), runs 1.5x slower per core in the fit, as docs/log/benchmark.md found on the 7.7k
 # bench's loop (86-119 ns per particle-step there against 65 on the first); the third reported
 # "AMD EPYC" (crossover-k2e6-box40-deep, the only rung on it: its rate is that rung's own). Fitted as
-# above. The fourth, from 2026-12-03, reports the first two's CPU name again (2 MiB L2 per core, 480
-# MiB L3): its rate is that of scaling-k2e4-deep's 50 pulls of over a minute (their work over their
-# CPU plus the benchmark's 15 s), not fitted to the rung's total (0.72 of it at the second's rate).
+# above. The fourth, from 2026-12-03, an "AMD EPYC" host again, ran 70 of scaling-k2e4-deep's 84
+# jobs (the other 14 on an Intel host on 2026-12-04: the rung's run.json names the majority): its
+# rate is that of the rung's 50 pulls of over a minute (their work over their CPU plus the
+# benchmark's 15 s), not fitted to the rung's total (0.72 of it at the second machine's rate).
 LADDER_MACHINES = (
     ("Intel", "2026-11-25", 2.439e7),
     ("Intel", "2026-11-29", 1.637e7),
     ("AMD EPYC", "2026-11-25", 1.310e7),
-    ("Intel", "2026-12-03", 2.21e7),
+    ("AMD EPYC", "2026-12-03", 2.21e7),
 )
 
 
