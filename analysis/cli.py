@@ -120,7 +120,8 @@ def _ladder(args):
     if args.ladder_command == "collect":
         out = args.out or Path("results/reproduction") / Path(args.config).stem
         info = ladder.collect(args.config, args.results, out, wall_seconds=args.wall_seconds,
-                              cores=args.cores, started=args.started, phi=args.phi)
+                              cores=args.cores, started=args.started, phi=args.phi,
+                              machine_cpu=args.machine_cpu)
         hours = info["core_hours"]
         print(f"{out}: rung {info['rung']}, {info['jobs']} jobs, "
               + (f"{hours:.3g} core-hours ({info['core_hours_from']})" if hours is not None
@@ -248,6 +249,8 @@ def _ladder_parser(sub):
     c.add_argument("--out", help="rung directory (default results/reproduction/<config stem>)")
     c.add_argument("--phi", help="another rung's fits.json whose phi_mu the depth law's sum rule takes "
                                  "(a rung of system II depths at one D has none of its own)")
+    c.add_argument("--machine-cpu", help="the CPU the study's jobs ran on, when not this host's (a rung run "
+                                         "in pieces elsewhere); default: this host's")
     t = lsub.add_parser("table", help="ladder.csv, ladder.md, figures and README section of a ladder root")
     t.add_argument("root", help="the ladder's root with ladder.yaml (results/reproduction)")
     t.add_argument("--n-boot", type=_non_negative(int, "--n-boot"), default=100,

@@ -27,9 +27,12 @@ SHELL_COLUMNS = ["system", "D", "h", "mu", "kn", "Fr", "V", "seed", "n_contacts"
 
 # --- collect ---------------------------------------------------------------
 
-def collect(config, results_dir, out_dir, *, wall_seconds, cores, started=None, phi=None):
+def collect(config, results_dir, out_dir, *, wall_seconds, cores, started=None, phi=None,
+            machine_cpu=None):
     """Copy a finished study's small result files into out_dir (a rung directory) and write
-    its run.json. Returns run.json's content. Every file is written under a temporary name and
+    its run.json. Returns run.json's content. run.json's machine is this host's unless
+    `machine_cpu` names the CPU the jobs ran on (a rung run in pieces elsewhere: the cost
+    estimate's machine table reads it), noted with the collecting host's. Every file is written under a temporary name and
     renamed; run.json comes last, so an interrupted collect leaves a rung that reads "not run"."""
     config, results, out = Path(config), Path(results_dir), Path(out_dir)
     if not config.is_file():
@@ -53,9 +56,13 @@ def collect(config, results_dir, out_dir, *, wall_seconds, cores, started=None, 
     notes += write_startup(results, out / "startup.csv")
     notes += write_depth_law(config, out, phi)
     hours, source, jobs = core_hours(results, threads=_config_threads(config))
+    host = machine()
+    if machine_cpu:
+        notes.append(f"machine.cpu given at collect (the jobs' host); collected on {host['cpu']}")
+        host = {**host, "cpu": str(machine_cpu)}
     info = {"rung": config.stem, "config": str(config), "results": str(results),
             "wall_seconds": float(wall_seconds), "cores": int(cores), "started": started,
-            "core_hours": hours, "core_hours_from": source, "jobs": jobs, "machine": machine(),
+            "core_hours": hours, "core_hours_from": source, "jobs": jobs, "machine": host,
             "commit": commit(), "engine_commits": engine_commits(results),
             "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
             "notes": notes}

@@ -212,7 +212,8 @@ def test_collecting_a_rung_with_depths_writes_its_depth_law(tmp_path):
     assert any(n.startswith("deep_law.csv") and "no phi_mu" in n for n in info["notes"])
     # phi from another rung's fit file (scaling-k2e4-box20's, at this contact law): the sum rule.
     box20 = Path(__file__).resolve().parents[2] / "results/reproduction/scaling-k2e4-box20/fits.json"
-    info = collect(config, res, tmp_path / "rung2", wall_seconds=1, cores=1, phi=box20)
+    info = collect(config, res, tmp_path / "rung2", wall_seconds=1, cores=1, phi=box20, machine_cpu="AMD EPYC")
+    assert info["machine"]["cpu"] == "AMD EPYC" and any(n.startswith("machine.cpu given") for n in info["notes"])
     law = pd.read_csv(tmp_path / "rung2" / "deep_law.csv")
     assert {"sum_yield", "sum_drag"} <= set(law.quantity)
     assert any(n.startswith("deep_law.csv") and f"phi_mu from {box20}" in n for n in info["notes"])
