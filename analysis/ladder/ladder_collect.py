@@ -32,8 +32,9 @@ def collect(config, results_dir, out_dir, *, wall_seconds, cores, started=None, 
     """Copy a finished study's small result files into out_dir (a rung directory) and write
     its run.json. Returns run.json's content. run.json's machine is this host's unless
     `machine_cpu` names the CPU the jobs ran on (a rung run in pieces elsewhere: the cost
-    estimate's machine table reads it), noted with the collecting host's. Every file is written under a temporary name and
-    renamed; run.json comes last, so an interrupted collect leaves a rung that reads "not run"."""
+    estimate's machine table reads it), noted with the collecting host's. Every file is written
+    under a temporary name and renamed; run.json comes last, so an interrupted collect leaves a
+    rung that reads "not run"."""
     config, results, out = Path(config), Path(results_dir), Path(out_dir)
     if not config.is_file():
         raise LadderError(f"{config}: no such study config (give the config the study ran with)")
