@@ -141,3 +141,19 @@ def test_estimate_cost_prints_the_recorded_rungs_against_their_measurement():
     out = subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"),
                           "--check-recorded", str(RECORDED)], capture_output=True, text=True, check=True).stdout
     assert "crossover-k2e6-box40 " in out and "default-1bed" in out and "measured / estimate" in out
+
+
+def test_measure_prices_at_the_pulls_rate_and_does_not_charge_the_pour_twice():
+    """--measure's throughput is the pull's step rate (what `throughput` means); the pour's slower
+    rate is printed, not taken, since every bed's step is already priced at POUR_STEP_COST of a
+    pull's (before: the slower of the two, and the factor on top)."""
+    from granudrag_study.estimate import measured_rate
+    poured = ("sanity: grains lost 0 of 7700; largest overlap 0.05 d; energy of the grains 1 -> 0.5, "
+              "dissipated 0.5 (rho g d^4); 1.2e+07 particle-steps/s\n")
+    pulled = ("timing: loop 2.5 s for 1000 steps, 3.08e+07 particle-steps/s; integration 0.3 neighbour 0.1 "
+              "history 0 forces 2 observables 0.1 I/O 0 other 0 s\n")
+    rate, how = measured_rate(poured, pulled, 7700, 1)
+    assert rate == 3.08e7
+    assert "its pour ran at 1.2e+07 (2.6 of a pull's step" in how and f"priced at {cost.POUR_STEP_COST:g}" in how
+    with pytest.raises(SystemExit, match="could not read the throughput"):
+        measured_rate("no rate here", pulled, 7700, 1)

@@ -45,6 +45,7 @@ import yaml
 import granudrag_study as study
 
 from .breakdown import by_figure, core_hours
+from .cost import POUR_STEP_COST
 from .recorded import RECORDED
 
 # Assumed efficiency of a job's OpenMP threads beyond those measured here (2 threads: 0.95-0.97
@@ -81,21 +82,27 @@ def measure_throughput(binary, grains, threads):
         out = _run([str(binary), "pull", "--bed", bed, "--output", run, "--speed", "1",
                     "--distance", repr((MEASURE_STEPS - 0.5) * MEASURE_DT), "--snapshots", "0",
                     "--threads", str(here), "--quiet"])
-    timing = re.search(r"timing: loop [\d.e+-]+ s for (\d+) steps, ([\d.e+-]+) particle-steps/s", out)
-    pour_rate = re.search(r"; ([\d.e+-]+) particle-steps/s", poured)
-    if not timing or not pour_rate:
-        sys.exit(f"estimate_cost: could not read the throughput from:\n{poured}\n{out}")
-    # One rate prices beds and pulls alike: the slower of the two, so neither is underpriced.
-    pull_rate, pour_rate = float(timing.group(2)), float(pour_rate.group(1))
-    measured = min(pull_rate, pour_rate)
-    how = (f"measured here: {measured:.3g} particle-steps/s on {here} thread(s), the slower of a pull of "
-           f"{timing.group(1)} steps ({pull_rate:.3g}) through a bed of {grains} grains and its pour "
-           f"({pour_rate:.3g})")
+    measured, how = measured_rate(poured, out, grains, here)
     if here == threads:
         return measured, how
     scaled = measured / here * threads * PARALLEL_EFFICIENCY
     return scaled, (how + f"; x {threads}/{here} threads x {PARALLEL_EFFICIENCY} assumed parallel "
                           f"efficiency = {scaled:.3g} for a {threads}-thread job")
+
+
+def measured_rate(poured, pulled, grains, threads):
+    """(throughput, how) from the engine's pour and pull output: the pull's step rate, which is
+    what `throughput` means (a bed's step is priced at cost.POUR_STEP_COST of it, measured on the
+    ladder's pours); the pour's own ratio is printed beside it, not charged twice."""
+    timing = re.search(r"timing: loop [\d.e+-]+ s for (\d+) steps, ([\d.e+-]+) particle-steps/s", pulled)
+    pour = re.search(r"; ([\d.e+-]+) particle-steps/s", poured)
+    if not timing or not pour:
+        sys.exit(f"estimate_cost: could not read the throughput from:\n{poured}\n{pulled}")
+    pull_rate, pour_rate = float(timing.group(2)), float(pour.group(1))
+    how = (f"measured here: {pull_rate:.3g} particle-steps/s on {threads} thread(s), a pull of {timing.group(1)} "
+           f"steps through a bed of {grains} grains; its pour ran at {pour_rate:.3g} ({pull_rate / pour_rate:.2g} "
+           f"of a pull's step; beds are priced at {POUR_STEP_COST:g}, cost.POUR_STEP_COST)")
+    return pull_rate, how
 
 
 def wall_seconds(particle_steps, throughput, threads, cores):
