@@ -241,13 +241,28 @@ def _pull_count(df):
     return f"{len(df)} points from {int(beds.sum())} pulls (each point the mean of its beds)"
 
 
-def _regime_errors(r):
-    """The regime fits' error methods as their fits record them (fits.json's `method`), each once,
-    with how many fits used it."""
-    how = Counter(f.method.split("errors = ", 1)[-1] for f in r.regimes.values())
+def _error_methods(fits, none):
+    """The fits' error methods as they record them (fits.json's `method`), each once, with how
+    many fits used it; `none` when there is no fit."""
+    how = Counter(f.method.split("errors = ", 1)[-1] for f in fits)
     if not how:
-        return "no regime fits"
+        return none
     return "; ".join(f"{m} ({k} fit{'s' if k > 1 else ''})" for m, k in how.items())
+
+
+def _regime_errors(r):
+    """The regime fits' error methods as their fits record them, each once, with how many fits
+    used it."""
+    return _error_methods(r.regimes.values(), "no regime fits")
+
+
+def _law_errors(r):
+    """Eq. 12's collapses (the laws' regime fits) have error methods of their own (the beds
+    resampled, alpha and phi refitted): the header names them, not only the regime fits' and
+    the other fits' least-squares covariance. Empty without a law."""
+    if not r.laws:
+        return ""
+    return f"; Eq. 12 collapses: errors the {_error_methods([law.regimes for law in r.laws], '')}"
 
 
 def _blocks(df, r, figs, n_boot, seed):
@@ -256,7 +271,7 @@ def _blocks(df, r, figs, n_boot, seed):
          ("p", f"{_pull_count(df)}; systems {', '.join(sorted(df.system.unique()))}; "
                f"μ = {', '.join(f'{m:g}' for m in sorted(df.mu.unique()))}; reference contact law "
                f"K_n = {kn:.3g}, γ_n = {gn:.3g}. Regime fits: crossovers fitted by profile least "
-               f"squares, errors the {_regime_errors(r)}; other fits: "
+               f"squares, errors the {_regime_errors(r)}{_law_errors(r)}; other fits: "
                "least-squares covariance. Errors are one standard error. " + bed_scatter_sentence(df)),
          ("p", _scale_text(df, kn)),
          ("p", f"Verdicts: inconclusive = no error bar, an error above {INCONCLUSIVE:.0%} of the "

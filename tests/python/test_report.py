@@ -306,3 +306,21 @@ def test_the_header_counts_pulls_behind_pooled_points_and_quotes_the_fits_own_er
                          ("h", 0.5, 6.0): fit("resampled beds")})
     assert _regime_errors(r) == "200 refits (seed 0) (2 fits); resampled beds (1 fit)"
     assert _regime_errors(Results()) == "no regime fits"
+
+
+def test_the_header_names_the_collapses_error_method_apart_from_least_squares():
+    # The header said "other fits: least-squares covariance" while Eq. 12's collapses, whose
+    # crossovers the report judges, took their errors from refits resampling the beds.
+    from analysis.core.result import Fit, Param
+    from analysis.fits.fits import ScalingLaw
+    from analysis.fits.fitset import Results
+    from analysis.report.report import _law_errors
+
+    def law(mu):
+        reg = Fit("regimes", {}, "profile least squares; errors = 200 refits resampling the beds (seed 0)", 3,
+                  (0.5, 15.0))
+        return ScalingLaw(mu=mu, kn=2e4, gamman=199.0, alpha=Param(1.0, 0.1), phi=Param(2.0, 0.1), regimes=reg)
+
+    assert _law_errors(Results(laws=[law(0.0), law(0.5)])) == (
+        "; Eq. 12 collapses: errors the 200 refits resampling the beds (seed 0) (2 fits)")
+    assert _law_errors(Results()) == ""
