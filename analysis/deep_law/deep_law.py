@@ -137,6 +137,16 @@ def chi2_p(chi2, n, nu=math.inf):
     return float(stats.chi2.sf(chi2, n) if math.isinf(nu) else stats.f.sf(chi2 / n, n, nu))
 
 
+def gls(X, y, C):
+    """Generalised least squares of y (covariance C) on X: (beta, its covariance, chi^2, the
+    whitener W with W C W' = 1, W X)."""
+    W = np.linalg.inv(np.linalg.cholesky(C))
+    Xw, yw = W @ X, W @ y
+    beta = np.linalg.lstsq(Xw, yw, rcond=None)[0]
+    r = yw - Xw @ beta
+    return beta, np.linalg.inv(Xw.T @ Xw), float(r @ r), W, Xw
+
+
 def fit_depth_law(y, C, group, h, CB=None, nu_bed=math.inf):
     """DepthFit of ln F = y (covariance C, of which CB is the beds' part, estimated on nu_bed dof)
     on ln G_group + alpha ln h; None with fewer than two depths or no points."""
@@ -148,12 +158,7 @@ def fit_depth_law(y, C, group, h, CB=None, nu_bed=math.inf):
     X = fit.design(group, h)
     if np.linalg.matrix_rank(X) < X.shape[1]:   # no group spans two depths: alpha not identified
         return None
-    W = np.linalg.inv(np.linalg.cholesky(C))   # whitener: W C W' = 1
-    Xw, yw = W @ X, W @ y
-    fit.beta = np.linalg.lstsq(Xw, yw, rcond=None)[0]
-    fit.cov = np.linalg.inv(Xw.T @ Xw)
-    r = yw - Xw @ fit.beta
-    fit.chi2 = float(r @ r)
+    fit.beta, fit.cov, fit.chi2, W, Xw = gls(X, y, C)
     if CB is not None:
         g = (fit.cov @ Xw.T @ W)[-1]   # alpha as a weighted sum of the y
         fit.nu_alpha = effective_dof(float(g @ CB @ g), nu_bed)
@@ -170,13 +175,9 @@ def speed_alphas(y, C, group, h):
     X = np.column_stack(on + [g * np.log(h) for g in on])
     if len(y) == 0 or np.linalg.matrix_rank(X) < X.shape[1]:
         return None
-    W = np.linalg.inv(np.linalg.cholesky(C))
-    Xw, yw = W @ X, W @ y
-    beta = np.linalg.lstsq(Xw, yw, rcond=None)[0]
-    cov = np.linalg.inv(Xw.T @ Xw)
-    r = yw - Xw @ beta
+    beta, cov, chi2, _, _ = gls(X, y, C)
     n = len(keys)
-    return {k: Param(float(beta[n + i]), float(math.sqrt(cov[n + i, n + i]))) for i, k in enumerate(keys)}, float(r @ r)
+    return {k: Param(float(beta[n + i]), float(math.sqrt(cov[n + i, n + i]))) for i, k in enumerate(keys)}, chi2
 
 
 def _speed_alpha_row(key, depths, hs, m_fit, y, C, group, h):
