@@ -34,14 +34,15 @@ def test_the_benchmark_loses_what_a_job_used_after_its_last_sample():
 
 
 def test_a_rung_is_priced_at_the_machine_it_ran_on():
-    (_, _, rate1), (_, _, rate2), (_, _, rate3), (_, _, rate4) = cost.LADDER_MACHINES
+    (_, _, rate1), (_, _, rate2), (_, _, rate3), (_, _, rate4), (_, _, rate5) = cost.LADDER_MACHINES
     intel = "Intel(R) Xeon(R) Processor"
     assert recorded.machine_throughput("2026-11-25T20:33:54Z", intel) == rate1
     assert recorded.machine_throughput("2026-11-30T14:03:46Z", intel) == rate2
     assert recorded.machine_throughput("2026-12-02", "AMD EPYC") == rate3     # by its CPU, not its date
     assert recorded.machine_throughput("2026-12-04T10:00:00Z", "AMD EPYC") == rate4   # the later AMD host
-    assert recorded.machine_throughput("2026-12-04T10:00:00Z", intel) == rate2
-    assert rate2 < rate1
+    assert recorded.machine_throughput("2026-12-03T10:00:00Z", intel) == rate2
+    assert recorded.machine_throughput("2026-12-04T10:00:00Z", intel) == rate5   # the later Intel host
+    assert rate2 < rate1 and rate2 < rate5
     with pytest.raises(ValueError):
         recorded.machine_throughput("2026-11-01", intel)
     with pytest.raises(ValueError):
@@ -50,6 +51,7 @@ def test_a_rung_is_priced_at_the_machine_it_ran_on():
     assert rows["crossover-k2e6-box40-deep"]["machine"] == 2
     assert rows["crossover-k2e6-box12"]["machine"] == 0 and rows["crossover-k2e6-box40"]["machine"] == 1
     assert rows["scaling-k2e4-deep"]["machine"] == 3
+    assert rows["phi-k2e4-box30-deep"]["machine"] == 4
 
 
 def test_particle_steps_alone_at_the_configs_throughput_were_off_by_up_to_3x():

@@ -251,11 +251,16 @@ PULL_TIME_STEPS = 1847.0
 # jobs (the other 14 on an Intel host on 2026-12-04: the rung's run.json names the majority): its
 # rate is that of the rung's 50 pulls of over a minute (their work over their CPU plus the
 # benchmark's 15 s), not fitted to the rung's total (0.72 of it at the second machine's rate).
+# The fifth, from 2026-12-04, an "Intel(R) Xeon(R) Processor" host again but 1.4x the second's
+# rate: it ran phi-k2e4-box30-deep's 36 jobs, whose 18 pulls give 2.26e7 as the fourth's gave
+# its rate (their beds, priced by the same model, 2.51e7); at the second's rate the rung came out
+# at 0.68.
 LADDER_MACHINES = (
     ("Intel", "2026-11-25", 2.439e7),
     ("Intel", "2026-11-29", 1.637e7),
     ("AMD EPYC", "2026-11-25", 1.310e7),
     ("AMD EPYC", "2026-12-03", 2.21e7),
+    ("Intel", "2026-12-04", 2.26e7),
 )
 
 
