@@ -278,7 +278,8 @@ def evidence_figures(root, rows, summary):
             d = root / r["rung"]
             table, fits = load_csv(d / "table.csv"), load_results(d / "fits.json")
             with tempfile.TemporaryDirectory() as tmp:
-                png = _draw(r["letter"], table, fits, Path(tmp), summary.get(r["letter"], {}), r["rung"])
+                spec = summary.get(r["letter"], {})
+                png = _draw(r["letter"], table, fits, Path(tmp), spec, r["rung"], deep_sums(root, spec))
                 if png is not None:
                     shutil.copyfile(png, path.with_name(path.name + ".tmp"))
                     path.with_name(path.name + ".tmp").replace(path)
@@ -289,8 +290,9 @@ def evidence_figures(root, rows, summary):
     return written
 
 
-def _draw(letter, table, fits, tmp, spec, rung):
-    """The PNG of one claim's evidence in tmp, or None when the rung's files cannot draw it."""
+def _draw(letter, table, fits, tmp, spec, rung, deep=None):
+    """The PNG of one claim's evidence in tmp, or None when the rung's files cannot draw it;
+    `deep` (deep_sums) adds the claim's deep-rung sum rules to (f)'s figure."""
     kind = EVIDENCE.get(letter)
     if kind == "regime_tests":
         from ..regime_tests.regime_figure import draw_series
@@ -302,7 +304,7 @@ def _draw(letter, table, fits, tmp, spec, rung):
     if kind in ("theta", "kappa"):
         return _observable_figure(kind, table, fits, tmp, rung)
     if kind == "sum_rule":
-        return _sum_rule_figure(fits, tmp, rung)
+        return _sum_rule_figure(fits, tmp, rung, deep)
     if kind == "table1":
         return _table1_figure(table, fits, tmp, rung)
     from ..figures.figure_list import Inputs, draw
@@ -371,13 +373,32 @@ def _theta_present(ax, rows, fit, fr):
             + (" (model rejected)" if rejected else ""))
 
 
-def _sum_rule_figure(fits, tmp, rung):
+def deep_sums(root, spec):
+    """The sum-rule rows (sum_yield, sum_drag) of the deep_law.csv of a claim's `deep` rung, as a
+    DataFrame (None without a `deep` entry, its file or such rows): the paper's depths that a
+    shallower top rung cannot reach, drawn beside its own sums in (f)'s figure."""
+    from ..deep_law.deep_law import load_deep_law
+    deep = (spec or {}).get("deep")
+    path = Path(root) / deep["rung"] / "deep_law.csv" if deep else None
+    if path is None or not path.is_file():
+        return None
+    try:
+        table = load_deep_law(path)
+    except ValueError as exc:
+        raise LadderError(str(exc)) from None
+    rows = table[table.quantity.isin(["sum_yield", "sum_drag"]) & np.isfinite(table.value)].copy()
+    rows["rung"] = deep["rung"]
+    return rows if len(rows) else None
+
+
+def _sum_rule_figure(fits, tmp, rung, deep=None):
     """α_μ + φ_μ against μ (reference K_n) with α_μ from the yield force and from the drag, each
-    ± its standard error (thick) and ± the 95 % interval its verdict takes (thin), the paper's 3."""
+    ± its standard error (thick) and ± the 95 % interval its verdict takes (thin), the paper's 3;
+    the deep rung's sums (deep_sums) as squares beside them, each at the dof its verdict took."""
     from ..report.verdicts import sum_dof, within_quantile
     parts = [(fits.sums, fits.alpha, "α_μ from the yield force", "C0", -0.012),
              (fits.sums_drag, None, "α_μ from the drag, averaged over speeds (Fig. 18)", "C1", 0.012)]
-    if all(t is None or not len(t) for t, *_ in parts):
+    if all(t is None or not len(t) for t, *_ in parts) and deep is None:
         return None
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(5.6, 4.2), layout="constrained")
@@ -391,9 +412,20 @@ def _sum_rule_figure(fits, tmp, rung):
                         alpha=0.5, capsize=2)
             ax.errorbar(t.mu + dx, t["sum"], yerr=t.sum_err, fmt="o", color=color, elinewidth=2.2, capsize=3,
                         label=label if i == 0 else None)
+    title = f"(f) the sum rule: {rung}"
+    for i, t in enumerate(deep.itertuples() if deep is not None else []):
+        yield_force = t.quantity == "sum_yield"
+        color, dx = ("C0", -0.036) if yield_force else ("C1", 0.036)
+        where = "every depth" if t.depths == "all" else t.depths.replace(">=", "≥") + " d"
+        ax.errorbar(t.mu + dx, t.value, yerr=within_quantile(t.dof) * t.err, fmt="none", ecolor=color,
+                    elinewidth=0.8, alpha=0.5, capsize=2)
+        ax.errorbar(t.mu + dx, t.value, yerr=t.err, fmt="s", mfc="white", color=color, elinewidth=2.2,
+                    capsize=3, label=f"{'α from F_Y' if yield_force else 'α from the drag'}, {where} ({t.rung})")
+        if i == 0:
+            title += f" (circles), {t.rung} (squares)"
     ax.axhline(paper.SUM_RULE, color="k", ls="--", lw=1.2, label="paper ≈ 3")
     ax.set(xlabel="μ", ylabel="α_μ + φ_μ", ylim=(0.0, 6.0))
-    ax.set_title(f"(f) the sum rule: {rung} (thin: the verdict's 95 % interval)", fontsize=9)
+    ax.set_title(f"{title}\nthin: the verdict's 95 % interval", fontsize=8)
     ax.legend(fontsize=7)
     return _savefig(fig, tmp / "sum_rule.png")
 

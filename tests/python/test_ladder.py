@@ -472,3 +472,22 @@ def test_ladder_script_refuses_a_rung_whose_results_hold_beds_or_pulls(tmp_path)
     r = subprocess.run([str(ROOT / "tools" / "ladder.sh"), str(config)], capture_output=True, text=True,
                        timeout=60)
     assert r.returncode == 2 and "holds beds or pulls" in r.stderr and "ladder collect" in r.stderr, r.stderr
+
+
+def test_the_sum_rule_figure_draws_the_deep_rungs_sums_beside_the_top_rungs(tmp_path):
+    # (f)'s evidence: a top rung with no sum of its own still gets a figure when its `deep` rung has
+    # read the sum rule at the paper's depths; without either there is nothing to draw.
+    from types import SimpleNamespace
+
+    from analysis.ladder.ladder_summary import _sum_rule_figure, deep_sums
+    spec = {"deep": {"rung": "rung-deep", "show": {"sum_yield": "sum"}}}
+    assert deep_sums(tmp_path, spec) is None and deep_sums(tmp_path, {}) is None
+    (tmp_path / "rung-deep").mkdir()
+    deep_law_csv(tmp_path / "rung-deep" / "deep_law.csv")
+    rows = deep_sums(tmp_path, spec)
+    assert list(rows.quantity) == ["sum_yield"] and list(rows.rung) == ["rung-deep"]   # the shallow test is no sum
+    assert rows.value.iloc[0] == pytest.approx(2.8016)
+    empty = SimpleNamespace(sums=None, sums_drag=None, alpha=None, phi=None)
+    assert _sum_rule_figure(empty, tmp_path, "rung-a") is None
+    png = _sum_rule_figure(empty, tmp_path, "rung-a", rows)
+    assert png is not None and png.stat().st_size > 1000
