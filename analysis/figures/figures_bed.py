@@ -7,6 +7,7 @@ Without ParaView the 3D panels are drawn as notes saying so, and <out>.txt names
 panels (the report adds it to the caption); the study does not fail.
 """
 
+import re
 import shutil
 import tempfile
 from pathlib import Path
@@ -23,6 +24,7 @@ from matplotlib.patches import Circle  # noqa: E402
 from .headless import run_pvbatch  # noqa: E402
 
 COLOURS = {0: "#d9bf8c", 1: "#737373", 2: "#d91a1a"}
+ANSI = re.compile(r"\x1b\[[0-9;]*m")   # the colour codes of VTK's log lines
 
 
 def render_3d(bed, png, render_script):
@@ -30,12 +32,16 @@ def render_3d(bed, png, render_script):
     it could not."""
     if shutil.which("pvbatch") is None:
         return "ParaView (pvbatch) is not installed"
+    if not Path(f"{bed}.xdmf").is_file():
+        # A bed copied without its sidecar (tools/rung-pieces.sh keeps bed.h5 only): granudrag
+        # pour writes it; pvbatch would fail on it with a page of colour-coded errors.
+        return f"the bed's ParaView sidecar {Path(bed).name}.xdmf is missing beside it (pour the bed again to write it)"
     run = run_pvbatch(render_script, f"{bed}.xdmf", png)
     if run.returncode == 0 and Path(png).is_file():
         return None
-    lines = (run.stderr + run.stdout).strip().splitlines()
+    lines = [ANSI.sub("", x).strip() for x in (run.stderr + run.stdout).strip().splitlines()]
     said = [x for x in lines if "what()" in x or "ERR|" in x or "rror" in x] or lines[-3:]
-    return "pvbatch failed: " + " ".join(x.strip() for x in said[:3])
+    return "pvbatch failed: " + " ".join(said[:1])[:300]
 
 
 def slice_panel(ax, bed):

@@ -209,3 +209,14 @@ def test_a_render_that_lost_its_display_is_retried_after_a_growing_pause(monkeyp
     calls.clear()
     outcomes[:] = [(1, "vtkXdmfReader: no such file")]
     assert headless.run_pvbatch("render.py", "x.xdmf").returncode == 1 and len(calls) == 1
+
+
+def test_a_bed_without_its_sidecar_is_named_not_rendered(tmp_path):
+    # A bed restored from a rung's pieces has no .xdmf: Fig. 1 says so in one line rather than
+    # quoting pvbatch's colour-coded errors into the report's caption.
+    from analysis.figures.figures_bed import render_3d
+    bed, _ = lattice_bed(tmp_path)
+    Path(f"{bed}.xdmf").unlink()
+    why = render_3d(bed, tmp_path / "a.png", RENDER)
+    assert why.startswith("the bed's ParaView sidecar bed.h5.xdmf is missing") and "\x1b" not in why
+    assert not (tmp_path / "a.png").exists()
