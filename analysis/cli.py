@@ -32,7 +32,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .core.result import N_BOOT
+from .core.result import LADDER_N_BOOT, N_BOOT
 from .fits.alpha_drag import ALPHA_SPEEDS
 from .fits.fit_file import FitFileError
 
@@ -253,8 +253,8 @@ def _ladder_parser(sub):
                                          "in pieces elsewhere); default: this host's")
     t = lsub.add_parser("table", help="ladder.csv, ladder.md, figures and README section of a ladder root")
     t.add_argument("root", help="the ladder's root with ladder.yaml (results/reproduction)")
-    t.add_argument("--n-boot", type=_non_negative(int, "--n-boot"), default=100,
-                   help="bootstrap refits of the Fr_2-range fits (default 100)")
+    t.add_argument("--n-boot", type=_non_negative(int, "--n-boot"), default=LADDER_N_BOOT,
+                   help=f"bootstrap refits of the Fr_2-range fits (default {LADDER_N_BOOT})")
     t.add_argument("--seed", type=_non_negative(int, "--seed"), default=0, help="bootstrap seed")
 
 

@@ -8,6 +8,9 @@ import numpy as np
 # analysis's one default for it (Options, run_fits, fit_regimes, fit_scaling_law, build_report). A
 # study's config states its own (report.n_boot).
 N_BOOT = 200
+# The ladder's own refits (Fr_2 over Fr ranges, the start's refit: `ladder table`), fewer since
+# they repeat over every rung.
+LADDER_N_BOOT = 100
 
 
 def format_pm(value, err):

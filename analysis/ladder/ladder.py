@@ -40,6 +40,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from ..core.result import LADDER_N_BOOT
 from ..core.table import load_csv, write_csv, write_text_atomic
 from .ladder_axes import (
     AXES,
@@ -218,7 +219,7 @@ def ladder_rows(root, rungs):
     return pd.DataFrame(rows, columns=cols)
 
 
-def write_ladder(root, *, n_boot=100, seed=0, fr_max_values=FR_MAX_VALUES):
+def write_ladder(root, *, n_boot=LADDER_N_BOOT, seed=0, fr_max_values=FR_MAX_VALUES):
     """ladder.csv, ladder.md, claim_<letter>.png, kappa_shells.csv/.png, fr2_range.csv/.png, knee_fr5.csv and
     each axis's <name>.csv/.png (box_axis, stiffness_axis, length_axis) in root, from ladder.yaml and each
     rung's directory; README.md's ladder section replaced when it has the markers. n_boot, seed:

@@ -7,6 +7,7 @@ import numpy as np
 import pandas as pd
 
 from ..core import paper
+from ..core.result import LADDER_N_BOOT
 from ..core.table import is_yield, pooled_drag_err, reference_params, select
 from ..fits.fits import fit_broken_line, fit_linear
 from ..fits.fitset import point_bed_scatter
@@ -165,7 +166,7 @@ def kept_drag(drag, whole_mean, travel, pull=PAPER_PULL):
     return drag + (whole_mean - drag) * travel / pull
 
 
-def startup_refit(startup, table, fr_max_values=(10.0, 15.0), *, n_boot=100, seed=0, rung=""):
+def startup_refit(startup, table, fr_max_values=(10.0, 15.0), *, n_boot=LADDER_N_BOOT, seed=0, rung=""):
     """Fr_2 of the mu = 0.5 series per D fitted to the drag with the start of each pull kept and
     diluted over the paper's 40 d pull (kept_drag), beside the same fit of the steady drag
     (pull = "steady"): the start of a fast pull is an impact (the intruder starts at V), whose
@@ -204,7 +205,7 @@ FR2_COLUMNS = ["rung", "D", "fr_max", "continuous", "Fr1", "Fr1_err", "Fr2", "Fr
                "n_points", "fr_used_max", "note"]
 
 
-def fr2_vs_range(table_df, fr_max_values=FR_MAX_VALUES, *, n_boot=100, seed=0, rung=""):
+def fr2_vs_range(table_df, fr_max_values=FR_MAX_VALUES, *, n_boot=LADDER_N_BOOT, seed=0, rung=""):
     """The crossovers of the μ = 0.5 drag-vs-Fr series of each D (system I, the reference
     contact law, yield pulls out: as fitset.run_fits fits them, with pooled_drag_err weights
     and the table's bed scatter) refitted on the points with Fr <= fr_max, continuous and not.
