@@ -22,7 +22,12 @@ COPIES = [
     ("granudrag_study.config.SETTLE_TIME_DEFAULT", study_config.SETTLE_TIME_DEFAULT, "pour", "max_settle_time"),
     ("granudrag_study.config.PLACE_SETTLE_TIME_DEFAULT", study_config.PLACE_SETTLE_TIME_DEFAULT, "place",
      "max_settle_time"),
+    ("granudrag_study.config.SETTLE_DAMPING_DEFAULT", study_config.SETTLE_DAMPING_DEFAULT, "pour", "settle_damping"),
+    ("granudrag_study.config.SETTLE_DAMPING_DEFAULT", study_config.SETTLE_DAMPING_DEFAULT, "place", "settle_damping"),
+    ("granudrag_study.config.PLACE_MIN_SETTLE_TIME_DEFAULT", study_config.PLACE_MIN_SETTLE_TIME_DEFAULT, "place",
+     "min_settle_time"),
     ("granudrag_study.region_cost.SLEEP_TIME_DEFAULT", region_cost.SLEEP_TIME_DEFAULT, "pull", "sleep_time"),
+    ("granudrag_study.region_cost.WAKE_LOAD_DEFAULT", region_cost.WAKE_LOAD_DEFAULT, "pull", "wake_load"),
     *[(f"analysis.validation.validation.SETTING_DEFAULTS[{k!r}]", v, "pull", k) for k, v in SETTING_DEFAULTS.items()
       if k != "wake_force"],
 ]

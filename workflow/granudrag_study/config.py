@@ -106,6 +106,8 @@ def fit_options(config):
 # granudrag pour's max_settle_time when a system sets none (its --help, the schema's default):
 # a pour settles at most this long.
 SETTLE_TIME_DEFAULT = 100.0
+# granudrag pour's and place's settle_damping when unset (off: the paper's pour).
+SETTLE_DAMPING_DEFAULT = 0.0
 
 
 def pour_settings(config, system):
@@ -120,6 +122,8 @@ def settle_limit(config, system):
 
 # granudrag place's max_settle_time when a system's `placement` sets none (its --help).
 PLACE_SETTLE_TIME_DEFAULT = 20.0
+# granudrag place's min_settle_time when the placement sets none.
+PLACE_MIN_SETTLE_TIME_DEFAULT = 1.0
 
 
 def placed(config, system):

@@ -22,7 +22,15 @@ import math
 
 from analysis.core.physics import collision_time, default_dt, froude
 
-from .config import place_limit, placed, placement_settings, pour_settings, settle_limit
+from .config import (
+    PLACE_MIN_SETTLE_TIME_DEFAULT,
+    SETTLE_DAMPING_DEFAULT,
+    place_limit,
+    placed,
+    placement_settings,
+    pour_settings,
+    settle_limit,
+)
 from .region_cost import asleep_fraction, sleeping_cost
 
 # Sequential stopping (a pull's `target_error`): the drag's relative standard error after L d of
@@ -117,7 +125,7 @@ def expected_settle_time(bed, config):
     its max_settle_time."""
     sysc = config["systems"][bed.system]
     pour, limit = pour_settings(config, bed.system), settle_limit(config, bed.system)
-    damping = float(pour.get("settle_damping", 0.0) or 0.0)
+    damping = float(pour.get("settle_damping", SETTLE_DAMPING_DEFAULT) or 0.0)
     damped = damping == DAMPED_STOP_MEASURED["settle_damping"]
     threshold = float(pour.get("ke_threshold", 0.0) or 0.0)
     mu = bed.value("mu")
@@ -163,8 +171,9 @@ def expected_place_time(bed, config):
     """Simulated time a placement is expected to settle (PLACE_STOP), at least its
     min_settle_time, at most its max_settle_time."""
     settings = placement_settings(config, bed.system)
-    limit, least = place_limit(config, bed.system), float(settings.get("min_settle_time", 1.0) or 0.0)
-    damped = float(settings.get("settle_damping", 0.0) or 0.0) > 0
+    limit = place_limit(config, bed.system)
+    least = float(settings.get("min_settle_time", PLACE_MIN_SETTLE_TIME_DEFAULT) or 0.0)
+    damped = float(settings.get("settle_damping", SETTLE_DAMPING_DEFAULT) or 0.0) > 0
     threshold = _place_threshold(bed, config)
     for lowest, needs_damping, time in PLACE_STOP:
         if threshold >= lowest and (damped or not needs_damping):

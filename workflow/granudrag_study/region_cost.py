@@ -24,7 +24,7 @@ import numpy as np
 
 from analysis.core.physics import active_radius, default_wake_force, froude
 
-from .config import pour_settings
+from .config import SETTLE_DAMPING_DEFAULT, pour_settings
 
 # Grains per d^3 in a poured bed: a packing fraction of 0.6 of grains 0.9-1.1 d in diameter
 # (mean volume pi/6 <d^3> = 0.529 d^3); only the depth of the bed below the intruder comes from
@@ -34,6 +34,7 @@ GRAINS_PER_VOLUME = 1.13
 # The region's settings when a config gives none: granudrag pull's defaults (its --help; its
 # wake_force follows K_n: analysis.core.physics.default_wake_force).
 SLEEP_TIME_DEFAULT = 1.0
+WAKE_LOAD_DEFAULT = 0.0   # off
 
 # share(Fr, mu): of the grains outside the region, the fraction asleep on average once the first
 # sleep_time has passed, per friction at these Froude numbers (linear in log Fr between them,
@@ -208,7 +209,7 @@ def damped_bed(pull, config):
     """Whether the pull's bed was poured with settling damping (at rest: more of it sleeps, and a
     sleeping grain costs less)."""
     pour = pour_settings(config, pull.bed.system)
-    return float(pour.get("settle_damping", 0.0) or 0.0) > 0
+    return float(pour.get("settle_damping", SETTLE_DAMPING_DEFAULT) or 0.0) > 0
 
 
 def _sleep_time(value):
@@ -218,7 +219,7 @@ def _sleep_time(value):
 
 def _wake_load(value):
     """A pull's wake_load as a config or a runs.csv gives it: 0 (off, the engine's default) when unset."""
-    return _given(value, 0.0)
+    return _given(value, WAKE_LOAD_DEFAULT)
 
 
 # The bound (`estimate_cost.py --region-bound`): every grain outside R asleep from the first step
