@@ -95,15 +95,9 @@ def deep_cells(root, spec):
     per depth set it was read on ("h >= 45", "all", "h < 45"), its value (or p) and verdict, and
     the paper's number for the sum rule. Nothing when the rung has no deep_law.csv yet."""
     from ..core.result import format_pm
-    from ..deep_law.deep_law import load_deep_law
-    deep = (spec or {}).get("deep")
-    path = Path(root) / deep["rung"] / "deep_law.csv" if deep else None
-    if path is None or not path.is_file():
+    deep, table = (spec or {}).get("deep"), _deep_table(root, spec)
+    if table is None:
         return []
-    try:
-        table = load_deep_law(path)
-    except ValueError as exc:
-        raise LadderError(str(exc)) from None
     cells = []
     for quantity, short in deep["show"].items():
         for r in table[table.quantity == quantity].itertuples():
@@ -113,6 +107,19 @@ def deep_cells(root, spec):
             verdict = f" — {r.verdict}" if isinstance(r.verdict, str) and r.verdict else ""
             cells.append(f"{short}, {where}, `{deep['rung']}`: {value}{paper_says}{verdict}")
     return cells
+
+
+def _deep_table(root, spec):
+    """The deep_law.csv of a claim's `deep` rung (None without the entry or the file yet)."""
+    from ..deep_law.deep_law import load_deep_law
+    deep = (spec or {}).get("deep")
+    path = Path(root) / deep["rung"] / "deep_law.csv" if deep else None
+    if path is None or not path.is_file():
+        return None
+    try:
+        return load_deep_law(path)
+    except ValueError as exc:
+        raise LadderError(str(exc)) from None
 
 
 def _depth_words(depths, lo, hi):
@@ -377,17 +384,11 @@ def deep_sums(root, spec):
     """The sum-rule rows (sum_yield, sum_drag) of the deep_law.csv of a claim's `deep` rung, as a
     DataFrame (None without a `deep` entry, its file or such rows): the paper's depths that a
     shallower top rung cannot reach, drawn beside its own sums in (f)'s figure."""
-    from ..deep_law.deep_law import load_deep_law
-    deep = (spec or {}).get("deep")
-    path = Path(root) / deep["rung"] / "deep_law.csv" if deep else None
-    if path is None or not path.is_file():
+    table = _deep_table(root, spec)
+    if table is None:
         return None
-    try:
-        table = load_deep_law(path)
-    except ValueError as exc:
-        raise LadderError(str(exc)) from None
     rows = table[table.quantity.isin(["sum_yield", "sum_drag"]) & np.isfinite(table.value)].copy()
-    rows["rung"] = deep["rung"]
+    rows["rung"] = spec["deep"]["rung"]
     return rows if len(rows) else None
 
 
@@ -416,11 +417,11 @@ def _sum_rule_figure(fits, tmp, rung, deep=None):
     for i, t in enumerate(deep.itertuples() if deep is not None else []):
         yield_force = t.quantity == "sum_yield"
         color, dx = ("C0", -0.036) if yield_force else ("C1", 0.036)
-        where = "every depth" if t.depths == "all" else t.depths.replace(">=", "≥") + " d"
         ax.errorbar(t.mu + dx, t.value, yerr=within_quantile(t.dof) * t.err, fmt="none", ecolor=color,
                     elinewidth=0.8, alpha=0.5, capsize=2)
         ax.errorbar(t.mu + dx, t.value, yerr=t.err, fmt="s", mfc="white", color=color, elinewidth=2.2,
-                    capsize=3, label=f"{'α from F_Y' if yield_force else 'α from the drag'}, {where} ({t.rung})")
+                    capsize=3, label=f"{'α from F_Y' if yield_force else 'α from the drag'}, "
+                    f"{_depth_words(t.depths, t.h_lo, t.h_hi)} ({t.rung})")
         if i == 0:
             title += f" (circles), {t.rung} (squares)"
     ax.axhline(paper.SUM_RULE, color="k", ls="--", lw=1.2, label="paper ≈ 3")
