@@ -126,7 +126,8 @@ def check(root=RECORDED, machines=None):
 def partial_rung(rung_dir, config_path):
     """Per landed job of a rung in pieces (<rung>/pieces/benchmarks/, no run.json yet): its recorded
     CPU seconds and its estimate at a throughput of 1 (work in particle-step equivalents), as
-    [(job, cpu seconds, wall seconds, work)]."""
+    [(job, cpu seconds, wall seconds, work)]. A rung's later parts may land their pieces in the
+    same folder under another config: only the jobs `config_path` plans are listed."""
     config = yaml.safe_load(Path(config_path).read_text())
     config.setdefault("threads", 1)
     work = job_seconds(config, 1.0)
@@ -135,6 +136,8 @@ def partial_rung(rung_dir, config_path):
         header, values = tsv.read_text().splitlines()[:2]
         record = dict(zip(header.split("\t"), values.split("\t")))
         job = str(tsv.relative_to(Path(rung_dir) / "pieces" / "benchmarks"))[:-len(".tsv")]
+        if job not in work:
+            continue
         rows.append((job, float(record["cpu_time"]), float(record["s"]), work[job]))
     return rows
 
