@@ -96,10 +96,11 @@ def test_the_ladder_readme_opens_with_one_row_per_claim_and_its_figure():
     assert "](history.md)" in text and len(written.split()) < 5000, "the dated history belongs in history.md"
 
 
-# A measured figure that a reader would quote: a wall time ("39 min 49 s") or a suite's time
-# ("1,932 s of tests"). Each has one home among the reference documents and the configs'
-# comments; the others link to it (the dated logs may repeat it: they record).
-MEASURED = re.compile(r"\b\d+ min \d+ s\b|\b\d[\d,]* s of tests\b")
+# A measured figure that a reader would quote: a wall time ("39 min 49 s", "0:39:49" as the
+# ladder's table writes it, "5 h 26 min") or a suite's time ("1,932 s of tests"). Each has one
+# home among the reference documents and the configs' comments; the others link to it (the dated
+# logs may repeat it: they record).
+MEASURED = re.compile(r"\b\d+ min \d+ s\b|\b\d[\d,]* s of tests\b|\b\d+:[0-5]\d:[0-5]\d\b|\b\d+ h \d+ min\b")
 
 
 def test_a_measured_figure_is_kept_in_one_reference_file():
@@ -114,5 +115,5 @@ def test_a_measured_figure_is_kept_in_one_reference_file():
 
 def test_the_figure_check_sees_a_copy():
     # The check above is not blind: the default study's wall time written into a second file is seen.
-    text = "measured: 39 min 49 s on 2 cores; the suite, 1,932 s of tests"
-    assert MEASURED.findall(text) == ["39 min 49 s", "1,932 s of tests"]
+    text = "measured: 39 min 49 s on 2 cores; the suite, 1,932 s of tests; 0:39:49; 5 h 26 min"
+    assert MEASURED.findall(text) == ["39 min 49 s", "1,932 s of tests", "0:39:49", "5 h 26 min"]
