@@ -168,3 +168,16 @@ class TestInTheWorkflow:
         r = snakemake(tmp_path, write_config(tmp_path / "braces.yaml", config), "--dry-run", check=False)
         assert r.returncode != 0
         assert "config key 'results': 'out{x}' holds a brace" in r.stdout + r.stderr
+
+
+def test_the_rules_spell_job_paths_through_the_one_declaration():
+    # Outputs, benchmarks and logs of the simulation jobs come from paths.job_file, benchmark_file
+    # and log_file: no rule spells a job's folder or file by hand.
+    assert study.job_file("r", "pulls", "B/Fr~1") == study.run_file("r", "B/Fr~1") == "r/pulls/B/Fr~1/run.h5"
+    assert study.benchmark_file("r", "beds", "B") == "r/benchmarks/beds/B.tsv"
+    assert study.log_file("l", "columns", "C") == "l/columns/C.log"
+    with pytest.raises(study.ConfigError, match="not a kind of job: 'pull'"):
+        study.job_name("pull", "B")
+    rules = (ROOT / "workflow" / "rules" / "simulate.smk").read_text()
+    spelled = re.findall(r"/(?:beds|columns|pulls|benchmarks)/|\b(?:bed|column|run)\.h5\b|\.tsv\b", rules)
+    assert not spelled, spelled

@@ -117,8 +117,35 @@ class Pull:
         return settings
 
 
+# Where a job's output, benchmark and log go, under a study's `results` and `logs`: its kind's
+# folder, its key (a bed's, a column's, or a pull's "<bed>/<speed>"), its file. Declared once;
+# the rules spell their outputs, benchmarks and logs through these (a key may be a wildcard).
+JOB_OUTPUTS = {"beds": "bed.h5", "columns": "column.h5", "pulls": "run.h5"}
+
+
+def job_file(results, kind, key):
+    """A job's output: job_file("r", "pulls", "<bed>/Fr~1") is "r/pulls/<bed>/Fr~1/run.h5"."""
+    return f"{results}/{kind}/{key}/{JOB_OUTPUTS[kind]}"
+
+
+def benchmark_file(results, kind, key):
+    """A job's benchmark (Snakemake's record of its CPU, wall time and memory)."""
+    return f"{results}/benchmarks/{job_name(kind, key)}.tsv"
+
+
+def log_file(logs, kind, key):
+    return f"{logs}/{job_name(kind, key)}.log"
+
+
+def job_name(kind, key):
+    """A job as its benchmark and its log name it: "beds/<bed>", "pulls/<bed>/Fr~1"."""
+    if kind not in JOB_OUTPUTS:
+        raise ConfigError(f"not a kind of job: '{kind}' (one of {', '.join(JOB_OUTPUTS)})")
+    return f"{kind}/{key}"
+
+
 def bed_file(results, key):
-    return f"{results}/beds/{key}/bed.h5"
+    return job_file(results, "beds", key)
 
 
 def column_bed(key):
@@ -130,7 +157,7 @@ def column_bed(key):
 
 
 def column_file(results, key):
-    return f"{results}/columns/{key}/column.h5"
+    return job_file(results, "columns", key)
 
 
 def bed_pattern(systems):
@@ -139,4 +166,4 @@ def bed_pattern(systems):
 
 
 def run_file(results, key):
-    return f"{results}/pulls/{key}/run.h5"
+    return job_file(results, "pulls", key)

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import yaml
 
-from . import cost
+from . import cost, paths
 from .plan import plan
 
 RECORDED = Path("results/reproduction")
@@ -70,9 +70,9 @@ def job_seconds(config, throughput, p=None):
     threads."""
     p = p or plan(config)
     threads = int(config.get("threads", 1))
-    work = {f"beds/{k}": cost.bed_work(b, config) for k, b in p.beds.items()}
-    work.update({f"columns/{k}": cost.column_work(b, config) for k, b in p.columns.items()})
-    work.update({f"pulls/{k}": cost.pull_work(q, config) for k, q in p.pulls.items()})
+    work = {paths.job_name("beds", k): cost.bed_work(b, config) for k, b in p.beds.items()}
+    work.update({paths.job_name("columns", k): cost.column_work(b, config) for k, b in p.columns.items()})
+    work.update({paths.job_name("pulls", k): cost.pull_work(q, config) for k, q in p.pulls.items()})
     return {job: w / throughput * threads for job, w in work.items()}
 
 

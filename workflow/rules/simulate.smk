@@ -33,11 +33,11 @@ rule bed:
     input:
         granudrag=ancient(GRANUDRAG),
     output:
-        f"{RESULTS}/beds/{{bed,{POURED_BED}}}/bed.h5",
+        study.bed_file(RESULTS, f"{{bed,{POURED_BED}}}"),
     log:
-        f"{LOGS}/beds/{{bed}}.log",
+        study.log_file(LOGS, "beds", "{bed}"),
     benchmark:
-        f"{RESULTS}/benchmarks/beds/{{bed}}.tsv"
+        study.benchmark_file(RESULTS, "beds", "{bed}")
     retries: BED_RETRIES
     conda:
         "../envs/granudrag.yaml"
@@ -60,11 +60,11 @@ rule column:
     input:
         granudrag=ancient(GRANUDRAG),
     output:
-        f"{RESULTS}/columns/{{column}}/column.h5",
+        study.column_file(RESULTS, "{column}"),
     log:
-        f"{LOGS}/columns/{{column}}.log",
+        study.log_file(LOGS, "columns", "{column}"),
     benchmark:
-        f"{RESULTS}/benchmarks/columns/{{column}}.tsv"
+        study.benchmark_file(RESULTS, "columns", "{column}")
     retries: BED_RETRIES
     conda:
         "../envs/granudrag.yaml"
@@ -89,11 +89,11 @@ rule placed_bed:
         granudrag=ancient(GRANUDRAG),
         column=column_of_bed,
     output:
-        f"{RESULTS}/beds/{{bed,{PLACED_BED}}}/bed.h5",
+        study.bed_file(RESULTS, f"{{bed,{PLACED_BED}}}"),
     log:
-        f"{LOGS}/beds/{{bed}}.log",
+        study.log_file(LOGS, "beds", "{bed}"),
     benchmark:
-        f"{RESULTS}/benchmarks/beds/{{bed}}.tsv"
+        study.benchmark_file(RESULTS, "beds", "{bed}")
     retries: BED_RETRIES
     conda:
         "../envs/granudrag.yaml"
@@ -124,11 +124,11 @@ rule pull:
         granudrag=ancient(GRANUDRAG),
         bed=poured_bed_file,
     output:
-        f"{RESULTS}/pulls/{{bed}}/{{speed}}/run.h5",
+        study.run_file(RESULTS, "{bed}/{speed}"),
     log:
-        f"{LOGS}/pulls/{{bed}}/{{speed}}.log",
+        study.log_file(LOGS, "pulls", "{bed}/{speed}"),
     benchmark:
-        f"{RESULTS}/benchmarks/pulls/{{bed}}/{{speed}}.tsv"
+        study.benchmark_file(RESULTS, "pulls", "{bed}/{speed}")
     retries: PULL_RETRIES
     conda:
         "../envs/granudrag.yaml"
