@@ -125,7 +125,7 @@ JOB_OUTPUTS = {"beds": "bed.h5", "columns": "column.h5", "pulls": "run.h5"}
 
 def job_file(results, kind, key):
     """A job's output: job_file("r", "pulls", "<bed>/Fr~1") is "r/pulls/<bed>/Fr~1/run.h5"."""
-    return f"{results}/{kind}/{key}/{JOB_OUTPUTS[kind]}"
+    return f"{results}/{job_name(kind, key)}/{JOB_OUTPUTS[kind]}"
 
 
 def benchmark_file(results, kind, key):

@@ -124,7 +124,7 @@ def check(root=RECORDED, machines=None):
 
 
 def partial_rung(rung_dir, config_path):
-    """Per landed job of a rung in pieces (<rung>/pieces/benchmarks/, no run.json yet): its recorded
+    """Per landed job of a rung in pieces (<rung>/pieces/benchmarks/): its recorded
     CPU seconds and its estimate at a throughput of 1 (work in particle-step equivalents), as
     [(job, cpu seconds, wall seconds, work)]. A rung's later parts may land their pieces in the
     same folder under another config: only the jobs `config_path` plans are listed."""
