@@ -124,3 +124,37 @@ def test_collision_steps_price_a_pull_at_its_own_step():
     coarse = study.plan(config).pulls[pull.key]
     assert study.bed_dt(pull.bed, config) == physics.default_dt(pull.bed.value("kn"))
     assert study.pull_cost(coarse, config) == pytest.approx(study.pull_cost(pull, config) / 2, rel=1e-12)
+
+
+def test_amdahls_law_on_the_measured_serial_share_bounds_a_16_thread_job():
+    """No serial share: every thread counts; all serial: n threads run as the m measured; and the
+    16-thread range from 1-2.5 % serial at 2 threads, by hand: 2 / (16 s + 2 (1 - s))."""
+    from granudrag_study.estimate import amdahl_efficiency
+
+    assert amdahl_efficiency(16, 0.0) == pytest.approx(1.0)
+    assert amdahl_efficiency(16, 1.0) == pytest.approx(2 / 16)
+    assert amdahl_efficiency(2, 0.3) == pytest.approx(1.0)
+    assert amdahl_efficiency(16, 0.01) == pytest.approx(2 / 2.14)
+    assert amdahl_efficiency(16, 0.025) == pytest.approx(2 / 2.35)
+
+
+def test_a_job_of_more_threads_than_measured_is_priced_over_amdahls_range(tmp_path):
+    """A 16-thread config prints its cost at the assumed efficiency and the range Amdahl's law
+    allows, each the assumed cost scaled by 0.8 / efficiency; a 2-thread config prints no range."""
+    from granudrag_study.estimate import PARALLEL_EFFICIENCY, SERIAL_SHARE, amdahl_efficiency
+
+    def run(threads):
+        config = dict(copy.deepcopy(CONFIG), threads=threads)
+        path = tmp_path / f"c{threads}.yaml"
+        path.write_text(yaml.safe_dump(config))
+        return subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"), str(path)],
+                              capture_output=True, text=True, check=True).stdout
+
+    assert "parallel efficiency" not in run(2)
+    line = next(ln for ln in run(16).splitlines() if "parallel efficiency" in ln)
+    assumed = float(line.split("prices ")[1].split()[0])
+    low, high = (float(x) for x in line.split("allows ")[1].split(": ")[1].split()[0].split("-"))
+    best, worst = (amdahl_efficiency(16, s) for s in SERIAL_SHARE)
+    assert low == pytest.approx(assumed * PARALLEL_EFFICIENCY / best, rel=5e-3)
+    assert high == pytest.approx(assumed * PARALLEL_EFFICIENCY / worst, rel=5e-3)
+    assert low < assumed and high < assumed  # Amdahl's bound is above the assumed 0.8 here

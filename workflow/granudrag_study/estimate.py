@@ -51,6 +51,20 @@ from .recorded import RECORDED
 # Assumed efficiency of a job's OpenMP threads beyond those measured here (2 threads: 0.95-0.97
 # on bench/compare_lammps.sh's beds).
 PARALLEL_EFFICIENCY = 0.8
+# The most threads any rate here was measured on, and the share of the loop that stays serial
+# there (cell counting, checkpoint writing: 1-2.5 % at 2 threads, docs/engine.md, "Threads").
+# Amdahl's law on that share bounds what more threads can give (amdahl_efficiency); memory
+# bandwidth and NUMA placement lower it further, by an amount not measured here.
+MEASURED_THREADS = 2
+SERIAL_SHARE = (0.01, 0.025)
+
+
+def amdahl_efficiency(threads, serial_share, measured_threads=MEASURED_THREADS):
+    """Efficiency of `threads` threads relative to the per-thread rate measured on
+    `measured_threads`, where `serial_share` of that measured loop stays serial (Amdahl's law):
+    T_n = s T_m + (1 - s) T_m m / n, efficiency m T_m / (n T_n) = m / (n s + m (1 - s))."""
+    m, n, s = measured_threads, threads, serial_share
+    return m / (n * s + m * (1.0 - s))
 
 
 # Grains per d^2 of bed area in the measuring bed: bench/compare_lammps.sh's 7.7k bed.
@@ -291,6 +305,17 @@ def main(argv=None):
               f"{1 - s['pull_particle_steps'] / s['pull_particle_steps_whole']:.0%} of the pulls' particle-steps "
               f"(whole cost {s['pull_particle_steps_whole']:.3g}; model and its measurements: "
               f"workflow/granudrag_study/region_cost.py; the scheduler's limits keep the whole cost)")
+    if threads > MEASURED_THREADS:
+        best, worst = (amdahl_efficiency(threads, share) for share in SERIAL_SHARE)
+        print(f"  parallel efficiency: no rate here was measured beyond {MEASURED_THREADS} threads; a "
+              f"{MEASURED_THREADS}-thread rate scaled to {threads} threads at the assumed {PARALLEL_EFFICIENCY} "
+              f"(estimate.PARALLEL_EFFICIENCY; --measure does, and so did faithful.yaml's and paper.yaml's "
+              f"throughput) prices {s['core_hours']:.3g} core-hours; Amdahl's law on the "
+              f"{SERIAL_SHARE[0]:.0%}-{SERIAL_SHARE[1]:.1%} serial share measured at {MEASURED_THREADS} threads "
+              f"(docs/engine.md) allows {worst:.2f}-{best:.2f}: "
+              f"{s['core_hours'] * PARALLEL_EFFICIENCY / best:.3g}-"
+              f"{s['core_hours'] * PARALLEL_EFFICIENCY / worst:.3g} core-hours, before memory bandwidth "
+              f"and NUMA placement (not measured: run --measure on a node)")
     longest = max(plan.pulls.values(), key=lambda p: study.pull_work(p, config))
     print(f"  longest pull: {longest.key} "
           f"({hours(study.job_seconds(study.pull_work(longest, config), config))})")
