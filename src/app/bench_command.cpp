@@ -37,6 +37,7 @@ std::vector<ParameterSpec> bench_keys() {
     else
       keys.push_back(k);
   }
+  keys.push_back(time_step_key());
   keys.push_back(Key::number("speed")
                      .unit("sqrt(g d)")
                      .default_value("0.5")

@@ -95,12 +95,12 @@ double pull_speed(const Parameters& p, double intruder_diameter) {
   return p.is_set("speed") ? p.number("speed") : PullSpec{}.speed;
 }
 
-double pull_time_step(const Parameters& p, const Bed& bed) {
-  if (!p.is_set("collision_steps")) return bed.dt;
+double pull_time_step(const PullSpec& spec, const Bed& bed) {
+  if (std::isnan(spec.collision_steps)) return bed.dt;
   const Particles& grains = bed.state.particles;
   double rmin = grains.min_radius(Species::Mobile);
   if (!std::isfinite(rmin)) rmin = 0.5;
-  const double dt = shortest_collision_time(bed.contact, rmin) / p.number("collision_steps");
+  const double dt = shortest_collision_time(bed.contact, rmin) / spec.collision_steps;
   check_time_step(dt, bed.contact, rmin);
   return dt;
 }

@@ -13,6 +13,8 @@
 
 namespace granudrag {
 
+struct PullSpec;  // protocol/pull.hpp
+
 // A subcommand: `granudrag <name>`; run() returns the exit code and throws granudrag::Error for
 // anything the user can fix.
 struct Command {
@@ -64,9 +66,9 @@ double pull_speed(const Parameters& p, double intruder_diameter);
 // The active region's radius, d: --active_radius, or --active_diameters times D.
 double pull_active_radius(const Parameters& p, double intruder_diameter);
 
-// The time step of a pull through `bed`: the bed's dt, or with --collision_steps N the Hertz
-// collision time of two of its smallest grains at the reference speed over N (checked as a
-// pour's dt is).
-double pull_time_step(const Parameters& p, const Bed& bed);
+// The time step of a pull through `bed`: the bed's dt, or with spec.collision_steps = N (not
+// NaN: --collision_steps given) the Hertz collision time of two of its smallest grains at the
+// reference speed over N (checked as a pour's dt is).
+double pull_time_step(const PullSpec& spec, const Bed& bed);
 
 }  // namespace granudrag

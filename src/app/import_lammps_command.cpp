@@ -38,6 +38,7 @@ std::vector<ParameterSpec> import_lammps_keys() {
           "file's order"),
   };
   for (const auto& k : contact_keys().specs()) keys.push_back(k);
+  keys.push_back(time_step_key());
   keys.push_back(skin_key());
   keys.push_back(threads_key());
   return keys;

@@ -27,6 +27,7 @@ std::string entry(const char* key, double value) {
 
 std::vector<ParameterSpec> info_keys() {
   std::vector<ParameterSpec> keys = contact_keys();
+  keys.push_back(time_step_key());
   keys.push_back(Key::number("intruder_diameter")
                      .unit("d")
                      .above(0)

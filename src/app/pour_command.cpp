@@ -28,7 +28,7 @@ std::vector<ParameterSpec> pour_command_keys() {
   keys.add_front({output_key("bed file to write (HDF5)")});
   std::vector<ParameterSpec> contact = contact_keys();
   contact.insert(contact.begin(), quiet_key());
-  keys.add_before("skin", contact);
+  keys.add_before("dt", contact);
   keys.add({
       Key::number("checkpoint_interval")
           .unit("sqrt(d/g)")
@@ -51,9 +51,9 @@ std::vector<ParameterSpec> pour_command_keys() {
   return keys.specs();
 }
 
-// The keys that are PourSpec fields come from pour_keys(); the rest need the command: the
-// intruder's default position is the centre of the box as given, the contact law follows from
-// several keys at once, and dt (a contact key, shared with `granudrag info`) is 0 when unset.
+// The keys that are PourSpec fields come from pour_keys() (dt among them, NaN when unset); the
+// rest need the command: the intruder's default position is the centre of the box as given, and
+// the contact law follows from several keys at once.
 PourSpec pour_spec(const Parameters& par) {
   PourSpec s;
   pour_keys().read(par, s);
@@ -62,7 +62,6 @@ PourSpec pour_spec(const Parameters& par) {
   if (s.intruder_diameter > 0 && std::isnan(s.depth) && std::isnan(s.intruder_z))
     throw Error("give 'depth' (below the free surface) or 'intruder_z' for the intruder");
   s.contact = contact_from(par);
-  if (par.is_set("dt")) s.dt = par.number("dt");
   return s;
 }
 

@@ -81,9 +81,9 @@ int pull_command(const std::vector<std::string>& args) {
   ParameterRecord bed_parameters, placement;  // placement: a placed bed's /parameters/place
   Bed bed = load_bed(bed_path, &bed_parameters, &placement);
   if (bed.intruder < 0) throw Error("bed '" + bed_path + "' has no intruder to pull");
-  bed.dt = pull_time_step(par, bed);
   PullSpec spec;
   pull_keys().read(par, spec);
+  bed.dt = pull_time_step(spec, bed);
   const double D = 2 * bed.state.particles.radius[bed.intruder];
   spec.speed = pull_speed(par, D);
   spec.active.radius = pull_active_radius(par, D);

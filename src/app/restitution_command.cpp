@@ -29,6 +29,7 @@ std::vector<ParameterSpec> restitution_keys() {
           .help("diameter of the grain dropped on the wall"),
   };
   for (const auto& k : contact_keys().specs()) keys.push_back(k);
+  keys.push_back(time_step_key());
   keys.push_back(skin_key());
   keys.push_back(threads_key());
   return keys;

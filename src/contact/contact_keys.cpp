@@ -5,6 +5,9 @@
 // info` prints each. The workflow's schema and config/README follow --schema
 // (tools/schema_blocks.py); the analysis's ranges, for the keys its table has a column of, are
 // checked against it (analysis/core/physics.py, CONTACT_RANGES). Adding a key: docs/engine.md.
+// The time step's row (time_step_key) is here too, beside the collision time it defaults to,
+// but no contact key: pour binds it to PourSpec::dt (pour_keys.cpp), the other commands that list
+// it after the contact keys read it themselves.
 #include "contact/contact_keys.hpp"
 
 namespace granudrag {
@@ -52,15 +55,18 @@ const KeyTable<ContactParams>& contact_keys() {
             .above(-1)
             .below(0.5)
             .help("Poisson ratio nu with youngs_modulus"),
-        Key::number("dt")
-            .unit("sqrt(d/g)")
-            .above(0)
-            .help("time step (default: Hertz collision time of two 0.9 d grains at " +
-                  number_text(TimeStepPolicy::reference_speed) + " sqrt(gd), over " +
-                  number_text(TimeStepPolicy::steps_per_collision_default) + ")"),
     };
   }();
   return keys;
+}
+
+ParameterSpec time_step_key() {
+  return Key::number("dt")
+      .unit("sqrt(d/g)")
+      .above(0)
+      .help("time step (default: Hertz collision time of two 0.9 d grains at " +
+            number_text(TimeStepPolicy::reference_speed) + " sqrt(gd), over " +
+            number_text(TimeStepPolicy::steps_per_collision_default) + ")");
 }
 
 std::vector<std::pair<std::string, double>> contact_fields(const ContactParams& c) {

@@ -157,7 +157,7 @@ double fallen_time(const PourSpec& s, double column_top) {
 
 Settings pour_settings(const PourSpec& s, double column_top) {
   Settings settings;
-  settings.dt = s.dt;
+  settings.dt = std::isnan(s.dt) ? 0.0 : s.dt;  // 0: Simulation derives it
   settings.skin = s.skin;
   settings.viscous_damping = s.settle_damping;
   settings.viscous_from = fallen_time(s, column_top);

@@ -34,7 +34,7 @@ struct PourSpec {
   double packing_estimate = NAN;
   double fill_fraction = 0.30;  // of the loose column the grains start in
   ContactParams contact;
-  double dt = 0;  // 0: from the Hertz collision time
+  double dt = NAN;  // NaN: from the Hertz collision time (default_time_step), as without --dt
   double skin = kDefaultSkin;
   double ke_threshold = 1e-7;    // mean kinetic energy per grain, rho g d^4
   double max_settle_time = 100;  // sqrt(d/g)

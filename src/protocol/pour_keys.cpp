@@ -3,6 +3,7 @@
 // PourSpec::validate() checks a PourSpec against them.
 #include <utility>
 
+#include "contact/contact_keys.hpp"
 #include "core/error.hpp"
 #include "engine/run_guard.hpp"
 #include "protocol/pour.hpp"
@@ -96,6 +97,7 @@ const KeyTable<PourSpec>& pour_keys() {
           .help("random seed of the placement")
           .field(&PourSpec::seed),
       // Rows that other commands share (their defaults must be PourSpec's).
+      Key(time_step_key()).field(&PourSpec::dt),
       Key(skin_key()).field(&PourSpec::skin),
       Key(max_overlap_key()).field(&PourSpec::max_overlap),
   };

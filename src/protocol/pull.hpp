@@ -55,6 +55,7 @@ struct PullSpec {
   // its wake still moving at a few hundredths of a grain diameter per time unit, and the drag
   // rose (config/validate/active_region_40_fast.yaml).
   double sleep_speed_max = 0.014;
+  double collision_steps = NAN;  // steps per Hertz collision time (pull_time_step); NaN: the bed's dt
 
   // Every field within its key's range (pull_keys()); throws Error naming the key.
   void validate() const;

@@ -111,8 +111,8 @@ const KeyTable<PullSpec>& pull_keys() {
                 "weights, and a stiff bed's elastic ripples change the net force by several without moving "
                 "a grain); 0: off, the threshold is wake_force alone")
           .field(&PullSpec::active, &ActiveRegionSettings::wake_load),
-      // A coarser step than the pour's: the command sets the bed's dt from it (pull_time_step),
-      // as LAMMPS's timestep after read_restart; the run file records the dt used.
+      // A coarser step than the pour's: the command sets the bed's dt from the field
+      // (pull_time_step), as LAMMPS's timestep after read_restart; the run file records the dt used.
       Key::number("collision_steps")
           .at_least(TimeStepPolicy::steps_per_collision_min)
           .help(
@@ -121,7 +121,8 @@ const KeyTable<PullSpec>& pull_keys() {
               number_text(TimeStepPolicy::reference_speed) + " sqrt(gd) (a bed's dt is that over " +
               number_text(TimeStepPolicy::steps_per_collision_default) +
               " unless poured with dt): 32 halves a pull's cost; validation: config/validate/time_step.yaml; "
-              "unset: the bed's dt"),
+              "unset: the bed's dt")
+          .field(&PullSpec::collision_steps),
       // Rows that other commands share (their defaults must be PullSpec's).
       Key(skin_key()).field(&PullSpec::skin),
       Key(max_overlap_key()).field(&PullSpec::max_overlap),

@@ -106,6 +106,21 @@ TEST(CommandKeys, SpecValidateUsesTheKeysRanges) {
   EXPECT_THROW(pull.validate(), Error);
 }
 
+TEST(CommandKeys, APullStepsAtTheBedsDtUnlessCollisionStepsIsSet) {
+  Bed bed;
+  bed.contact = ContactParams{}.with_stiffness(2e4);
+  bed.state.particles.add(Vec3(1, 1, 1), 0.5, Species::Mobile);
+  bed.state.particles.add(Vec3(3, 1, 1), 0.46, Species::Mobile);
+  bed.state.particles.add(Vec3(5, 1, 1), 0.4, Species::Frozen);  // the base's grains do not count
+  bed.dt = 1e-3;
+  PullSpec spec;
+  EXPECT_EQ(pull_time_step(spec, bed), 1e-3);  // NaN: the bed's, as poured
+  spec.collision_steps = 32;
+  EXPECT_EQ(pull_time_step(spec, bed), shortest_collision_time(bed.contact, 0.46) / 32);
+  spec.collision_steps = 8;  // coarser than check_time_step allows
+  EXPECT_THROW(pull_time_step(spec, bed), Error);
+}
+
 TEST(CommandKeys, InfoPrintsTheLibrarysNumbers) {
   const std::string json = info({"--kn", "2e4", "--intruder_diameter", "3", "--froude", "0.7"});
   const ContactParams c = ContactParams{}.with_stiffness(2e4);

@@ -151,13 +151,54 @@ TEST(KeyTables, TheDefaultsAreTheStructsAndEveryKeyIsBoundOrSaysWhy) {
   for (const auto& row : placement_keys().rows())
     if (!row.read) unread.push_back("place." + row.spec.key);
   EXPECT_EQ(unread, (std::vector<std::string>{"pour.intruder_x", "pour.intruder_y", "pull.speed",
-                                              "pull.froude", "pull.active_diameters", "pull.collision_steps",
-                                              "place.intruder_x", "place.intruder_y", "place.ke_threshold"}));
+                                              "pull.froude", "pull.active_diameters", "place.intruder_x",
+                                              "place.intruder_y", "place.ke_threshold"}));
   const PlacementSpec place = read(placement_keys(), {});
   for (const auto& row : placement_keys().rows())
     if (row.read) {
       EXPECT_EQ(row.text(place), row.text(PlacementSpec{})) << row.spec.key;
     }
+}
+
+// Optional number keys bound to a NaN field: the pour's dt (NaN: from the Hertz collision time)
+// and the pull's collision_steps (NaN: the bed's dt). Read when given, left NaN otherwise, and
+// checked only when set.
+TEST(KeyTables, TheTimeStepKeysAreOptionalFields) {
+  EXPECT_TRUE(std::isnan(PourSpec{}.dt));
+  EXPECT_TRUE(std::isnan(PullSpec{}.collision_steps));
+  EXPECT_EQ(find_spec(pour_keys(), "dt").default_value, "");
+  EXPECT_EQ(find_spec(pull_keys(), "collision_steps").default_value, "");
+  EXPECT_EQ(find_spec(pour_keys(), "dt").help, time_step_key().help);  // one row, shared
+
+  EXPECT_TRUE(std::isnan(read(pour_keys(), {}).dt));
+  EXPECT_EQ(read(pour_keys(), {{"dt", "2.5e-4"}}).dt, 2.5e-4);
+  EXPECT_TRUE(std::isnan(read(pull_keys(), {}).collision_steps));
+  EXPECT_EQ(read(pull_keys(), {{"collision_steps", "32"}}).collision_steps, 32);
+
+  PourSpec pour = placed(read(pour_keys(), {{"depth", "3"}}));
+  EXPECT_NO_THROW(pour.validate());  // NaN: not checked
+  PullSpec pull;
+  EXPECT_NO_THROW(pull.validate());
+  auto refusal = [](const auto& spec) {
+    try {
+      spec.validate();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  for (const double bad : {0.0, -1e-4}) {
+    pour.dt = bad;
+    const std::string msg = refusal(pour);
+    EXPECT_NE(msg.find("'dt' = "), std::string::npos) << bad << ": " << msg;
+    EXPECT_NE(msg.find("is out of range: it must be > 0"), std::string::npos) << msg;
+  }
+  pull.collision_steps = 8;
+  const std::string msg = refusal(pull);
+  EXPECT_NE(msg.find("'collision_steps' = 8"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("is out of range: it must be >= 16"), std::string::npos) << msg;
+  pull.collision_steps = 16;
+  EXPECT_NO_THROW(pull.validate());
 }
 
 TEST(KeyTables, ASpeedReadByTheCommandIsStillChecked) {
