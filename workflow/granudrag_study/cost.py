@@ -31,7 +31,7 @@ from .config import (
     pour_settings,
     settle_limit,
 )
-from .region_cost import asleep_fraction, sleeping_cost
+from .region_cost import asleep_fraction, overhead, sleeping_cost
 
 # Sequential stopping (a pull's `target_error`): the drag's relative standard error after L d of
 # travel past the transient is about c(Fr) / sqrt(L), and the stopping rule wants at least
@@ -231,7 +231,7 @@ def expected_pull_cost(pull, config):
     """Particle-steps a pull is expected to cost: pull_cost less what the active region saves
     (region_cost), the cost of a study's estimate; the scheduler's limits take pull_cost."""
     asleep = asleep_fraction(pull, config, pull_distance(pull, config))
-    return pull_cost(pull, config) * (1.0 - (1.0 - sleeping_cost(pull, config)) * asleep)
+    return pull_cost(pull, config) * (1.0 + overhead(pull, config) - (1.0 - sleeping_cost(pull, config)) * asleep)
 
 
 # The CPU model: a pull costs, besides its particle-steps, PULL_START_STEPS particle-step

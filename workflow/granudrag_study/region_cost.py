@@ -18,6 +18,7 @@ cost.expected_pull_cost. The scheduler's limits (cost.job_resources) keep the wh
 pull through a bed that does not sleep must not be killed for it.
 """
 
+import functools
 import math
 
 import numpy as np
@@ -259,6 +260,55 @@ def outside_fraction(radius, lx, ly, grains, depth):
     return max(0.0, 1.0 - inside / (lx * ly * height))
 
 
+# What the region's bookkeeping costs a pull whose grains do not sleep, as a share of the pull
+# without it: bench/region_map.sh's 10 d box (no grain asleep), 0.95-0.98 of the CPU without it
+# over four speeds and 3 rounds each (2026-12-05, the beds below).
+REGION_OVERHEAD = 0.03
+
+
+def overhead(pull, config):
+    """REGION_OVERHEAD for a pull with the region on (0 without it, and under BOUND)."""
+    if BOUND:
+        return 0.0
+    return REGION_OVERHEAD if active_radius(pull.settings_in(config), pull.bed.value("D")) > 0 else 0.0
+
+# The tables' shares were measured in 40 d x 40 d beds of 25,600 grains, 7 d deep (the
+# calibration bed). Grains nearer the intruder than REACH stay disturbed whatever R is, and in a
+# narrow, shallow bed that is most of it: bench/region_map.sh (2026-12-05, K_n = 2e4, mu = 0.5,
+# damped beds of 16 grains per d^2 of floor, D = 2 held 7 d deep, R = 3 D = 6 d, one thread;
+# docs/pour-and-pull.md) saved, over the tables' share, nothing in the 10 d box (the region
+# costs 2-5 %), 0.14 of it in the yield pull and none at Fr >= 1 in the 20 d box, 0.82-0.95 in the
+# 40 d box. So the share is scaled by the grains farther than max(R, REACH) from the intruder
+# (its periodic images included) in the pull's bed, over the same in the calibration bed, at most
+# 1 (reach_factor): REACH = 12 d gives the 20 d box's 0.14 and the 10 d box's 0, and leaves the
+# deep beds of 30-40 d boxes (the 70,000- and 39,375-grain beds that saved 1.2-3.3x) at 1.
+REACH = 12.0
+CALIBRATION_BED = (40.0, 40.0, 25600, 7.0)   # lx, ly, grains, depth
+
+
+@functools.lru_cache(maxsize=4096)
+def outside_in_box(radius, lx, ly, grains, depth, n=48):
+    """Fraction of the bed's grains farther than `radius` from the intruder and its periodic
+    images in x and y (a grid of n^3 points over the bed; the centred box is each point's nearest
+    image), cut by the surface and the base as outside_fraction."""
+    height = bed_height(grains, lx, ly)
+    x = ((np.arange(n) + 0.5) / n - 0.5) * lx
+    y = ((np.arange(n) + 0.5) / n - 0.5) * ly
+    z = (np.arange(n) + 0.5) / n * height - (height - depth)
+    X, Y, Z = np.meshgrid(x, y, z, indexing="ij")
+    return float(np.mean(X**2 + Y**2 + Z**2 > radius * radius))
+
+
+def reach_factor(radius, lx, ly, grains, depth):
+    """The fraction of the tables' sleeping share that sleeps in this bed (REACH,
+    CALIBRATION_BED)."""
+    r = max(float(radius), REACH)
+    ref = outside_in_box(r, *CALIBRATION_BED)
+    if ref <= 0:
+        return 1.0
+    return min(1.0, outside_in_box(r, float(lx), float(ly), int(grains), float(depth)) / ref)
+
+
 def asleep_fraction(pull, config, travel, table=None):
     """The expected mean fraction of the bed's grains asleep over a pull of `travel` d (0 without
     the region), with the shares of `table` (default: ASLEEP_SHARE_DAMPED for a bed poured with
@@ -281,14 +331,15 @@ def asleep_fraction(pull, config, travel, table=None):
     kn = pull.bed.value("kn")
     share *= stiff_share_factor(kn, _wake_force(settings.get("wake_force"), kn), rest,
                                 _wake_load(settings.get("wake_load")))
-    return share * outside * max(0.0, 1.0 - rest / duration)
+    reach = reach_factor(radius, lx, ly, grains, depth)
+    return share * outside * reach * max(0.0, 1.0 - rest / duration)
 
 
 def measured_shares(runs):
     """share(Fr, mu) from runs with the region (a runs.csv of the validation: its asleep,
     active_radius, lx, ly, grains, h, distance, V, mu and D columns, and kn, wake_force,
     sleep_time and wake_load where it has them): per run, the asleep fraction over what the
-    geometry, the duration and the stiffness allow (the defaults for a table without the
+    geometry, the bed's reach (reach_factor), the duration and the stiffness allow (the defaults for a table without the
     settings), so that pricing a pull of another stiffness applies its own; the median per friction and Froude number. A
     stiff run whose wake test woke its grains as fast as they slept (stiff_share_factor 0) says
     nothing about the table and is left out. Returns {mu: ((Fr, share), ...)}."""
@@ -302,7 +353,7 @@ def measured_shares(runs):
         stiff = stiff_share_factor(kn, _wake_force(getattr(r, "wake_force", None), kn), rest,
                                    _wake_load(getattr(r, "wake_load", None)))
         allowed = outside_fraction(r.active_radius, r.lx, r.ly, r.grains, r.h) * max(
-            0.0, 1.0 - rest * r.V / r.distance) * stiff
+            0.0, 1.0 - rest * r.V / r.distance) * stiff * reach_factor(r.active_radius, r.lx, r.ly, r.grains, r.h)
         if allowed > 0:
             key = (round(float(r.mu), 3), round(float(r.Fr), 3))
             shares.setdefault(key, []).append(min(1.0, r.asleep / allowed))
