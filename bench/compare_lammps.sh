@@ -26,7 +26,9 @@
 # by default; a pull of one box length with no interval given writes one per tenth of it, 4,000
 # steps on the 7.7k bed), where `granudrag pull`'s default for these short distances would
 # write ten. OMP_WAIT_POLICY is passed through unchanged (libgomp's default: spin, then sleep);
-# on a machine shared with other jobs OMP_WAIT_POLICY=passive gives steadier figures.
+# on a machine shared with other jobs OMP_WAIT_POLICY=passive gives steadier figures, but where
+# sleeping threads wake slowly (a virtual machine: about 22 us a barrier, 2026-12-05) it costs
+# the 2-thread pull a quarter of its speed: time 2 threads at the default policy.
 # --speed V pulls at V (sqrt(g d); default 1), e.g. 0.03 for a yield pull. --active_radius R adds
 # a third command to each round, the same granudrag pull with `--active_radius R` (grains
 # farther than R d from the intruder may fall asleep; they need sleep_time, 1 sqrt(d/g) = 2,000
