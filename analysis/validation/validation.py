@@ -29,7 +29,8 @@ out and named (`_parted`), and a harder nudge (1e-3, 1e-2) measures the chaos th
 
     python -m analysis validate yield_speed results/validate/runs.csv --output-dir DIR
 
-writes DIR/validate_<study>.png, .pdf, .csv (every comparison) and .md (the sentence).
+writes DIR/validate_<study>.png, .pdf, .csv (every comparison) and .md (the sentence and
+every point's table, analysis.validation.validation_points).
 """
 
 from dataclasses import dataclass
@@ -42,6 +43,7 @@ from ..core.table import combine_beds, write_csv, write_text_atomic
 from . import pull_length
 from .agreement import Z_AGREE, ValidationError, label_value
 from .validation_beds import placement_answer, settle_damping_answer
+from .validation_points import point_table
 from .validation_shifts import resolved_shifts
 
 
@@ -495,6 +497,9 @@ def validate(runs, study, outdir):
     paths = draw(cmp, study, outdir)
     write_csv(cmp, outdir / f"validate_{study.name}.csv")
     md = outdir / f"validate_{study.name}.md"
+    points = point_table(cmp, study)
     write_text_atomic(md, f"### Validation: {study.name.replace('_', ' ')}\n\n"
-                          f"![{study.question}](validate_{study.name}.png)\n\n{conclusion(cmp, study)}\n")
+                          f"![{study.question}](validate_{study.name}.png)\n\n{conclusion(cmp, study)}\n"
+                          + (f"\nEvery point (z: the difference over its error; |z| < {Z_AGREE:g} agrees):\n\n"
+                             f"{points}" if points else ""))
     return paths + [outdir / f"validate_{study.name}.csv", md]

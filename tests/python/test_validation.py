@@ -245,6 +245,22 @@ def test_validate_writes_figure_table_and_sentence(tmp_path):
     assert "V = 0.03 instead of 0.01" in (tmp_path / "validate_yield_speed.md").read_text()
 
 
+def test_the_md_lists_every_point_with_its_difference_z_and_verdict(tmp_path):
+    """The table under the sentence has one row per comparison, each row's z and difference as
+    the csv has them, and marks the points that disagree (an 8 % shift at V = 0.1, 1 % noise)."""
+    val.validate(yield_runs({0.01: 0.0, 0.03: 0.0, 0.1: 0.08}), "yield_speed", tmp_path)
+    cmp = pd.read_csv(tmp_path / "validate_yield_speed.csv")
+    md = (tmp_path / "validate_yield_speed.md").read_text()
+    rows = [line for line in md.splitlines() if line.startswith("| ") and not line.startswith("| D ")]
+    assert md.count("| D | μ | V |") == 1 and len(rows) == len(cmp) == 8
+    for _, r in cmp.iterrows():
+        cells = f"| {r.D:g} | {r.mu:g} | {r.variant:g} | {100 * r.rel_diff:+.1f} ± {100 * r.rel_diff_err:.1f} % | " \
+                f"{r.z:+.2f} | " + ("yes" if r.agrees else "**no**") + " |"
+        assert cells in rows, (cells, rows)
+    assert sum("**no**" in line for line in rows) == int((~cmp.agrees).sum()) >= 1
+    assert all("**no**" in line for line in rows if "| 0.1 |" in line)
+
+
 def test_paired_rows_report_the_scatter_of_the_per_bed_differences():
     """Pulls through one bed that share their fluctuations: a shift of 2 % the same in every
     bed hides inside the runs' 5 % errors (z < 2) but not inside the differences' own scatter."""
