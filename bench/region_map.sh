@@ -48,6 +48,9 @@ pull_args() {
   esac
 }
 
+# Refuse an unknown pull before pouring anything (pull_args's exit only leaves its $( )).
+for p in $pulls; do pull_args "$p" 10 > /dev/null || exit 2; done
+
 # cpu_of CMD...: runs it, prints its user + system CPU seconds
 cpu_of() {
   local t
@@ -76,7 +79,7 @@ for box in $boxes; do
         rm -f "$out" "$out.checkpoint.h5"
         extra=()
         [ "$side" = on ] && extra=(--active_diameters "$diameters")
-        cpu=$(cpu_of "$gd" pull --bed "$bed" --output "$out" "${args[@]}" "${extra[@]}" --max_overlap 0.2 --threads 1 --quiet)
+        cpu=$(cpu_of "$gd" pull --bed "$bed" --output "$out" "${args[@]}" "${extra[@]}" --max_overlap 0.2 --threads 1 --quiet) || exit 1
         printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$box" "$grains" "$p" "$side" "$r" "$cpu" "$out" >> "$rows"
         echo "region_map: box $box, $p, region $side, round $r/$rounds: $cpu CPU s" >&2
       done

@@ -9,20 +9,22 @@ import pandas as pd
 
 from .agreement import label_value
 
-# Point keys shown where they differ between the study's points, with their headers.
-_KEYS = (("system", "system"), ("D", "D"), ("h_requested", "h"), ("z_requested", "z"), ("mu", "μ"),
-         ("kn", "K_n"), ("Fr", "Fr"))
-_REPORTED = {"n_contacts": "n", "Z": "Z"}
+# Headers of the point keys (a study's keys and settings, shown where they differ between its
+# points) and of the reported observables; other columns go under their own names.
+_HEADERS = {"h_requested": "h", "z_requested": "z", "mu": "μ", "kn": "K_n", "gamman": "γ_n",
+            "n_contacts": "n"}
 
 
 def _cell(v):
-    if isinstance(v, float) and not np.isfinite(v):
+    if isinstance(v, float) and np.isnan(v):
         return "–"
     return label_value(float(f"{v:.3g}")) if isinstance(v, float) else label_value(v)
 
 
 def _signed(x, digits=2):
-    return "–" if not np.isfinite(x) else f"{x:+.{digits}f}"
+    if np.isnan(x):
+        return "–"
+    return ("+∞" if x > 0 else "−∞") if np.isinf(x) else f"{x:+.{digits}f}"
 
 
 def point_table(cmp, study):
@@ -30,14 +32,15 @@ def point_table(cmp, study):
     per point and variant, sorted by the point keys; an empty string for an empty frame."""
     if cmp.empty:
         return ""
-    keys = [(k, name) for k, name in (*_KEYS, *((s, s) for s in study.settings))
-            if k in cmp.columns and cmp[k].nunique(dropna=True) > 1]
+    # A key with one value and NaN (a setting unset in one variant) tells points apart too.
+    keys = [(k, _HEADERS.get(k, k)) for k in (*study.keys, *study.settings)
+            if k in cmp.columns and cmp[k].nunique(dropna=False) > 1]
     judged = [col for col, _ in study.also_judged if f"{col}_diff" in cmp.columns]
     reported = [col for col in study.also_reported if f"{col}_rel_diff" in cmp.columns]
     head = [name for _, name in keys] + [study.variant, "drag, variant − reference", "z"]
     for col in judged:
         head += [f"{col}, variant − reference", "z"]
-    head += [_REPORTED.get(col, col) for col in reported] + ["agrees"]
+    head += [_HEADERS.get(col, col) for col in reported] + ["agrees"]
     rows = []
     order = [k for k, _ in keys] + ["variant"]
     for _, r in cmp.sort_values(order, kind="stable").iterrows():

@@ -4,6 +4,7 @@ import pandas as pd
 import pytest
 
 from analysis.validation import validation as val
+from analysis.validation.validation_points import point_table
 
 
 def yield_runs(shift, beds=3, noise=0.01, bed_scatter=0.06, seed=1):
@@ -259,6 +260,25 @@ def test_the_md_lists_every_point_with_its_difference_z_and_verdict(tmp_path):
         assert cells in rows, (cells, rows)
     assert sum("**no**" in line for line in rows) == int((~cmp.agrees).sum()) >= 1
     assert all("**no**" in line for line in rows if "| 0.1 |" in line)
+
+
+def test_the_point_table_tells_apart_variants_that_differ_in_a_setting_alone():
+    """Two regions of one radius, one with wake_force unset (NaN) and one at 1: the table shows
+    the setting's column, so the rows that agree and disagree are told apart, and a judged
+    observable shifted the same in every pull (error 0) shows its z as infinite, not missing."""
+    runs = region_runs({0.0: 0.0, 4.0: 0.0, 8.0: 0.0, 12.0: 0.0}, beds=3)
+    runs = runs[runs.active_radius.isin([0.0, 8.0])]
+    shifted = runs[runs.active_radius == 8.0].assign(wake_force=1.0, system="R8_w1")
+    shifted = shifted.assign(drag=shifted.drag * 1.2)
+    runs = pd.concat([runs, shifted], ignore_index=True)
+    cmp = val.compare(runs, "active_region")
+    table = point_table(cmp, val.STUDIES["active_region"])
+    head, _, *rows = table.splitlines()
+    assert "wake_force" in head.split(" | ") and len(rows) == len(cmp) == 8
+    assert {r.split(" | ")[2] for r in rows} == {"–", "1"}                 # D | Fr | wake_force | active_radius
+    assert all(("**no**" in r) == (r.split(" | ")[2] == "1") for r in rows)
+    cmp = cmp.assign(theta_z=np.where(cmp.wake_force == 1.0, np.inf, cmp.theta_z))
+    assert sum("+∞" in r for r in point_table(cmp, val.STUDIES["active_region"]).splitlines()) == 4
 
 
 def test_paired_rows_report_the_scatter_of_the_per_bed_differences():

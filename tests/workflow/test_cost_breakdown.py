@@ -140,17 +140,19 @@ def test_amdahls_law_on_the_measured_serial_share_bounds_a_16_thread_job():
 
 def test_a_job_of_more_threads_than_measured_is_priced_over_amdahls_range(tmp_path):
     """A 16-thread config prints its cost at the assumed efficiency and the range Amdahl's law
-    allows, each the assumed cost scaled by 0.8 / efficiency; a 2-thread config prints no range."""
+    allows, each the assumed cost scaled by 0.8 / efficiency; a 2-thread config prints no range,
+    nor does a 16-thread one priced at a rate given on the command line (not scaled here)."""
     from granudrag_study.estimate import PARALLEL_EFFICIENCY, SERIAL_SHARE, amdahl_efficiency
 
-    def run(threads):
+    def run(threads, *extra):
         config = dict(copy.deepcopy(CONFIG), threads=threads)
         path = tmp_path / f"c{threads}.yaml"
         path.write_text(yaml.safe_dump(config))
-        return subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"), str(path)],
-                              capture_output=True, text=True, check=True).stdout
+        return subprocess.run(["/usr/bin/python3", str(ROOT / "workflow/scripts/estimate_cost.py"), str(path),
+                               *extra], capture_output=True, text=True, check=True).stdout
 
     assert "parallel efficiency" not in run(2)
+    assert "parallel efficiency" not in run(16, "--throughput", "1.5e8")
     line = next(ln for ln in run(16).splitlines() if "parallel efficiency" in ln)
     assumed = float(line.split("prices ")[1].split()[0])
     low, high = (float(x) for x in line.split("allows ")[1].split(": ")[1].split()[0].split("-"))

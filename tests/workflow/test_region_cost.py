@@ -376,10 +376,12 @@ def map_config(box, kn, pull):
 
 
 def test_the_model_prices_the_measured_map_of_where_the_region_pays():
-    """Each row of bench/region_map.sh's measured map (tests/data/region_map.csv): the model's CPU
-    without the region over with it within 15 % of the measured median ratio (the rounds' own
-    ratios spread up to 12 %), so the estimate neither promises a saving in the narrow boxes, where
-    the region costs a few percent, nor misses the 2-3x of a wide bed's slow pulls."""
+    """Each row of bench/region_map.sh's measured map (tests/data/region_map.csv): the estimate's
+    CPU of the pull (pull_work, what estimate_cost.py prices) without the region over with it
+    within 15 % of the measured median ratio (the rounds' own ratios spread up to 12 %), and no
+    saving above 5 % promised where the region slowed the pull, so the estimate neither promises a
+    saving in the narrow boxes nor misses the 2-3x of a wide bed's slow pulls. The map is the data
+    REACH and REGION_OVERHEAD were chosen on: a fit's check, not an independent test."""
     rows = pd.read_csv(ROOT / "tests/data/region_map.csv", comment="#")
     assert len(rows) >= 12
     for r in rows.itertuples():
@@ -387,5 +389,22 @@ def test_the_model_prices_the_measured_map_of_where_the_region_pays():
         study.validate_config(config)
         plan = study.plan(config)
         (pull,) = plan.pulls.values()
-        predicted = study.pull_cost(pull, plan.config) / study.expected_pull_cost(pull, plan.config)
-        assert predicted == pytest.approx(r.ratio, rel=0.15), (r.box, r.kn, r.pull)
+        without = copy.deepcopy(plan.config)
+        without["systems"]["B"]["pull"]["active_diameters"] = 0
+        predicted = study.cost.pull_work(pull, without) / study.cost.pull_work(pull, plan.config)
+        assert predicted == pytest.approx(r.ratio, rel=0.15), (r.box, r.kn, r.pull, predicted)
+        if r.ratio < 1:
+            assert predicted < 1.05, (r.box, r.kn, r.pull, predicted)
+
+
+def test_region_map_refuses_an_unknown_pull_before_pouring(tmp_path):
+    """bench/region_map.sh names a misspelt pull and stops before it pours a bed or runs a pull
+    (the check used to exit only the subshell that spelt the pull's arguments)."""
+    fake = tmp_path / "granudrag"    # never run: the names are checked first
+    fake.write_text("#!/bin/sh\ntouch \"$(dirname \"$0\")/ran\"\n")
+    fake.chmod(0o755)
+    out = subprocess.run(["bash", str(ROOT / "bench/region_map.sh"), "--pulls", "yield yeild", "--boxes", "10",
+                          "--granudrag", str(fake), "--dir", str(tmp_path / "map")],
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode != 0 and "unknown pull 'yeild'" in out.stderr
+    assert not (tmp_path / "ran").exists() and not list((tmp_path / "map").glob("*.h5"))

@@ -266,10 +266,15 @@ def main(argv=None):
     except study.ConfigError as exc:
         sys.exit(f"{args.config}: {exc}")
     how = "the config's `throughput`"
+    # A config's rate for a job of more threads than measured here was scaled at the assumed
+    # efficiency (faithful.yaml's, paper.yaml's); a rate given on the command line, or measured at
+    # the job's own thread count, was not, and gets no range.
+    assumed = not args.throughput
     if args.measure:
         binary = Path(args.binary) if args.binary else study.resolve_binary(config)
         grains = args.grains or min(70000, min(int(s["grains"]) for s in config["systems"].values()))
         config["throughput"], how = measure_throughput(binary, grains, int(config["threads"]))
+        assumed = min(int(config["threads"]), os.cpu_count() or 1) < int(config["threads"])
         plan = study.plan(config)
     s = study.summary(plan)
     tp, threads = float(config["throughput"]), s["threads"]
@@ -305,7 +310,7 @@ def main(argv=None):
               f"{1 - s['pull_particle_steps'] / s['pull_particle_steps_whole']:.0%} of the pulls' particle-steps "
               f"(whole cost {s['pull_particle_steps_whole']:.3g}; model and its measurements: "
               f"workflow/granudrag_study/region_cost.py; the scheduler's limits keep the whole cost)")
-    if threads > MEASURED_THREADS:
+    if threads > MEASURED_THREADS and assumed:
         best, worst = (amdahl_efficiency(threads, share) for share in SERIAL_SHARE)
         print(f"  parallel efficiency: no rate here was measured beyond {MEASURED_THREADS} threads; a "
               f"{MEASURED_THREADS}-thread rate scaled to {threads} threads at the assumed {PARALLEL_EFFICIENCY} "

@@ -261,8 +261,8 @@ def outside_fraction(radius, lx, ly, grains, depth):
 
 
 # What the region's bookkeeping costs a pull whose grains do not sleep, as a share of the pull
-# without it: bench/region_map.sh's 10 d box (no grain asleep), 0.95-0.98 of the CPU without it
-# over four speeds and 3 rounds each (2026-12-05, the beds below).
+# without it: in bench/region_map.sh's 10 d box (no grain asleep) the pulls with the region cost
+# 1.02-1.05x those without it over four speeds, 3 rounds each (2026-12-05, the beds below).
 REGION_OVERHEAD = 0.03
 
 
@@ -301,12 +301,21 @@ def outside_in_box(radius, lx, ly, grains, depth, n=48):
 
 def reach_factor(radius, lx, ly, grains, depth):
     """The fraction of the tables' sleeping share that sleeps in this bed (REACH,
-    CALIBRATION_BED)."""
+    CALIBRATION_BED): of the grains beyond `radius`, the share also beyond REACH here, over the
+    same in the calibration bed (the share is of the grains beyond the radius, so the bed's
+    geometry enters once, through outside_fraction). 1 from radius >= REACH."""
     r = max(float(radius), REACH)
-    ref = outside_in_box(r, *CALIBRATION_BED)
+    if r <= radius:
+        return 1.0
+
+    def beyond_reach(bed):
+        outside = outside_in_box(float(radius), *bed)
+        return outside_in_box(r, *bed) / outside if outside > 0 else 0.0
+
+    ref = beyond_reach(CALIBRATION_BED)
     if ref <= 0:
         return 1.0
-    return min(1.0, outside_in_box(r, float(lx), float(ly), int(grains), float(depth)) / ref)
+    return min(1.0, beyond_reach((float(lx), float(ly), int(grains), float(depth))) / ref)
 
 
 def asleep_fraction(pull, config, travel, table=None):
