@@ -6,6 +6,16 @@
 #   tools/rung-pieces.sh restore CONFIG   # on a fresh checkout: put them back into the rung's
 #                                         # results directory, so the study runs only what is missing
 #   tools/rung-pieces.sh status CONFIG    # what the plan asks for, and what is finished
+#   tools/rung-pieces.sh run [--commit] CONFIG BED [LEAF...]
+#                                         # one piece: the bed (BED, its key: system~II/D~4/
+#                                         # h~49.7/mu~0/kn~2e4/gn~199.05359/seed~2), then each pull
+#                                         # LEAF (V~1, Fr~5; default: every pull the plan has on
+#                                         # that bed), one job at a time on one thread, each saved
+#                                         # as it finishes; --commit also commits each saved job
+#                                         # (git, the pieces' files only, with its CPU seconds),
+#                                         # serialised with other landers by a lock in .git/.
+#                                         # GRANUDRAG=BIN pulls with a private copy of the engine
+#                                         # (a rebuild of build/ mid-piece then changes nothing).
 # The engine is deterministic (a bed and a pull are the same bits on any x86-64 machine of the
 # portable build and one thread per job), so a lost machine costs only the piece in flight.
 # Saved files keep their modification times; restored ones take the time of the restore, beds
@@ -15,9 +25,17 @@
 # temporary file is never copied (only bed.h5, run.h5 and benchmark .tsv files).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-usage() { echo "usage: tools/rung-pieces.sh save|restore|status config/ladder/RUNG.yaml" >&2; exit 2; }
+usage() {
+  echo "usage: tools/rung-pieces.sh save|restore|status config/ladder/RUNG.yaml" >&2
+  echo "       tools/rung-pieces.sh run [--commit] config/ladder/RUNG.yaml BED [LEAF...]" >&2
+  exit 2
+}
 action=${1:-}
-config=${2:-}
+shift || true
+commit=0
+if [ "$action" = run ] && [ "${1:-}" = --commit ]; then commit=1; shift; fi
+config=${1:-}
+shift || true
 if [ -z "$action" ] || [ -z "$config" ]; then usage; fi
 [ -f "$config" ] || { echo "tools/rung-pieces.sh: no config '$config' (the rungs: config/ladder/*.yaml)" >&2; exit 2; }
 rung=$(basename "$config" .yaml)
@@ -46,6 +64,52 @@ copy_missing() {
   echo "$n"
 }
 
+snakemake=${SNAKEMAKE:-.venv/bin/snakemake}
+lock=$(git rev-parse --git-dir 2>/dev/null || echo /tmp)/rung-pieces.lock
+
+# CPU seconds of a finished job, from its Snakemake benchmark (the cpu_time column).
+cpu_of() { awk 'NR == 2 {print $10}' "$1" 2>/dev/null; }
+
+# Runs one job (its output path) on one thread, saves it, and with --commit commits the saved
+# files of the piece's bed under the lock. $2: the commit's subject.
+land() {
+  local target=$1 subject=$2 bench=$3
+  if [ ! -f "$target" ]; then
+    OMP_NUM_THREADS=1 "$snakemake" --nolock --cores 1 --configfile "$config" \
+      ${GRANUDRAG:+--config "granudrag=$GRANUDRAG"} -- "$target" ||
+      { echo "tools/rung-pieces.sh: the job for $target failed (its log is under the config's logs:)" >&2; return 1; }
+  fi
+  (
+    flock 9
+    copy_missing "$results" "$pieces" --preserve=timestamps > /dev/null
+    if [ "$commit" = 1 ] && [ -n "$(git -C "$pieces" status --porcelain -- . 2>/dev/null)" ]; then
+      git -C "$pieces" add -- . &&
+        git -C "$pieces" commit -q -m "$rung: $subject landed" \
+          -m "CPU $(cpu_of "$bench") s (job benchmark, 1 thread, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))." -- .
+    fi
+  ) 9> "$lock"
+  echo "tools/rung-pieces.sh: $subject landed ($(cpu_of "$bench") CPU s)" >&2
+}
+
+# A piece: the bed $1, then each of its pulls ($2...; default: the plan's on that bed).
+run_piece() {
+  local bed=$1 leaf leaves
+  shift
+  leaves=("$@")
+  if [ ${#leaves[@]} -eq 0 ]; then
+    "$snakemake" --nolock --configfile "$config" --dry-run --quiet > /dev/null 2>&1 || true
+    mapfile -t leaves < <(sed -n "s#^$bed/##p" "$results/plan/pulls.txt" 2>/dev/null)
+    [ ${#leaves[@]} -gt 0 ] || { echo "tools/rung-pieces.sh: the plan ($results/plan/pulls.txt) has no pull on '$bed'" >&2; exit 2; }
+  fi
+  # The bed's name in a subject line: its key without the system, K_n and gamma_n (a rung's own).
+  local short
+  short=$(tr '/' '\n' <<< "$bed" | grep -v -e '^system~' -e '^kn~' -e '^gn~' | paste -sd ' ')
+  land "$results/beds/$bed/bed.h5" "$short bed" "$results/benchmarks/beds/$bed.tsv" || exit 1
+  for leaf in "${leaves[@]}"; do
+    land "$results/pulls/$bed/$leaf/run.h5" "$short, $leaf" "$results/benchmarks/pulls/$bed/$leaf.tsv" || exit 1
+  done
+}
+
 case "$action" in
   save)
     [ -d "$results" ] || { echo "tools/rung-pieces.sh: no results directory '$results' (run the rung first)" >&2; exit 2; }
@@ -63,6 +127,16 @@ case "$action" in
     pulls=$(finished "$pieces" | grep -c '/run.h5$' || true)
     beds=$(finished "$pieces" | grep -c '/bed.h5$' || true)
     echo "$rung: $pulls of $planned pulls and $beds bed(s) saved in $pieces"
+    ;;
+  run)
+    bed=${1:-}
+    [ -n "$bed" ] || usage
+    shift
+    [[ $bed =~ ^system~[^/]+/.+/seed~[0-9]+$ ]] || {
+      echo "tools/rung-pieces.sh: '$bed' is not a bed's key (system~X/D~../seed~N, as in $results/plan/pulls.txt)" >&2
+      exit 2
+    }
+    run_piece "$bed" "$@"
     ;;
   *) usage ;;
 esac

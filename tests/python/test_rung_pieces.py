@@ -84,3 +84,82 @@ def test_bad_input_is_refused_by_name(tmp_path):
     assert r.returncode == 2 and "no results directory" in r.stderr
     r = _run("restore", config, tmp_path / "no-pieces")
     assert r.returncode == 2 and "no saved pieces" in r.stderr
+
+
+FAKE_SNAKEMAKE = """#!/usr/bin/env bash
+# A stand-in for Snakemake: makes the target (after --) and its job benchmark, and logs the call.
+echo "$@" >> "$FAKE_LOG"
+for a in "$@"; do last=$a; done
+case "$last" in *.h5) ;; *) exit 0 ;; esac
+[ -n "${FAKE_FAIL:-}" ] && case "$last" in *"$FAKE_FAIL"*) exit 1 ;; esac
+results=${last%%/beds/*}; results=${results%%/pulls/*}
+rel=${last#"$results"/}; kind=${rel%%/*}; key=${rel#*/}; key=${key%/*}
+mkdir -p "$(dirname "$last")" "$(dirname "$results/benchmarks/$kind/$key")"
+echo made > "$last"
+printf 's\\th:m:s\\tmax_rss\\tmax_vms\\tmax_uss\\tmax_pss\\tio_in\\tio_out\\tmean_load\\tcpu_time\\n1\\t0\\t0\\t0\\t0\\t0\\t0\\t0\\t0\\t42.5\\n' \\
+  > "$results/benchmarks/$kind/$key.tsv"
+"""
+
+
+def _piece_setup(tmp_path):
+    results = tmp_path / "results"
+    config = tmp_path / "rung.yaml"
+    config.write_text(f"results: {results}\n")
+    fake = tmp_path / "snakemake"
+    fake.write_text(FAKE_SNAKEMAKE)
+    fake.chmod(0o755)
+    pieces = tmp_path / "repo" / "pieces"
+    pieces.mkdir(parents=True)
+    subprocess.run(["git", "init", "-q", str(tmp_path / "repo")], check=True)
+    for k, v in (("user.email", "t@example.org"), ("user.name", "t")):
+        subprocess.run(["git", "-C", str(tmp_path / "repo"), "config", k, v], check=True)
+    env = dict(os.environ, RUNG_PIECES_DIR=str(pieces), SNAKEMAKE=str(fake), FAKE_LOG=str(tmp_path / "calls"))
+    return results, config, pieces, env
+
+
+BED = "system~II/D~4/h~49.7/mu~0/kn~2e4/gn~199.05359/seed~2"
+
+
+def test_run_lands_the_bed_then_each_pull_one_commit_each(tmp_path):
+    """A piece: the bed first, then each pull, one job per Snakemake call on one core, each saved
+    and (with --commit) committed as it lands, its CPU seconds in the message; a job already
+    finished is not run again."""
+    results, config, pieces, env = _piece_setup(tmp_path)
+    r = subprocess.run([str(SCRIPT), "run", "--commit", str(config), BED, "V~1", "V~2"], capture_output=True,
+                       text=True, timeout=60, env=env, cwd=ROOT)
+    assert r.returncode == 0, r.stderr
+    calls = (tmp_path / "calls").read_text().splitlines()
+    assert [c.split(" -- ")[1] for c in calls] == [f"{results}/beds/{BED}/bed.h5",
+                                                    f"{results}/pulls/{BED}/V~1/run.h5",
+                                                    f"{results}/pulls/{BED}/V~2/run.h5"]
+    assert all("--cores 1" in c and "--nolock" in c for c in calls)
+    assert (pieces / "pulls" / BED / "V~2" / "run.h5").read_text() == "made\n"
+    log = subprocess.run(["git", "-C", str(pieces), "log", "--format=%s|%b"], capture_output=True, text=True).stdout
+    subjects = [line.split("|")[0] for line in log.strip().splitlines() if "|" in line]
+    assert subjects == ["rung: D~4 h~49.7 mu~0 seed~2, V~2 landed", "rung: D~4 h~49.7 mu~0 seed~2, V~1 landed",
+                        "rung: D~4 h~49.7 mu~0 seed~2 bed landed"], log
+    assert "CPU 42.5 s" in log
+    # Again: everything is there, so nothing runs and nothing is committed.
+    (tmp_path / "calls").unlink()
+    r = subprocess.run([str(SCRIPT), "run", "--commit", str(config), BED, "V~1"], capture_output=True, text=True,
+                       timeout=60, env=env, cwd=ROOT)
+    assert r.returncode == 0 and not (tmp_path / "calls").exists()
+
+
+def test_run_takes_the_plans_pulls_and_stops_at_a_failed_job(tmp_path):
+    results, config, pieces, env = _piece_setup(tmp_path)
+    (results / "plan").mkdir(parents=True)
+    (results / "plan" / "pulls.txt").write_text(f"{BED}/V~0.5\n{BED}/V~1\n{BED.replace('seed~2', 'seed~1')}/V~1\n")
+    r = subprocess.run([str(SCRIPT), "run", str(config), BED], capture_output=True, text=True, timeout=60,
+                       env=dict(env, FAKE_FAIL="V~1/"), cwd=ROOT)
+    assert r.returncode == 1 and "failed" in r.stderr
+    assert (pieces / "pulls" / BED / "V~0.5" / "run.h5").exists()          # saved, not committed
+    assert not (results / "pulls" / BED / "V~1").exists()
+    assert not (results / "pulls" / BED.replace("seed~2", "seed~1")).exists()
+    assert subprocess.run(["git", "-C", str(pieces), "log"], capture_output=True).returncode != 0  # no commit
+    r = subprocess.run([str(SCRIPT), "run", str(config), "D~4/seed~2"], capture_output=True, text=True, timeout=60,
+                       env=env, cwd=ROOT)
+    assert r.returncode == 2 and "is not a bed's key" in r.stderr
+    r = subprocess.run([str(SCRIPT), "run", str(config), BED.replace("seed~2", "seed~9")], capture_output=True,
+                       text=True, timeout=60, env=env, cwd=ROOT)
+    assert r.returncode == 2 and "has no pull on" in r.stderr
