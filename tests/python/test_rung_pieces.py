@@ -96,8 +96,8 @@ results=${last%%/beds/*}; results=${results%%/pulls/*}
 rel=${last#"$results"/}; kind=${rel%%/*}; key=${rel#*/}; key=${key%/*}
 mkdir -p "$(dirname "$last")" "$(dirname "$results/benchmarks/$kind/$key")"
 echo made > "$last"
-printf 's\\th:m:s\\tmax_rss\\tmax_vms\\tmax_uss\\tmax_pss\\tio_in\\tio_out\\tmean_load\\tcpu_time\\n1\\t0\\t0\\t0\\t0\\t0\\t0\\t0\\t0\\t42.5\\n' \\
-  > "$results/benchmarks/$kind/$key.tsv"
+{ printf 's\\th:m:s\\tmax_rss\\tmax_vms\\tmax_uss\\tmax_pss\\tio_in\\tio_out\\tmean_load\\tcpu_time\\n'
+  printf '1\\t0\\t0\\t0\\t0\\t0\\t0\\t0\\t0\\t42.5\\n'; } > "$results/benchmarks/$kind/$key.tsv"
 """
 
 
