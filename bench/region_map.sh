@@ -43,7 +43,7 @@ pull_args() {
   case $1 in
     yield) echo "--speed 0.1 --distance $(/usr/bin/python3 -c "print(min(2, $2))")" ;;
     fr1) echo "--froude 1 --distance $(/usr/bin/python3 -c "print(min(5, $2))")" ;;
-    fr*) travel=$(/usr/bin/python3 -c "print(min(10, $2))"); echo "--froude ${1#fr} --distance $travel" ;;
+    fr[0-9]*) travel=$(/usr/bin/python3 -c "print(min(10, $2))"); echo "--froude ${1#fr} --distance $travel" ;;
     *) echo "bench/region_map.sh: unknown pull '$1' (yield, fr1, fr5, ...)" >&2; exit 2 ;;
   esac
 }

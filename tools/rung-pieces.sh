@@ -12,8 +12,9 @@
 #                                         # LEAF (V~1, Fr~5; default: every pull the plan has on
 #                                         # that bed), one job at a time on one thread, each saved
 #                                         # as it finishes; --commit also commits each saved job
-#                                         # (git, the pieces' files only, with its CPU seconds),
-#                                         # serialised with other landers by a lock in .git/.
+#                                         # (git: the job's own output and benchmark, with its CPU
+#                                         # seconds), serialised with other landers by a lock in
+#                                         # the git directory; one runner per bed.
 #                                         # GRANUDRAG=BIN pulls with a private copy of the engine
 #                                         # (a rebuild of build/ mid-piece then changes nothing).
 # The engine is deterministic (a bed and a pull are the same bits on any x86-64 machine of the
@@ -56,51 +57,72 @@ copy_missing() {
   while IFS= read -r f; do
     [ -n "$f" ] || continue
     [ -e "$to/$f" ] && continue
-    mkdir -p "$to/$(dirname "$f")"
-    cp "$keep" "$from/$f" "$to/$f.tmp.$$"
-    mv "$to/$f.tmp.$$" "$to/$f"
+    mkdir -p "$to/$(dirname "$f")" || return 1
+    { cp "$keep" "$from/$f" "$to/$f.$$.tmp" && mv "$to/$f.$$.tmp" "$to/$f"; } || return 1
     n=$((n + 1))
   done < <(finished "$from")
   echo "$n"
 }
 
 snakemake=${SNAKEMAKE:-.venv/bin/snakemake}
-lock=$(git rev-parse --git-dir 2>/dev/null || echo /tmp)/rung-pieces.lock
 
-# CPU seconds of a finished job, from its Snakemake benchmark (the cpu_time column).
-cpu_of() { awk 'NR == 2 {print $10}' "$1" 2>/dev/null; }
+# CPU seconds of a finished job, from its Snakemake benchmark (the cpu_time column; tab-separated,
+# since a job of a day or more writes its h:m:s as "1 day, 2:03:04").
+cpu_of() { awk -F'\t' 'NR == 2 {print $10}' "$1" 2>/dev/null; }
 
-# Runs one job (its output path) on one thread, saves it, and with --commit commits the saved
-# files of the piece's bed under the lock. $2: the commit's subject.
+# Runs one job (its output path, $1) on one thread, saves it into the pieces and, with --commit,
+# commits the job's own output and benchmark ($3) there, under the landers' lock; $2: the commit's
+# subject. The engine's path (GRANUDRAG) is an input of every job, so Snakemake is told to take a
+# finished job as finished by its files' times alone (--rerun-triggers mtime): a private copy of
+# the engine does not re-run what the usual one made. Any failure returns 1, said on stderr.
 land() {
-  local target=$1 subject=$2 bench=$3
+  local target=$1 subject=$2 bench=$3 rel_target rel_bench
   if [ ! -f "$target" ]; then
-    OMP_NUM_THREADS=1 "$snakemake" --nolock --cores 1 --configfile "$config" \
+    OMP_NUM_THREADS=1 "$snakemake" --nolock --cores 1 --rerun-triggers mtime --configfile "$config" \
       ${GRANUDRAG:+--config "granudrag=$GRANUDRAG"} -- "$target" ||
       { echo "tools/rung-pieces.sh: the job for $target failed (its log is under the config's logs:)" >&2; return 1; }
   fi
-  (
-    flock 9
-    copy_missing "$results" "$pieces" --preserve=timestamps > /dev/null
-    if [ "$commit" = 1 ] && [ -n "$(git -C "$pieces" status --porcelain -- . 2>/dev/null)" ]; then
-      git -C "$pieces" add -- . &&
-        git -C "$pieces" commit -q -m "$rung: $subject landed" \
-          -m "CPU $(cpu_of "$bench") s (job benchmark, 1 thread, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))." -- .
-    fi
-  ) 9> "$lock"
+  rel_target=${target#"$results"/} rel_bench=${bench#"$results"/}
+  if ! (
+    flock 9 || exit 1
+    copy_missing "$results" "$pieces" --preserve=timestamps > /dev/null || exit 1
+    [ "$commit" = 1 ] || exit 0
+    [ -n "$(git -C "$pieces" status --porcelain -- "$rel_target" "$rel_bench")" ] || exit 0
+    git -C "$pieces" add -- "$rel_target" "$rel_bench" || exit 1
+    git -C "$pieces" commit -q -m "$rung: $subject landed" \
+      -m "CPU $(cpu_of "$bench") s (job benchmark, 1 thread, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))." \
+      -- "$rel_target" "$rel_bench" || exit 1
+  ) 9> "$lockdir/rung-pieces.lock"; then
+    echo "tools/rung-pieces.sh: $target finished but was not saved$([ "$commit" = 1 ] && echo " or committed") (above)" >&2
+    return 1
+  fi
   echo "tools/rung-pieces.sh: $subject landed ($(cpu_of "$bench") CPU s)" >&2
 }
 
-# A piece: the bed $1, then each of its pulls ($2...; default: the plan's on that bed).
+# A piece: the bed $1, then each of its pulls ($2...; default: the plan's on that bed), each
+# checked against the plan before anything runs; one runner per bed (a lock per bed in the git
+# directory of the pieces: a second runner on the same bed is refused, not raced).
 run_piece() {
-  local bed=$1 leaf leaves
+  local bed=$1 leaf leaves plan=$results/plan/pulls.txt
   shift
   leaves=("$@")
+  "$snakemake" --nolock --configfile "$config" --dry-run --quiet > /dev/null 2>&1 ||
+    { echo "tools/rung-pieces.sh: Snakemake cannot plan $config (run: $snakemake --dry-run --configfile $config)" >&2; exit 2; }
+  [ -f "$plan" ] || { echo "tools/rung-pieces.sh: the dry run wrote no plan ($plan)" >&2; exit 2; }
   if [ ${#leaves[@]} -eq 0 ]; then
-    "$snakemake" --nolock --configfile "$config" --dry-run --quiet > /dev/null 2>&1 || true
-    mapfile -t leaves < <(sed -n "s#^$bed/##p" "$results/plan/pulls.txt" 2>/dev/null)
-    [ ${#leaves[@]} -gt 0 ] || { echo "tools/rung-pieces.sh: the plan ($results/plan/pulls.txt) has no pull on '$bed'" >&2; exit 2; }
+    mapfile -t leaves < <(sed -n "s#^$bed/##p" "$plan")
+    [ ${#leaves[@]} -gt 0 ] || { echo "tools/rung-pieces.sh: the plan ($plan) has no pull on '$bed'" >&2; exit 2; }
   fi
+  for leaf in "${leaves[@]}"; do
+    grep -qxF "$bed/$leaf" "$plan" ||
+      { echo "tools/rung-pieces.sh: '$bed/$leaf' is not in the plan ($plan): a pull the config does not ask for" >&2; exit 2; }
+  done
+  mkdir -p "$pieces"
+  lockdir=$(git -C "$pieces" rev-parse --absolute-git-dir 2>/dev/null) ||
+    { [ "$commit" = 0 ] || { echo "tools/rung-pieces.sh: --commit, but $pieces is not in a git repository" >&2; exit 2; }
+      lockdir=$pieces; }
+  exec {bedlock}> "$lockdir/rung-pieces.$(printf %s "$rung/$bed" | md5sum | cut -c1-16).lock"
+  flock -n "$bedlock" || { echo "tools/rung-pieces.sh: another runner is working on '$bed'" >&2; exit 2; }
   # The bed's name in a subject line: its key without the system, K_n and gamma_n (a rung's own).
   local short
   short=$(tr '/' '\n' <<< "$bed" | grep -v -e '^system~' -e '^kn~' -e '^gn~' | paste -sd ' ')

@@ -125,14 +125,16 @@ def test_run_lands_the_bed_then_each_pull_one_commit_each(tmp_path):
     and (with --commit) committed as it lands, its CPU seconds in the message; a job already
     finished is not run again."""
     results, config, pieces, env = _piece_setup(tmp_path)
+    _plan(results, "V~1", "V~2")
     r = subprocess.run([str(SCRIPT), "run", "--commit", str(config), BED, "V~1", "V~2"], capture_output=True,
                        text=True, timeout=60, env=env, cwd=ROOT)
     assert r.returncode == 0, r.stderr
     calls = (tmp_path / "calls").read_text().splitlines()
+    calls = [c for c in calls if " -- " in c]                       # the jobs, after the dry run
     assert [c.split(" -- ")[1] for c in calls] == [f"{results}/beds/{BED}/bed.h5",
                                                     f"{results}/pulls/{BED}/V~1/run.h5",
                                                     f"{results}/pulls/{BED}/V~2/run.h5"]
-    assert all("--cores 1" in c and "--nolock" in c for c in calls)
+    assert all("--cores 1" in c and "--nolock" in c and "--rerun-triggers mtime" in c for c in calls)
     assert (pieces / "pulls" / BED / "V~2" / "run.h5").read_text() == "made\n"
     log = subprocess.run(["git", "-C", str(pieces), "log", "--format=%s|%b"], capture_output=True, text=True).stdout
     subjects = [line.split("|")[0] for line in log.strip().splitlines() if "|" in line]
@@ -143,13 +145,45 @@ def test_run_lands_the_bed_then_each_pull_one_commit_each(tmp_path):
     (tmp_path / "calls").unlink()
     r = subprocess.run([str(SCRIPT), "run", "--commit", str(config), BED, "V~1"], capture_output=True, text=True,
                        timeout=60, env=env, cwd=ROOT)
-    assert r.returncode == 0 and not (tmp_path / "calls").exists()
+    assert r.returncode == 0 and " -- " not in (tmp_path / "calls").read_text()
+
+
+def _plan(results, *leaves, bed=BED):
+    (results / "plan").mkdir(parents=True, exist_ok=True)
+    (results / "plan" / "pulls.txt").write_text("".join(f"{bed}/{leaf}\n" for leaf in leaves))
+
+
+def _run_piece(env, *args):
+    return subprocess.run([str(SCRIPT), "run", *args], capture_output=True, text=True, timeout=60, env=env, cwd=ROOT)
+
+
+def test_run_refuses_an_off_plan_pull_a_busy_bed_and_a_failed_commit(tmp_path):
+    """Nothing runs for a pull the plan lacks (a typo, or an option after the bed); a second runner
+    on a bed one holds is refused; a commit that fails fails the piece instead of saying it landed."""
+    import fcntl
+    import hashlib
+    results, config, pieces, env = _piece_setup(tmp_path)
+    _plan(results, "V~1", "V~2")
+    r = _run_piece(env, str(config), BED, "V~3")
+    assert r.returncode == 2 and "is not in the plan" in r.stderr
+    r = _run_piece(env, str(config), BED, "--commit")
+    assert r.returncode == 2 and "is not in the plan" in r.stderr
+    assert " -- " not in (tmp_path / "calls").read_text()              # nothing poured
+    lock = pieces.parent / ".git" / f"rung-pieces.{hashlib.md5(f'rung/{BED}'.encode()).hexdigest()[:16]}.lock"
+    with open(lock, "w") as held:
+        fcntl.flock(held, fcntl.LOCK_EX)
+        r = _run_piece(env, str(config), BED, "V~1")
+        assert r.returncode == 2 and "another runner is working on" in r.stderr
+    (pieces.parent / ".git" / "index.lock").write_text("")            # git cannot commit
+    r = _run_piece(env, "--commit", str(config), BED, "V~1")
+    assert r.returncode == 1 and "was not saved or committed" in r.stderr and "landed (" not in r.stderr
 
 
 def test_run_takes_the_plans_pulls_and_stops_at_a_failed_job(tmp_path):
     results, config, pieces, env = _piece_setup(tmp_path)
-    (results / "plan").mkdir(parents=True)
-    (results / "plan" / "pulls.txt").write_text(f"{BED}/V~0.5\n{BED}/V~1\n{BED.replace('seed~2', 'seed~1')}/V~1\n")
+    _plan(results, "V~0.5", "V~1")
+    with open(results / "plan" / "pulls.txt", "a") as f:
+        f.write(f"{BED.replace('seed~2', 'seed~1')}/V~1\n")
     r = subprocess.run([str(SCRIPT), "run", str(config), BED], capture_output=True, text=True, timeout=60,
                        env=dict(env, FAKE_FAIL="V~1/"), cwd=ROOT)
     assert r.returncode == 1 and "failed" in r.stderr

@@ -5,16 +5,19 @@ A pull with the region integrates every grain within R of the intruder and every
 not come to rest; a grain asleep still costs a little (its contacts with awake grains, the
 lists, the checks). A pull's expected cost is then its particle-steps (cost.pull_cost) times
 
-    factor = 1 - (1 - c) * asleep,
-    asleep = share(Fr, mu) * outside(R) * max(0, 1 - sleep_time / T),
+    factor = 1 + overhead - (1 - c) * asleep,
+    asleep = share(Fr, mu) * outside(R) * reach(R) * max(0, 1 - sleep_time / T),
 
 where outside(R) is the fraction of the bed's grains farther than R from the intruder (a sphere
 of radius R about it, cut by the bed's surface and base), T = travel / V the pull's duration (no
 grain falls asleep before it has rested sleep_time), and share(Fr, mu) the fraction of those
 grains that do fall asleep, measured: the intruder's disturbance reaches farther the faster it
 goes, and a frictionless bed hardly comes to rest; c is what a sleeping grain still costs
-(sleeping_cost: less in a bed poured with settling damping, at rest), in
-cost.expected_pull_cost. The scheduler's limits (cost.job_resources) keep the whole cost: a
+(sleeping_cost: less in a bed poured with settling damping, at rest), reach(R) the part of the
+grains beyond R that also lie beyond REACH of the intruder against the same in the bed the shares
+were measured in (reach_factor), and overhead the region's bookkeeping (REGION_OVERHEAD); in
+cost.region_factor, which scales both the pull's steps and the CPU model's per-time term
+(cost.pull_work). The scheduler's limits (cost.job_resources) keep the whole cost: a
 pull through a bed that does not sleep must not be killed for it.
 """
 
@@ -278,10 +281,11 @@ def overhead(pull, config):
 # damped beds of 16 grains per d^2 of floor, D = 2 held 7 d deep, R = 3 D = 6 d, one thread;
 # docs/pour-and-pull.md) saved, over the tables' share, nothing in the 10 d box (the region
 # costs 2-5 %), 0.14 of it in the yield pull and none at Fr >= 1 in the 20 d box, 0.82-0.95 in the
-# 40 d box. So the share is scaled by the grains farther than max(R, REACH) from the intruder
-# (its periodic images included) in the pull's bed, over the same in the calibration bed, at most
-# 1 (reach_factor): REACH = 12 d gives the 20 d box's 0.14 and the 10 d box's 0, and leaves the
-# deep beds of 30-40 d boxes (the 70,000- and 39,375-grain beds that saved 1.2-3.3x) at 1.
+# 40 d box. So the share, a share of the grains beyond R, is scaled by the part of those grains
+# that also lie beyond REACH of the intruder (its periodic images included) in the pull's bed,
+# over the same part in the calibration bed, at most 1 and 1 from R >= REACH (reach_factor):
+# REACH = 12 d gives the 20 d box's 0.15 and the 10 d box's 0, and leaves the deep beds of
+# 30-40 d boxes (the 70,000- and 39,375-grain beds that saved 1.2-3.3x) at 1.
 REACH = 12.0
 CALIBRATION_BED = (40.0, 40.0, 25600, 7.0)   # lx, ly, grains, depth
 
