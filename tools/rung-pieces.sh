@@ -103,9 +103,18 @@ land() {
 # checked against the plan before anything runs; one runner per bed (a lock per bed in the git
 # directory of the pieces: a second runner on the same bed is refused, not raced).
 run_piece() {
-  local bed=$1 leaf leaves plan=$results/plan/pulls.txt
+  local bed=$1 leaf leaves plan=$results/plan/pulls.txt short
   shift
   leaves=("$@")
+  # The bed's name in a subject line: its key without the system, K_n and gamma_n (a rung's own),
+  # read by the path scheme's one declaration (analysis/core/path_scheme.py).
+  short=$(PYTHONPATH=. /usr/bin/python3 -c 'import sys
+from analysis.core import path_scheme as s
+fields = s.parse(s.BED, sys.argv[1])
+if fields is None:
+    sys.exit(1)
+print(s.key([c for c in s.BED if c not in (s.SYSTEM, s.STIFFNESS, s.DAMPING)], fields).replace("/", " "))' "$bed") ||
+    { echo "tools/rung-pieces.sh: '$bed' is not a bed's key (a line of $plan without its last part)" >&2; exit 2; }
   "$snakemake" --nolock --configfile "$config" --dry-run --quiet > /dev/null 2>&1 ||
     { echo "tools/rung-pieces.sh: Snakemake cannot plan $config (run: $snakemake --dry-run --configfile $config)" >&2; exit 2; }
   [ -f "$plan" ] || { echo "tools/rung-pieces.sh: the dry run wrote no plan ($plan)" >&2; exit 2; }
@@ -123,9 +132,6 @@ run_piece() {
       lockdir=$pieces; }
   exec {bedlock}> "$lockdir/rung-pieces.$(printf %s "$rung/$bed" | md5sum | cut -c1-16).lock"
   flock -n "$bedlock" || { echo "tools/rung-pieces.sh: another runner is working on '$bed'" >&2; exit 2; }
-  # The bed's name in a subject line: its key without the system, K_n and gamma_n (a rung's own).
-  local short
-  short=$(tr '/' '\n' <<< "$bed" | grep -v -e '^system~' -e '^kn~' -e '^gn~' | paste -sd ' ')
   land "$results/beds/$bed/bed.h5" "$short bed" "$results/benchmarks/beds/$bed.tsv" || exit 1
   for leaf in "${leaves[@]}"; do
     land "$results/pulls/$bed/$leaf/run.h5" "$short, $leaf" "$results/benchmarks/pulls/$bed/$leaf.tsv" || exit 1
@@ -154,10 +160,6 @@ case "$action" in
     bed=${1:-}
     [ -n "$bed" ] || usage
     shift
-    [[ $bed =~ ^system~[^/]+/.+/seed~[0-9]+$ ]] || {
-      echo "tools/rung-pieces.sh: '$bed' is not a bed's key (system~X/D~../seed~N, as in $results/plan/pulls.txt)" >&2
-      exit 2
-    }
     run_piece "$bed" "$@"
     ;;
   *) usage ;;

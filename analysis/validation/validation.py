@@ -1,36 +1,33 @@
 """Validation studies: does a cheaper protocol give the paper's numbers within errors?
 
 Each study varies one thing of the protocol — the yield pull's speed, the box, the stiffness,
-the active region's radius — and compares the drag of every point (same D, μ, depth and, for pulls at speed, Fr) with
-its value under the reference protocol (the slowest yield speed, the largest box, the
-stiffest K_n). A variant agrees at a point when
+the active region's radius — and compares the drag of every point (same D, μ, depth and, for pulls at speed, Fr)
+with its value under the reference protocol (the slowest yield speed, the largest box, the stiffest K_n). A
+variant agrees at a point when
 
     z = (F - F_ref) / sqrt(e^2 + e_ref^2),  |z| < Z_AGREE,
 
-with e the drag's error. Where the variants were pulled through the same beds (the yield
-speed: one bed, several speeds; replicate beds by `seeds`), the comparison is paired, bed by
-bed: the bed's own randomness is common to both pulls and cancels, so the difference
-carries only the pulls' within-run errors. That error is an upper bound: two pulls through one
-bed meet the same grains, so their fluctuations are correlated too (in the 40 d box's D = 6
-yield pulls the per-bed drag differences scattered 3-6x less than it). With three or more beds
-the scatter of the per-bed differences measures the paired error directly, and each paired
-row reports it (`<obs>_beds_err`, `<obs>_beds_z`, for the drag and every judged observable; a
-Student t with beds - 1 dof): a shift smaller than the runs' errors but the same in every bed
-shows there. The verdict stays on z. Elsewhere (other boxes and stiffnesses need their
-own beds) the point table's errors, which include the scatter between beds, are used.
+with e the drag's error. Where the variants were pulled through the same beds (the yield speed: one bed,
+several speeds; replicate beds by `seeds`), the comparison is paired, bed by bed: the bed's own randomness
+is common to both pulls and cancels, so the difference carries only the pulls' within-run errors. That error
+is an upper bound: two pulls through one bed meet the same grains, so their fluctuations are correlated too
+(in the 40 d box's D = 6 yield pulls the per-bed drag differences scattered 3-6x less than it). With three
+or more beds the scatter of the per-bed differences measures the paired error directly, and each paired row
+reports it (`<obs>_beds_err`, `<obs>_beds_z`, for the drag and every judged observable; a Student t with
+beds - 1 dof): a shift smaller than the runs' errors but the same in every bed shows there. The verdict
+stays on z. Elsewhere (other boxes and stiffnesses need their own beds) the point table's errors, which
+include the scatter between beds, are used.
 
-The runs' errors can also be too narrow: theta's misses part of how far two pulls through
-one bed drift apart by chaos. A reference system pulled a second time with a perturbation
-(`granudrag pull --perturbation 1e-9`, a replica; its `perturbation` column > 0) measures that:
-the reference becomes the mean of each bed's pull and its replica, and no paired error is taken
-below the chaos the replicas show (`_fold_replicas`). A nudge that does not grow over the pull
-(1e-9 in a slow, deep yield pull) leaves the replica on its reference: such replicas are left
-out and named (`_parted`), and a harder nudge (1e-3, 1e-2) measures the chaos there.
+The runs' errors can also be too narrow: theta's misses part of how far two pulls through one bed drift apart by
+chaos. A reference system pulled a second time with a perturbation (`granudrag pull --perturbation 1e-9`, a
+replica; its `perturbation` column > 0) measures that: the reference becomes the mean of each bed's pull and its
+replica, and no paired error is taken below the chaos the replicas show (`_fold_replicas`). A nudge that does
+not grow over the pull (1e-9 in a slow, deep yield pull) leaves the replica on its reference: such replicas are
+left out and named (`_parted`), and a harder nudge (1e-3, 1e-2) measures the chaos there.
 
     python -m analysis validate yield_speed results/validate/runs.csv --output-dir DIR
 
-writes DIR/validate_<study>.png, .pdf, .csv (every comparison) and .md (the sentence and
-every point's table, analysis.validation.validation_points).
+writes DIR/validate_<study>.png, .pdf, .csv (every comparison) and .md (the sentence, every point).
 """
 
 from dataclasses import dataclass
@@ -497,9 +494,7 @@ def validate(runs, study, outdir):
     paths = draw(cmp, study, outdir)
     write_csv(cmp, outdir / f"validate_{study.name}.csv")
     md = outdir / f"validate_{study.name}.md"
-    points = point_table(cmp, study)
     write_text_atomic(md, f"### Validation: {study.name.replace('_', ' ')}\n\n"
                           f"![{study.question}](validate_{study.name}.png)\n\n{conclusion(cmp, study)}\n"
-                          + (f"\nEvery point (z: the difference over its error; |z| < {Z_AGREE:g} agrees):\n\n"
-                             f"{points}" if points else ""))
+                          f"{point_table(cmp, study)}")
     return paths + [outdir / f"validate_{study.name}.csv", md]

@@ -7,7 +7,7 @@ reader checks it against, and what a study's log entry quotes, so nobody copies 
 import numpy as np
 import pandas as pd
 
-from .agreement import label_value
+from .agreement import Z_AGREE, label_value
 
 # Headers of the point keys (a study's keys and settings, shown where they differ between its
 # points) and of the reported observables; other columns go under their own names.
@@ -28,8 +28,8 @@ def _signed(x, digits=2):
 
 
 def point_table(cmp, study):
-    """The markdown table of every comparison in `cmp` (a `compare` frame of `study`), one row
-    per point and variant, sorted by the point keys; an empty string for an empty frame."""
+    """The markdown table of every comparison in `cmp` (a `compare` frame of `study`) under its
+    heading, one row per point and variant, sorted by the point keys; "" for an empty frame."""
     if cmp.empty:
         return ""
     # A key with one value and NaN (a setting unset in one variant) tells points apart too.
@@ -52,6 +52,7 @@ def point_table(cmp, study):
                   for col in reported]
         cells.append("yes" if bool(r.agrees) else "**no**")
         rows.append(cells)
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    lines = ["", f"Every point (z: the difference over its error; |z| < {Z_AGREE:g} agrees):", "",
+             "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     lines += ["| " + " | ".join(c) + " |" for c in rows]
     return "\n".join(lines) + "\n"
