@@ -15,6 +15,8 @@
 #                                         # (git: the job's own output and benchmark, with its CPU
 #                                         # seconds), serialised with other landers by a lock in
 #                                         # the git directory; one runner per bed.
+#                                         # A placed rung's bed comes after its column (landed
+#                                         # once per seed, then shared by the seed's beds).
 #                                         # GRANUDRAG=BIN pulls with a private copy of the engine
 #                                         # (a rebuild of build/ mid-piece then changes nothing).
 # The engine is deterministic (a bed and a pull are the same bits on any x86-64 machine of the
@@ -43,10 +45,13 @@ rung=$(basename "$config" .yaml)
 results=$(/usr/bin/python3 -c 'import sys, yaml; print(yaml.safe_load(open(sys.argv[1])).get("results", "results"))' "$config")
 pieces=${RUNG_PIECES_DIR:-results/reproduction/$rung/pieces}   # (the override: tests)
 
-# The finished outputs under a directory, relative to it: beds, pulls and their benchmarks.
+# The finished outputs under a directory, relative to it: a placed rung's columns first (its beds
+# are placed into them, so a restored bed must be newer than its column), then beds, benchmarks
+# and pulls.
 finished() {
   [ -d "$1" ] || return 0
-  (cd "$1" && find beds pulls benchmarks \( -name bed.h5 -o -name run.h5 -o -name '*.tsv' \) -type f 2>/dev/null | sort)
+  (cd "$1" && { if [ -d columns ]; then find columns -name column.h5 -type f | sort; fi
+    find beds pulls benchmarks \( -name bed.h5 -o -name run.h5 -o -name '*.tsv' \) -type f 2>/dev/null | sort; })
 }
 
 # Copies each finished file from $1 to $2 that $2 lacks, in `finished`'s order (beds, then
@@ -103,18 +108,25 @@ land() {
 # checked against the plan before anything runs; one runner per bed (a lock per bed in the git
 # directory of the pieces: a second runner on the same bed is refused, not raced).
 run_piece() {
-  local bed=$1 leaf leaves plan=$results/plan/pulls.txt short
+  local bed=$1 leaf leaves plan=$results/plan/pulls.txt short column column_short names collock
   shift
   leaves=("$@")
-  # The bed's name in a subject line: its key without the system, K_n and gamma_n (a rung's own),
-  # read by the path scheme's one declaration (analysis/core/path_scheme.py).
-  short=$(PYTHONPATH=. /usr/bin/python3 -c 'import sys
+  # The bed's name in a subject line (its key without the system, K_n and gamma_n: a rung's own)
+  # and, when its system is placed (`placement:`), the key of the column it is placed into; read
+  # by the path scheme's one declaration (analysis/core/path_scheme.py).
+  names=$(PYTHONPATH=. /usr/bin/python3 -c 'import sys, yaml
 from analysis.core import path_scheme as s
 fields = s.parse(s.BED, sys.argv[1])
 if fields is None:
     sys.exit(1)
-print(s.key([c for c in s.BED if c not in (s.SYSTEM, s.STIFFNESS, s.DAMPING)], fields).replace("/", " "))' "$bed") ||
+print(s.key([c for c in s.BED if c not in (s.SYSTEM, s.STIFFNESS, s.DAMPING)], fields).replace("/", " "))
+system = (yaml.safe_load(open(sys.argv[2])).get("systems") or {}).get(fields["system"]) or {}
+if "placement" in system:
+    print(s.key(s.COLUMN, fields))
+    print(s.key([c for c in s.COLUMN if c not in (s.SYSTEM, s.STIFFNESS, s.DAMPING)], fields).replace("/", " "))' \
+    "$bed" "$config") ||
     { echo "tools/rung-pieces.sh: '$bed' is not a bed's key (a line of $plan without its last part)" >&2; exit 2; }
+  short=$(sed -n 1p <<< "$names") column=$(sed -n 2p <<< "$names") column_short=$(sed -n 3p <<< "$names")
   "$snakemake" --nolock --configfile "$config" --dry-run --quiet > /dev/null 2>&1 ||
     { echo "tools/rung-pieces.sh: Snakemake cannot plan $config (run: $snakemake --dry-run --configfile $config)" >&2; exit 2; }
   [ -f "$plan" ] || { echo "tools/rung-pieces.sh: the dry run wrote no plan ($plan)" >&2; exit 2; }
@@ -132,6 +144,14 @@ print(s.key([c for c in s.BED if c not in (s.SYSTEM, s.STIFFNESS, s.DAMPING)], f
       lockdir=$pieces; }
   exec {bedlock}> "$lockdir/rung-pieces.$(printf %s "$rung/$bed" | md5sum | cut -c1-16).lock"
   flock -n "$bedlock" || { echo "tools/rung-pieces.sh: another runner is working on '$bed'" >&2; exit 2; }
+  if [ -n "$column" ]; then
+    # The seed's beds share the column: a runner on another of them waits here, then finds it.
+    exec {collock}> "$lockdir/rung-pieces.$(printf %s "$rung/$column" | md5sum | cut -c1-16).lock"
+    flock "$collock"
+    land "$results/columns/$column/column.h5" "$column_short column" "$results/benchmarks/columns/$column.tsv" ||
+      exit 1
+    flock -u "$collock"
+  fi
   land "$results/beds/$bed/bed.h5" "$short bed" "$results/benchmarks/beds/$bed.tsv" || exit 1
   for leaf in "${leaves[@]}"; do
     land "$results/pulls/$bed/$leaf/run.h5" "$short, $leaf" "$results/benchmarks/pulls/$bed/$leaf.tsv" || exit 1

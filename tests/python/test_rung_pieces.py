@@ -92,7 +92,7 @@ echo "$@" >> "$FAKE_LOG"
 for a in "$@"; do last=$a; done
 case "$last" in *.h5) ;; *) exit 0 ;; esac
 [ -n "${FAKE_FAIL:-}" ] && case "$last" in *"$FAKE_FAIL"*) exit 1 ;; esac
-results=${last%%/beds/*}; results=${results%%/pulls/*}
+results=${last%%/beds/*}; results=${results%%/pulls/*}; results=${results%%/columns/*}
 rel=${last#"$results"/}; kind=${rel%%/*}; key=${rel#*/}; key=${key%/*}
 mkdir -p "$(dirname "$last")" "$(dirname "$results/benchmarks/$kind/$key")"
 echo made > "$last"
@@ -197,3 +197,35 @@ def test_run_takes_the_plans_pulls_and_stops_at_a_failed_job(tmp_path):
     r = subprocess.run([str(SCRIPT), "run", str(config), BED.replace("seed~2", "seed~9")], capture_output=True,
                        text=True, timeout=60, env=env, cwd=ROOT)
     assert r.returncode == 2 and "has no pull on" in r.stderr
+
+
+def test_a_placed_bed_lands_after_its_column_which_is_restored_first(tmp_path):
+    """A placed rung (its system has `placement:`): the seed's column lands before the first bed
+    placed into it, once for all of them, with its own commit; restored on a fresh checkout, the
+    column is older than the beds placed into it (else Snakemake would place them again)."""
+    results, config, pieces, env = _piece_setup(tmp_path)
+    config.write_text(f"results: {results}\nsystems:\n  II:\n    placement: {{settle_damping: 1}}\n")
+    deep, shallow = BED.replace("h~49.7", "h~45"), BED.replace("h~49.7", "h~10")
+    (results / "plan").mkdir(parents=True)
+    (results / "plan" / "pulls.txt").write_text(f"{deep}/V~1\n{shallow}/V~1\n")
+    for bed in (deep, shallow):
+        r = _run_piece(env, "--commit", str(config), bed)
+        assert r.returncode == 0, r.stderr
+    column = "system~II/mu~0/kn~2e4/gn~199.05359/seed~2"
+    jobs = [c.split(" -- ")[1] for c in (tmp_path / "calls").read_text().splitlines() if " -- " in c]
+    assert jobs == [f"{results}/columns/{column}/column.h5", f"{results}/beds/{deep}/bed.h5",
+                    f"{results}/pulls/{deep}/V~1/run.h5", f"{results}/beds/{shallow}/bed.h5",
+                    f"{results}/pulls/{shallow}/V~1/run.h5"]
+    log = subprocess.run(["git", "-C", str(pieces), "log", "--format=%s"], capture_output=True, text=True).stdout
+    assert log.strip().splitlines()[-1] == "rung: mu~0 seed~2 column landed"
+    assert (pieces / "benchmarks" / "columns" / f"{column}.tsv").exists()
+    # Saved pieces keep their times; touch the column to be the newest file of all, as a clock or
+    # a copy might, and restore: it comes back first, so older than its beds all the same.
+    newest = max(os.stat(f).st_mtime for f in pieces.rglob("*.h5")) + 100
+    os.utime(pieces / "columns" / column / "column.h5", (newest, newest))
+    fresh = tmp_path / "fresh"
+    config.write_text(f"results: {fresh}\nsystems:\n  II:\n    placement: {{}}\n")
+    r = _run("restore", config, pieces)
+    assert r.returncode == 0 and "10 file(s) restored" in r.stdout, r.stdout + r.stderr
+    col = os.stat(fresh / "columns" / column / "column.h5").st_mtime_ns
+    assert all(col < os.stat(fresh / "beds" / b / "bed.h5").st_mtime_ns for b in (deep, shallow))
