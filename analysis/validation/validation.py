@@ -38,7 +38,7 @@ import pandas as pd
 
 from ..core.table import combine_beds, write_csv, write_text_atomic
 from . import pull_length
-from .agreement import Z_AGREE, ValidationError, label_value
+from .agreement import Z_AGREE, ValidationError, label_value, z_score
 from .validation_beds import placement_answer, settle_damping_answer
 from .validation_points import point_table
 from .validation_shifts import resolved_shifts
@@ -249,7 +249,7 @@ def _also(row, pairs, study):
         diffs = pairs[col] - pairs[f"{col}_ref"]
         d = diffs.mean()
         de = np.sqrt(_paired_variance(pairs, col, err).sum()) / len(pairs)
-        z = d / de if de > 0 else np.inf * np.sign(d)
+        z = z_score(d, de)
         row |= {f"{col}_diff": d, f"{col}_diff_err": de, f"{col}_z": z} | _beds(col, diffs)
         row["agrees"] = bool(row["agrees"] and abs(z) < Z_AGREE)
     for col in study.also_reported:
@@ -331,11 +331,11 @@ def _beds(col, d):
     if len(d) < 3:
         return {f"{col}_beds_err": np.nan, f"{col}_beds_z": np.nan}
     err = d.std(ddof=1) / np.sqrt(len(d))
-    return {f"{col}_beds_err": err, f"{col}_beds_z": d.mean() / err if err > 0 else np.inf * np.sign(d.mean())}
+    return {f"{col}_beds_err": err, f"{col}_beds_z": z_score(d.mean(), err)}
 
 
 def _verdict(row, diff, diff_err):
-    z = diff / diff_err if diff_err > 0 else np.inf * np.sign(diff)
+    z = z_score(diff, diff_err)
     return row | {"rel_diff": diff / row["drag_ref"], "rel_diff_err": diff_err / abs(row["drag_ref"]),
                   "z": z, "agrees": bool(abs(z) < Z_AGREE)}
 

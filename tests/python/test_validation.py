@@ -466,3 +466,15 @@ def test_a_study_over_named_systems_labels_them_by_name(tmp_path):
     paths = val.validate(runs, "yield_speed", tmp_path)
     assert (tmp_path / "validate_yield_speed.png").stat().st_size > 5000 and len(paths) == 4
     assert val.label_value("II") == "II" and val.label_value(np.float64(0.03)) == "0.03"
+
+
+def test_a_variant_equal_to_its_reference_to_the_last_digit_agrees():
+    """Identical numbers with no error (a setting that changes nothing, bit for bit): z is 0, not
+    the NaN of inf * sign(0), and the point agrees; a difference without error stays infinite."""
+    from analysis.validation.agreement import z_score
+    assert z_score(0.0, 0.0) == 0.0 and z_score(-1.0, 0.0) == -np.inf and z_score(1.0, 2.0) == 0.5
+    rows = [dict(system=f"R{R:g}", D=6.0, h_requested=7.0, mu=0.5, kn=2e4, gamman=199.05, Fr=1.0, V=1.0, seed=b,
+                 active_radius=R, drag=100.0 + b, drag_err=0.0, theta=1.0, theta_err=0.0, n_contacts=80.0, Z=4.5,
+                 sanity="clean") for b in range(1, 4) for R in (0.0, 12.0)]
+    row = val.compare(pd.DataFrame(rows), "active_region").iloc[0]
+    assert row.z == 0 and row.theta_z == 0 and row.drag_beds_z == 0 and row.agrees
