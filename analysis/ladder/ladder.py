@@ -81,6 +81,7 @@ from .ladder_collect import (
     write_kappa_shells,
     write_startup,
 )
+from .ladder_deep import deep_cells
 from .ladder_diagnostics import (
     DECOMPOSITION_COLUMNS,
     DECOMPOSITION_FR,
@@ -104,7 +105,6 @@ from .ladder_report import _axis_figure, _claim_figures, _fr2_figure, _kappa_fig
 from .ladder_summary import (
     CLAIMS_BEGIN,
     CLAIMS_END,
-    deep_cells,
     evidence_figures,
     read_summary,
     regime_cells,

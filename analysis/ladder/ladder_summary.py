@@ -9,10 +9,10 @@ ladder.yaml says, per claim (`summary: {letter: {...}}`):
     reading   the verdict in words (no numbers: those come from the rung's files)
     differs   what still differs from the paper at that rung (K_n, box, depth, pull, pour)
     next      the one next run and its price (estimate_cost.py)
-    deep      optional: {rung: a rung of system II depths, show: {deep-law quantity: short name}}:
-              the row adds that rung's depth-law verdicts (its deep_law.csv, analysis.deep_law;
-              written by `ladder collect`), each with the depth range it holds for, beside the
-              top rung's (deep_cells)
+    deep      optional: {rung: a rung of system II depths, show: {deep-law quantity: short name}},
+              or a list of them (one per friction, say): the row adds each rung's depth-law
+              verdicts (its deep_law.csv, analysis.deep_law; written by `ladder collect`), each
+              with the depth range it holds for, beside the top rung's (ladder_deep)
 
 The "top rung" of a claim, and of each of its quantities in ladder.md's "Verdict at the top
 rung", is the first rung of `closest` that has been run and measures it; rungs not in the list
@@ -40,6 +40,7 @@ import numpy as np
 
 from ..core import paper
 from .ladder_claims import NOT_RUN, LadderError, cell_verdict
+from .ladder_deep import deep_sums, depth_words, read_deep
 
 FIELDS = ("closest", "show", "reading", "differs", "next", "deep")
 EVIDENCE = {"a": "regime_tests", "b": "theta", "c": "kappa", "d": "fig13_yield_vs_D", "e": "fig17_yield_vs_h",
@@ -69,63 +70,8 @@ def read_summary(doc, names, path="ladder.yaml"):
         show = entry.get("show") or {}
         show = {str(q): str(q) for q in show} if isinstance(show, list) else {str(k): str(v) for k, v in show.items()}
         out[str(letter)] = {"closest": closest, "show": show, **{k: str(entry.get(k) or "") for k in FIELDS[2:5]},
-                            "deep": _deep_spec(entry.get("deep"), names, f"{path}: summary.{letter}.deep")}
+                            "deep": read_deep(entry.get("deep"), names, f"{path}: summary.{letter}.deep")}
     return out
-
-
-def _deep_spec(entry, names, where):
-    """{rung, show} of a claim's `deep` entry (None without one); the rung must be listed and each
-    shown quantity one that analysis.deep_law writes."""
-    from ..deep_law.deep_law import QUANTITIES
-    if entry is None:
-        return None
-    if not isinstance(entry, dict) or set(entry) != {"rung", "show"} or not isinstance(entry["show"], dict):
-        raise LadderError(f"{where} takes {{rung: <a listed rung>, show: {{<deep-law quantity>: <short name>}}}}")
-    if str(entry["rung"]) not in names:
-        raise LadderError(f"{where}.rung names a rung not listed: {entry['rung']}")
-    unknown = [str(q) for q in entry["show"] if str(q) not in QUANTITIES]
-    if unknown:
-        raise LadderError(f"{where}.show names no depth-law quantity: {', '.join(unknown)} "
-                          f"(the quantities: {', '.join(QUANTITIES)})")
-    return {"rung": str(entry["rung"]), "show": {str(k): str(v) for k, v in entry["show"].items()}}
-
-
-def deep_cells(root, spec):
-    """The cells a claim's `deep` entry adds: each shown quantity of the rung's deep_law.csv, a cell
-    per depth set it was read on ("h >= 45", "all", "h < 45"), its value (or p) and verdict, and
-    the paper's number for the sum rule. Nothing when the rung has no deep_law.csv yet."""
-    from ..core.result import format_pm
-    deep, table = (spec or {}).get("deep"), _deep_table(root, spec)
-    if table is None:
-        return []
-    cells = []
-    for quantity, short in deep["show"].items():
-        for r in table[table.quantity == quantity].itertuples():
-            where = _depth_words(r.depths, r.h_lo, r.h_hi)
-            value = format_pm(r.value, r.err) if np.isfinite(r.value) else f"p = {r.p:.2g}"
-            paper_says = f" (paper ≈ {paper.SUM_RULE:g})" if quantity.startswith("sum_") else ""
-            verdict = f" — {r.verdict}" if isinstance(r.verdict, str) and r.verdict else ""
-            cells.append(f"{short}, {where}, `{deep['rung']}`: {value}{paper_says}{verdict}")
-    return cells
-
-
-def _deep_table(root, spec):
-    """The deep_law.csv of a claim's `deep` rung (None without the entry or the file yet)."""
-    from ..deep_law.deep_law import load_deep_law
-    deep = (spec or {}).get("deep")
-    path = Path(root) / deep["rung"] / "deep_law.csv" if deep else None
-    if path is None or not path.is_file():
-        return None
-    try:
-        return load_deep_law(path)
-    except ValueError as exc:
-        raise LadderError(str(exc)) from None
-
-
-def _depth_words(depths, lo, hi):
-    """"h ≥ 45 d (45-65 d)" of a deep-law row's depth set and the measured depths it spans."""
-    words = {"all": "every depth"}.get(depths, depths.replace(">=", "≥") + " d")
-    return f"{words} ({lo:.3g}-{hi:.3g} d)"
 
 
 def rank(summary, letter, rung, order, n_rungs):
@@ -380,18 +326,6 @@ def _theta_present(ax, rows, fit, fr):
             + (" (model rejected)" if rejected else ""))
 
 
-def deep_sums(root, spec):
-    """The sum-rule rows (sum_yield, sum_drag) of the deep_law.csv of a claim's `deep` rung, as a
-    DataFrame (None without a `deep` entry, its file or such rows): the paper's depths that a
-    shallower top rung cannot reach, drawn beside its own sums in (f)'s figure."""
-    table = _deep_table(root, spec)
-    if table is None:
-        return None
-    rows = table[table.quantity.isin(["sum_yield", "sum_drag"]) & np.isfinite(table.value)].copy()
-    rows["rung"] = spec["deep"]["rung"]
-    return rows if len(rows) else None
-
-
 def _sum_rule_figure(fits, tmp, rung, deep=None):
     """α_μ + φ_μ against μ (reference K_n) with α_μ from the yield force and from the drag, each
     ± its standard error (thick) and ± the 95 % interval its verdict takes (thin), the paper's 3;
@@ -414,16 +348,16 @@ def _sum_rule_figure(fits, tmp, rung, deep=None):
             ax.errorbar(t.mu + dx, t["sum"], yerr=t.sum_err, fmt="o", color=color, elinewidth=2.2, capsize=3,
                         label=label if i == 0 else None)
     title = f"(f) the sum rule: {rung}"
-    for i, t in enumerate(deep.itertuples() if deep is not None else []):
+    if deep is not None:
+        title += f" (circles), {', '.join(dict.fromkeys(deep.rung))} (squares)"
+    for t in deep.itertuples() if deep is not None else []:
         yield_force = t.quantity == "sum_yield"
         color, dx = ("C0", -0.036) if yield_force else ("C1", 0.036)
         ax.errorbar(t.mu + dx, t.value, yerr=within_quantile(t.dof) * t.err, fmt="none", ecolor=color,
                     elinewidth=0.8, alpha=0.5, capsize=2)
         ax.errorbar(t.mu + dx, t.value, yerr=t.err, fmt="s", mfc="white", color=color, elinewidth=2.2,
                     capsize=3, label=f"{'α from F_Y' if yield_force else 'α from the drag'}, "
-                    f"{_depth_words(t.depths, t.h_lo, t.h_hi)} ({t.rung})")
-        if i == 0:
-            title += f" (circles), {t.rung} (squares)"
+                    f"{depth_words(t.depths, t.h_lo, t.h_hi)} ({t.rung})")
     ax.axhline(paper.SUM_RULE, color="k", ls="--", lw=1.2, label="paper ≈ 3")
     ax.set(xlabel="μ", ylabel="α_μ + φ_μ", ylim=(0.0, 6.0))
     ax.set_title(f"{title}\nthin: the verdict's 95 % interval", fontsize=8)
