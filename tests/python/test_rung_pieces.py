@@ -229,3 +229,18 @@ def test_a_placed_bed_lands_after_its_column_which_is_restored_first(tmp_path):
     assert r.returncode == 0 and "10 file(s) restored" in r.stdout, r.stdout + r.stderr
     col = os.stat(fresh / "columns" / column / "column.h5").st_mtime_ns
     assert all(col < os.stat(fresh / "beds" / b / "bed.h5").st_mtime_ns for b in (deep, shallow))
+
+
+def test_every_file_a_piece_saves_is_one_git_commits():
+    """The repository's .gitignore drops data files (*.h5) but a piece's: a column, a bed, a pull
+    and their benchmarks under results/reproduction/<rung>/pieces/ must be committable, or the
+    commit of a landed job fails (a placed rung's first column did, before columns were listed)."""
+    pieces = "results/reproduction/some-rung/pieces"
+    column, bed = "system~II/mu~0/kn~2e4/gn~1/seed~1", "system~II/D~4/h~45/mu~0/kn~2e4/gn~1/seed~1"
+    saved = [f"{pieces}/columns/{column}/column.h5", f"{pieces}/beds/{bed}/bed.h5", f"{pieces}/pulls/{bed}/V~1/run.h5",
+             f"{pieces}/benchmarks/columns/{column}.tsv", f"{pieces}/benchmarks/pulls/{bed}/V~1.tsv"]
+    for path in saved:
+        r = subprocess.run(["git", "check-ignore", "--no-index", "-q", path], cwd=ROOT)
+        assert r.returncode == 1, f"{path} is ignored by git (.gitignore)"
+    unfinished = f"{pieces}/pulls/{bed}/V~1/run.h5.checkpoint.h5"
+    assert subprocess.run(["git", "check-ignore", "--no-index", "-q", unfinished], cwd=ROOT).returncode == 0
