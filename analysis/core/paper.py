@@ -26,6 +26,16 @@ PHI_0 = 2.0             # phi at mu = 0 (Sec. III E: cross-section argument)
 ALPHA_0 = 1.0           # alpha at mu = 0 (Sec. III H: hydrostatic pressure)
 SUM_RULE = 3.0          # alpha_mu + phi_mu (Sec. III G, Eq. 12)
 DEEP_H = 45.0           # the depth (d) from which Eq. 12's collapse holds, h >~ 45 d (Sec. III H)
+# How far below a depth cut (DEEP_H, a config's report.h_min) a measured depth still counts as at
+# it, d: the cut is one of the paper's sampled depths, and an intruder placed there sits 0.02 d
+# above it once its neighbourhood has settled (granudrag place), a poured one a few hundredths off
+# its request. A grain's tenth keeps them in and no other sampled depth (10 d apart) near the cut.
+DEPTH_SLACK = 0.1
+
+
+def at_least(h, h_min):
+    """Whether depths h (a number, array or Series, d) count as h >= h_min, within DEPTH_SLACK."""
+    return h >= h_min - DEPTH_SLACK
 
 # The paper's scale (Sec. II): box lx x ly (d), grains, K_n; pulls over one box length.
 SYSTEMS = {"I": (40.0, 40.0, 70000), "II": (80.0, 40.0, 300000)}

@@ -267,9 +267,14 @@ def _sum_row(key, label, alpha, nu, phi, depths, h):
                      f"(D {f.D_min:g}-{f.D_max:g}): {why}")
 
 
+def _deep(h, h_min):
+    """The depths (a Series) at h >= h_min (paper.at_least: within its slack), all without h_min."""
+    return h == h if h_min is None else paper.at_least(h, h_min)
+
+
 def _law(rows, pool, group, h_min=None):
     """DepthFit of rows (those at h >= h_min when given) with errors pooled over `pool`."""
-    keep = np.ones(len(rows), bool) if h_min is None else (rows.h >= h_min).to_numpy()
+    keep = _deep(rows.h, h_min).to_numpy()
     if not keep.any():
         return None
     y, C, CB, nu_bed = log_covariance(rows[keep], pool)
@@ -298,7 +303,7 @@ def read_deep_law(df, h_min=paper.DEEP_H, speeds=ALPHA_SPEEDS, phi=None, system=
         for depths, cut in ((f"h >= {h_min:g}", h_min), ("all", None)):
             y_fit = _law(yld, yld, np.zeros(len(yld)), cut)
             if y_fit is not None:
-                hs = yld.h[yld.h >= (cut or -1)]
+                hs = yld.h[_deep(yld.h, cut)]
                 out.append(_row(key, "alpha_yield", depths, hs, len(hs), y_fit.alpha.value, y_fit.alpha.err,
                                 y_fit.chi2, y_fit.nu_alpha, y_fit.p, _alpha_word(key[1], y_fit.alpha, y_fit.nu_alpha),
                                 note=f"F_Y = g h^alpha (Fig. 17); chi^2 {y_fit.chi2:.1f} for {y_fit.dof} dof; "
@@ -308,8 +313,8 @@ def read_deep_law(df, h_min=paper.DEEP_H, speeds=ALPHA_SPEEDS, phi=None, system=
             m_fit = _law(moving, moving, group, cut)
             if m_fit is None:
                 continue
-            hs = moving.h[moving.h >= (cut or -1)]
-            a_drag = fit_alpha_drag(moving[moving.h >= (cut or -1)], speeds=speeds, system=system)[0]
+            hs = moving.h[_deep(moving.h, cut)]
+            a_drag = fit_alpha_drag(moving[_deep(moving.h, cut)], speeds=speeds, system=system)[0]
             if len(a_drag):
                 a = a_drag.iloc[0]
                 mean = Param(float(a.alpha), float(a.alpha_err))
@@ -326,7 +331,7 @@ def read_deep_law(df, h_min=paper.DEEP_H, speeds=ALPHA_SPEEDS, phi=None, system=
                             m_fit.chi2, m_fit.nu_alpha, m_fit.p, word,
                             note=f"one alpha for {len(m_fit.keys)} speeds (Fig. 19 at one D): chi^2 {m_fit.chi2:.1f} "
                                  f"for {m_fit.dof} dof, p by F({m_fit.dof}, {m_fit.nu:.3g})"))
-            at = (moving.h >= (cut or -1)).to_numpy()
+            at = _deep(moving.h, cut).to_numpy()
             y, C, _, _ = log_covariance(moving[at], moving)
             out.append(_speed_alpha_row(key, depths, hs, m_fit, y, C, group[at], moving.h.to_numpy(float)[at]))
         out += _shallow_rows(key, yld, moving, h_min, speeds)
@@ -339,7 +344,7 @@ def _shallow_rows(key, yld, moving, h_min, speeds):
     for name, t, group in (("shallow_yield", yld, np.zeros(len(yld))),
                            ("shallow_drag", moving, speed_groups(moving, speeds))):
         h = t.h.to_numpy(float)
-        shallow = h < h_min
+        shallow = ~paper.at_least(h, h_min)
         fit = _law(t, t, group, h_min)
         if fit is None or not shallow.any():
             continue

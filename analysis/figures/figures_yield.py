@@ -197,7 +197,7 @@ def fig19_scaled_drag_h(df, outdir, alpha=None, mu=0.5, h_min=None):
     """Fig. 19: drag / h^alpha_mu vs Fr per depth (the paper shows h >= 45d)."""
     rows = _moving(select(_reference(df), mu=mu, system="II"), "h")
     if h_min is not None:
-        rows = rows[rows.h >= h_min]
+        rows = rows[paper.at_least(rows.h, h_min)]
     rows = _need(rows, f"system II at mu = {mu:g}")
     alpha = fit_alpha(_reference(df)) if alpha is None else alpha
     kn, gn = reference_params(df)

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from ..core import paper
 from ..core.result import N_BOOT, Fit, Param
 from ..core.table import (
     bed_labels,
@@ -390,7 +391,7 @@ def fit_scaling_law(df, phi, alpha, *, mu, kn=None, gamman=None, h_min=None,
         raise ValueError(f"no phi and alpha fitted for mu={mu}, kn={kn:g}, gamman={gamman:g}")
     rows = select(df, mu=mu, kn=kn, gamman=gamman)
     if h_min:
-        rows = rows[rows.h >= h_min]
+        rows = rows[paper.at_least(rows.h, h_min)]
     # The regimes are fitted to the pulls at speed, as the paper's Figs. 5, 10 and 19: the
     # yield pulls' Fr values differ only through D and would otherwise pass for a whole
     # regime, and at mu = 0 they alone would fix a0 of a0 + b0 Fr^c0.

@@ -208,8 +208,8 @@ def _shallow_pulls_note(df, h_min):
     limit with deeper ones: the paper's collapse holds only from DEEP_H on, so on a table that
     reaches that deep, h_min below it silently bends the fit toward the shallow beds."""
     h = df["h"].dropna()
-    shallow = (h >= h_min) & (h < paper.DEEP_H)
-    if not shallow.any() or not (h >= paper.DEEP_H).any():
+    shallow = paper.at_least(h, h_min) & ~paper.at_least(h, paper.DEEP_H)
+    if not shallow.any() or not paper.at_least(h, paper.DEEP_H).any():
         return ""
     n = int(shallow.sum())
     return (f"Eq. 12 and Fig. 19 include {n} pull(s) at {h_min:g} <= h < {paper.DEEP_H:g} d, though the table "

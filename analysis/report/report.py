@@ -130,7 +130,7 @@ def comparisons(r, df=None):
     for law in r.laws:
         basis = sub(mu=law.mu)
         if basis is not None:
-            basis = _moving(basis[basis.h >= h_min] if h_min else basis)
+            basis = _moving(basis[paper.at_least(basis.h, h_min)] if h_min else basis)
         cut = f", h ≥ {h_min:g}" if h_min else ""
         rows.append(entry(f"Fr_1 (Eq. 12 collapse, μ = {law.mu:g}{cut})", law.regimes["Fr1"], 1.0, "≈ 1",
                          law.regimes, basis))

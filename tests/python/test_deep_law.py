@@ -220,3 +220,16 @@ def test_collecting_a_rung_with_depths_writes_its_depth_law(tmp_path):
     from analysis.ladder.ladder_claims import LadderError
     with pytest.raises(LadderError, match="--phi .*missing.json: not a readable fit file"):
         collect(config, res, tmp_path / "rung3", wall_seconds=1, cores=1, phi=tmp_path / "missing.json")
+
+
+def test_an_intruder_placed_at_the_cut_counts_as_deep_and_one_a_grain_above_does_not():
+    """granudrag place leaves an intruder asked for 45 d at 44.98 d once its neighbourhood has
+    settled: it is one of the deep depths (paper.at_least, DEPTH_SLACK), while 44.8 d is not."""
+    from analysis.core import paper
+    assert paper.at_least(44.98, 45.0) and not paper.at_least(45.0 - 2 * paper.DEPTH_SLACK, 45.0)
+    for off, deep in ((-0.02, 3), (-0.2, 2)):
+        t = runs(np.random.default_rng(3))
+        t.loc[t.h == 45, "h"] = 45 + off
+        law = read_deep_law(combine_beds(t), h_min=45.0)
+        row = law[(law.quantity == "collapse") & (law.depths == "h >= 45")].iloc[0]
+        assert row.h_lo == pytest.approx(45 + off if deep == 3 else 55.0) and row.n == deep * (len(SPEEDS) - 1)
