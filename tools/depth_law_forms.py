@@ -25,6 +25,7 @@ from scipy.optimize import least_squares
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from analysis.core.paper import at_least  # noqa: E402
 from analysis.core.table import is_yield, load_csv  # noqa: E402
 from analysis.deep_law.deep_law import log_covariance, speed_groups  # noqa: E402
 from analysis.fits.alpha_drag import ALPHA_SPEEDS  # noqa: E402
@@ -34,7 +35,7 @@ def compare_forms(df, h_min=0.0, speeds=ALPHA_SPEEDS):
     """{form: (chi2, dof, p, parameters)} of the two forms on df's system II rows at h >= h_min
     (errors pooled over every depth), and n, the points."""
     rows = df[df.system == "II"]
-    t = rows[rows.h >= h_min]
+    t = rows[at_least(rows.h, h_min)]
     group = np.where(np.asarray(is_yield(t)), 0.0, speed_groups(t, speeds))
     keep = np.isfinite(group)
     t, group = t[keep], group[keep]
