@@ -119,11 +119,13 @@ from analysis.core import path_scheme as s
 fields = s.parse(s.BED, sys.argv[1])
 if fields is None:
     sys.exit(1)
-print(s.key([c for c in s.BED if c not in (s.SYSTEM, s.STIFFNESS, s.DAMPING)], fields).replace("/", " "))
+def short(components):  # a key without the parts a rung holds fixed, as words
+    return s.key([c for c in components if c not in (s.SYSTEM, s.STIFFNESS, s.DAMPING)], fields).replace("/", " ")
+print(short(s.BED))
 system = (yaml.safe_load(open(sys.argv[2])).get("systems") or {}).get(fields["system"]) or {}
 if "placement" in system:
     print(s.key(s.COLUMN, fields))
-    print(s.key([c for c in s.COLUMN if c not in (s.SYSTEM, s.STIFFNESS, s.DAMPING)], fields).replace("/", " "))' \
+    print(short(s.COLUMN))' \
     "$bed" "$config") ||
     { echo "tools/rung-pieces.sh: '$bed' is not a bed's key (a line of $plan without its last part)" >&2; exit 2; }
   short=$(sed -n 1p <<< "$names") column=$(sed -n 2p <<< "$names") column_short=$(sed -n 3p <<< "$names")
