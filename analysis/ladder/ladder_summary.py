@@ -13,6 +13,10 @@ ladder.yaml says, per claim (`summary: {letter: {...}}`):
               or a list of them (one per friction, say): the row adds each rung's depth-law
               verdicts (its deep_law.csv, analysis.deep_law; written by `ladder collect`), each
               with the depth range it holds for, beside the top rung's (ladder_deep)
+    beside    optional: [{rung: a listed rung, show: {quantity: short name}}]: the row adds these
+              quantities of ladder.csv at another rung, named, beside the top rung's: a rung
+              closer to the paper for one quantity of the claim but not the others (φ₀ read at
+              system I's depth, where the saturation in μ was not pulled); nothing before it is run
 
 The "top rung" of a claim, and of each of its quantities in ladder.md's "Verdict at the top
 rung", is the first rung of `closest` that has been run and measures it; rungs not in the list
@@ -42,7 +46,7 @@ from ..core import paper
 from .ladder_claims import NOT_RUN, LadderError, cell_verdict
 from .ladder_deep import deep_sums, depth_words, read_deep
 
-FIELDS = ("closest", "show", "reading", "differs", "next", "deep")
+FIELDS = ("closest", "show", "reading", "differs", "next", "deep", "beside")
 EVIDENCE = {"a": "regime_tests", "b": "theta", "c": "kappa", "d": "fig13_yield_vs_D", "e": "fig17_yield_vs_h",
             "f": "sum_rule", "g": "table1"}
 CLAIMS_BEGIN, CLAIMS_END = "<!-- claims:begin -->", "<!-- claims:end -->"
@@ -70,8 +74,34 @@ def read_summary(doc, names, path="ladder.yaml"):
         show = entry.get("show") or {}
         show = {str(q): str(q) for q in show} if isinstance(show, list) else {str(k): str(v) for k, v in show.items()}
         out[str(letter)] = {"closest": closest, "show": show, **{k: str(entry.get(k) or "") for k in FIELDS[2:5]},
-                            "deep": read_deep(entry.get("deep"), names, f"{path}: summary.{letter}.deep")}
+                            "deep": read_deep(entry.get("deep"), names, f"{path}: summary.{letter}.deep"),
+                            "beside": _read_beside(entry.get("beside"), names, f"{path}: summary.{letter}.beside")}
     return out
+
+
+def _read_beside(entry, names, where):
+    """A claim's `beside` entries, [{rung, show: {quantity: short name}}] ([] without one)."""
+    entries = [] if entry is None else entry
+    ok = isinstance(entries, list) and all(isinstance(e, dict) and set(e) == {"rung", "show"}
+                                           and isinstance(e["show"], dict) for e in entries)
+    if not ok:
+        raise LadderError(f"{where} takes a list of {{rung: <a listed rung>, show: {{<quantity>: <short name>}}}}")
+    for i, e in enumerate(entries):
+        if str(e["rung"]) not in names:
+            raise LadderError(f"{where}[{i}].rung names a rung not listed: {e['rung']}")
+    return [{"rung": str(e["rung"]), "show": {str(k): str(v) for k, v in e["show"].items()}} for e in entries]
+
+
+def beside_cells(ran, spec):
+    """The cells a claim's `beside` entries add: each named quantity of ladder.csv's rows that were
+    run at that rung, with the rung's name, beside the paper's and its verdict."""
+    cells = []
+    for entry in (spec or {}).get("beside") or []:
+        mine = ran[ran.rung == entry["rung"]]
+        for q, short in entry["show"].items():
+            for _, hit in mine[mine.quantity == q].iterrows():
+                cells.append(f"{short}, `{entry['rung']}`: {hit.fitted} (paper {hit.published}) — {cell_verdict(hit)}")
+    return cells
 
 
 def rank(summary, letter, rung, order, n_rungs):
@@ -117,6 +147,7 @@ def summary_rows(table, summary, claims, n_rungs, knee=None):
             if letter == "a" and knee is not None and len(knee):
                 k, D = knee[knee.rung == rung], _shown_D(spec)
                 measured += _knee_cells(k[np.isclose(k.D.astype(float), D)] if D is not None else k)
+            measured += beside_cells(ran, spec)
         out.append({"letter": letter, "claim": claims.get(letter, ""), "rung": rung, "measured": measured,
                     "reading": spec["reading"], "differs": spec["differs"], "next": spec["next"],
                     "figure": f"evidence_{letter}.png" if rung is not None else None})

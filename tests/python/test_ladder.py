@@ -266,6 +266,9 @@ SUMMARY = """summary:
     deep:
       rung: rung-a
       show: {sum_yield: "μ = 0.5, α from F_Y", shallow_drag: shallow drag}
+    beside:
+      - {rung: rung-b, show: {"κ(Fr) slope (Fig. 8)": κ slope elsewhere}}
+      - {rung: rung-c, show: {"κ(Fr) slope (Fig. 8)": κ slope not run}}
 """
 
 
@@ -304,6 +307,11 @@ def test_the_claim_table_quotes_the_rung_closest_to_the_papers_conditions(tmp_pa
     assert "| a crossover near 5 | K_n | rung-c, 1 core-hour |" in a
     assert "the slope past Fr 5 over the slope below (D = 3, Fr 1–10): " in a
     assert "| `rung-a` | κ slope: " in c and "(paper 0.185) — reproduced within error bars<br>κ intercept: " in c
+    # (c)'s `beside` entry quotes rung-b's κ slope, named, after the top rung's cells; rung-c has
+    # not run, so it adds nothing.
+    elsewhere = c.split("<br>κ slope elsewhere, `rung-b`: ")
+    assert len(elsewhere) == 2 and "(paper 0.185) — not reproduced" in elsewhere[1].split("<br>")[0]
+    assert "κ slope not run" not in c
     # (c)'s `deep` entry adds the depth law's verdicts, each with the depths it holds for.
     assert ("<br>μ = 0.5, α from F_Y, h ≥ 45 d (45-65 d), `rung-a`: 2.80 ± 0.29 (paper ≈ 3) — reproduced within "
             "error bars<br>shallow drag, h < 45 d (10-40.3 d), `rung-a`: p = 6.1e-06 — leaves the deep law |") in c
@@ -321,6 +329,11 @@ def test_the_claim_table_quotes_the_rung_closest_to_the_papers_conditions(tmp_pa
     (tmp_path / "ladder.yaml").write_text("rungs: [{name: rung-a}]\nsummary: {c: {closest: [rung-z]}}\n")
     with pytest.raises(LadderError, match="summary.c.closest names rungs not listed: rung-z"):
         write_ladder(tmp_path, n_boot=5)
+    for beside, message in (("[{rung: rung-z, show: {x: y}}]", r"summary.c.beside\[0\].rung names a rung not listed"),
+                            ("{rung: rung-a, show: {x: y}}", "summary.c.beside takes a list of")):
+        (tmp_path / "ladder.yaml").write_text(f"rungs: [{{name: rung-a}}]\nsummary: {{c: {{beside: {beside}}}}}\n")
+        with pytest.raises(LadderError, match=message):
+            write_ladder(tmp_path, n_boot=5)
 
 
 def test_readme_without_markers_is_left_alone(tmp_path):
